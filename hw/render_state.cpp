@@ -1,0 +1,124 @@
+#include "hw/render_state.h"
+
+#include <tuple>
+
+namespace gpusim {
+namespace {
+
+template <typename Enum, size_t N>
+using NameTable = std::array<std::string_view, N>;
+
+constexpr NameTable<PrimitiveType, 3> kPrimitiveNames{"triangles", "triangle_strip",
+                                                      "triangle_fan"};
+constexpr NameTable<CullMode, 3> kCullNames{"none", "back", "front"};
+constexpr NameTable<FrontFace, 2> kFrontFaceNames{"ccw", "cw"};
+constexpr NameTable<CompareFunc, 8> kCompareNames{"never",   "less",     "equal",  "lequal",
+                                                  "greater", "notequal", "gequal", "always"};
+constexpr NameTable<BlendFactor, 11> kBlendFactorNames{
+    "zero",      "one",           "src_color", "one_minus_src_color", "dst_color",
+    "one_minus_dst_color", "src_alpha", "one_minus_src_alpha", "dst_alpha",
+    "one_minus_dst_alpha", "src_alpha_saturate"};
+constexpr NameTable<BlendEquation, 3> kBlendEquationNames{"add", "subtract", "reverse_subtract"};
+constexpr NameTable<Shading, 2> kShadingNames{"flat", "gouraud"};
+constexpr NameTable<ColorFormat, 2> kColorFormatNames{"rgba8", "rgba16f"};
+constexpr NameTable<DepthFormat, 3> kDepthFormatNames{"unorm16", "unorm24", "float32"};
+
+template <typename Enum>
+constexpr const auto& names_of();
+template <>
+constexpr const auto& names_of<PrimitiveType>() { return kPrimitiveNames; }
+template <>
+constexpr const auto& names_of<CullMode>() { return kCullNames; }
+template <>
+constexpr const auto& names_of<FrontFace>() { return kFrontFaceNames; }
+template <>
+constexpr const auto& names_of<CompareFunc>() { return kCompareNames; }
+template <>
+constexpr const auto& names_of<BlendFactor>() { return kBlendFactorNames; }
+template <>
+constexpr const auto& names_of<BlendEquation>() { return kBlendEquationNames; }
+template <>
+constexpr const auto& names_of<Shading>() { return kShadingNames; }
+template <>
+constexpr const auto& names_of<ColorFormat>() { return kColorFormatNames; }
+template <>
+constexpr const auto& names_of<DepthFormat>() { return kDepthFormatNames; }
+
+template <typename Enum>
+std::string_view name_of(Enum v) {
+  const auto& names = names_of<Enum>();
+  const auto i = static_cast<size_t>(v);
+  return i < names.size() ? names[i] : std::string_view("invalid");
+}
+
+}  // namespace
+
+std::string_view to_string(PrimitiveType v) { return name_of(v); }
+std::string_view to_string(CullMode v) { return name_of(v); }
+std::string_view to_string(FrontFace v) { return name_of(v); }
+std::string_view to_string(CompareFunc v) { return name_of(v); }
+std::string_view to_string(BlendFactor v) { return name_of(v); }
+std::string_view to_string(BlendEquation v) { return name_of(v); }
+std::string_view to_string(Shading v) { return name_of(v); }
+std::string_view to_string(ColorFormat v) { return name_of(v); }
+std::string_view to_string(DepthFormat v) { return name_of(v); }
+
+template <typename Enum>
+std::optional<Enum> enum_from_string(std::string_view name) {
+  const auto& names = names_of<Enum>();
+  for (size_t i = 0; i < names.size(); ++i) {
+    if (names[i] == name) return static_cast<Enum>(i);
+  }
+  return std::nullopt;
+}
+
+template <typename Enum>
+std::string enum_names() {
+  std::string out;
+  for (auto n : names_of<Enum>()) {
+    if (!out.empty()) out += ", ";
+    out += n;
+  }
+  return out;
+}
+
+#define GPUSIM_INSTANTIATE(E)                                      \
+  template std::optional<E> enum_from_string<E>(std::string_view); \
+  template std::string enum_names<E>();
+GPUSIM_INSTANTIATE(PrimitiveType)
+GPUSIM_INSTANTIATE(CullMode)
+GPUSIM_INSTANTIATE(FrontFace)
+GPUSIM_INSTANTIATE(CompareFunc)
+GPUSIM_INSTANTIATE(BlendFactor)
+GPUSIM_INSTANTIATE(BlendEquation)
+GPUSIM_INSTANTIATE(Shading)
+GPUSIM_INSTANTIATE(ColorFormat)
+GPUSIM_INSTANTIATE(DepthFormat)
+#undef GPUSIM_INSTANTIATE
+
+bool RenderState::operator==(const RenderState& o) const {
+  auto tie = [](const RenderState& s) {
+    return std::tie(s.cull, s.front_face, s.depth_test, s.depth_func, s.depth_write,
+                    s.offset_factor, s.offset_units, s.blend, s.blend_src, s.blend_dst,
+                    s.blend_equation, s.color_mask, s.shading);
+  };
+  return tie(*this) == tie(o);
+}
+
+std::ostream& operator<<(std::ostream& os, const RenderState& s) {
+  os << "{cull=" << to_string(s.cull) << " front_face=" << to_string(s.front_face)
+     << " depth=" << (s.depth_test ? to_string(s.depth_func) : "off")
+     << " depth_write=" << s.depth_write << " offset=[" << s.offset_factor << ","
+     << s.offset_units << "] blend=";
+  if (s.blend) {
+    os << to_string(s.blend_src) << "/" << to_string(s.blend_dst) << "/"
+       << to_string(s.blend_equation);
+  } else {
+    os << "off";
+  }
+  os << " mask=" << s.color_mask[0] << s.color_mask[1] << s.color_mask[2] << s.color_mask[3]
+     << " shading=" << to_string(s.shading) << "}";
+  return os;
+}
+
+}  // namespace gpusim

@@ -1,0 +1,77 @@
+// Pipeline state set per draw: the enumerations of the spec and their names
+// as they appear in scene files and statistics.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <string_view>
+
+namespace gpusim {
+
+enum class PrimitiveType : uint8_t { triangles, triangle_strip, triangle_fan };
+enum class CullMode : uint8_t { none, back, front };
+enum class FrontFace : uint8_t { ccw, cw };
+enum class CompareFunc : uint8_t { never, less, equal, lequal, greater, notequal, gequal, always };
+enum class BlendFactor : uint8_t {
+  zero,
+  one,
+  src_color,
+  one_minus_src_color,
+  dst_color,
+  one_minus_dst_color,
+  src_alpha,
+  one_minus_src_alpha,
+  dst_alpha,
+  one_minus_dst_alpha,
+  src_alpha_saturate,
+};
+enum class BlendEquation : uint8_t { add, subtract, reverse_subtract };
+enum class Shading : uint8_t { flat, gouraud };
+enum class ColorFormat : uint8_t { rgba8, rgba16f };
+enum class DepthFormat : uint8_t { unorm16, unorm24, float32 };
+
+struct RenderState {
+  CullMode cull = CullMode::none;
+  FrontFace front_face = FrontFace::ccw;
+  // depth_test == false is GL's disabled depth test: every fragment passes and
+  // the depth buffer is not written, whatever depth_write says.
+  bool depth_test = true;
+  CompareFunc depth_func = CompareFunc::less;
+  bool depth_write = true;
+  float offset_factor = 0.0f;
+  float offset_units = 0.0f;
+  bool blend = false;
+  BlendFactor blend_src = BlendFactor::one;
+  BlendFactor blend_dst = BlendFactor::zero;
+  BlendEquation blend_equation = BlendEquation::add;
+  std::array<bool, 4> color_mask{true, true, true, true};
+  Shading shading = Shading::gouraud;
+
+  bool operator==(const RenderState& o) const;
+  bool operator!=(const RenderState& o) const { return !(*this == o); }
+};
+std::ostream& operator<<(std::ostream& os, const RenderState& s);
+
+// Names used in scene files and stats ("triangle_strip", "lequal", ...).
+std::string_view to_string(PrimitiveType v);
+std::string_view to_string(CullMode v);
+std::string_view to_string(FrontFace v);
+std::string_view to_string(CompareFunc v);
+std::string_view to_string(BlendFactor v);
+std::string_view to_string(BlendEquation v);
+std::string_view to_string(Shading v);
+std::string_view to_string(ColorFormat v);
+std::string_view to_string(DepthFormat v);
+
+// Parse a name; std::nullopt when it names no value.
+template <typename Enum>
+std::optional<Enum> enum_from_string(std::string_view name);
+
+// Every name of an enumeration, for error messages ("expected one of ...").
+template <typename Enum>
+std::string enum_names();
+
+}  // namespace gpusim

@@ -1,0 +1,86 @@
+// A scene as the models consume it: framebuffer settings, lights in eye space,
+// and draws with their vertex arrays, matrices and state, all resolved from the
+// scene file (docs/scene-format.md) by load_scene().
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <glm/glm.hpp>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "hw/render_state.h"
+#include "testbench/input_error.h"
+
+namespace gpusim {
+
+struct FramebufferDesc {
+  int width = 256;
+  int height = 256;
+  ColorFormat color_format = ColorFormat::rgba8;
+  DepthFormat depth_format = DepthFormat::unorm24;
+  glm::vec4 clear_color{0.0f, 0.0f, 0.0f, 1.0f};
+  float clear_depth = 1.0f;
+};
+
+enum class LightType : uint8_t { directional, point };
+
+// A fixed-function light, already transformed into eye space.
+struct Light {
+  LightType type = LightType::directional;
+  // directional: unit vector from the surface towards the light (eye space);
+  // point: the light's position (eye space).
+  glm::vec3 vector{0.0f, 0.0f, 1.0f};
+  glm::vec4 ambient{0.0f, 0.0f, 0.0f, 1.0f};
+  glm::vec4 diffuse{1.0f, 1.0f, 1.0f, 1.0f};
+  glm::vec4 specular{1.0f, 1.0f, 1.0f, 1.0f};
+  // Point lights: 1 / (constant + linear * d + quadratic * d^2).
+  float constant_attenuation = 1.0f;
+  float linear_attenuation = 0.0f;
+  float quadratic_attenuation = 0.0f;
+};
+
+struct Material {
+  glm::vec4 ambient{0.2f, 0.2f, 0.2f, 1.0f};
+  glm::vec4 diffuse{0.8f, 0.8f, 0.8f, 1.0f};
+  glm::vec4 specular{0.0f, 0.0f, 0.0f, 1.0f};
+  glm::vec4 emission{0.0f, 0.0f, 0.0f, 1.0f};
+  float shininess = 0.0f;
+};
+
+struct Draw {
+  std::string name;  // "draws[3] (spider.obj)", for messages and stats
+  PrimitiveType primitive = PrimitiveType::triangles;
+  std::vector<glm::vec4> positions;  // object space
+  std::vector<glm::vec3> normals;    // object space; empty, or one per position
+  std::vector<glm::vec4> colors;     // empty, or one per position
+  std::vector<uint32_t> indices;     // empty: non-indexed
+  // lighting: colours come from the lights and material (needs normals);
+  // otherwise from `colors`, or the material's diffuse colour when empty.
+  bool lighting = false;
+  Material material;
+  glm::mat4 model_view{1.0f};     // object -> eye
+  glm::mat4 projection{1.0f};     // eye -> clip
+  glm::mat4 mvp{1.0f};            // projection * model_view, computed in float by the loader
+  glm::mat3 normal_matrix{1.0f};  // inverse transpose of model_view's upper 3x3
+  RenderState state;
+
+  // Vertices the draw references: indices.size() or positions.size().
+  size_t vertex_count() const { return indices.empty() ? positions.size() : indices.size(); }
+};
+
+struct Scene {
+  std::string path;  // the scene file, for messages
+  FramebufferDesc framebuffer;
+  glm::vec4 global_ambient{0.2f, 0.2f, 0.2f, 1.0f};
+  std::vector<Light> lights;
+  std::vector<Draw> draws;
+  // The scene's settings with every default filled in, dumped into stats.json.
+  nlohmann::json resolved;
+};
+
+// Load and validate a scene file; throws InputError.
+Scene load_scene(const std::string& path);
+
+}  // namespace gpusim
