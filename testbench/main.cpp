@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 #include <map>
 #include <string>
@@ -96,8 +97,8 @@ int run_compare(const CompareArgs& args) {
   }
   const Image a = read_exr(args.a);
   const Image b = read_exr(args.b);
-  const CompareResult result = compare_images(a, b, options);
-  if (!args.diff_png.empty()) write_diff_heatmap(a, b, args.diff_png);
+  const CompareResult result = compare_images(a, b, options, args.a, args.b);
+  if (!args.diff_png.empty()) write_diff_heatmap(a, b, args.diff_png, options);
   print_compare_report(std::cout, result, args.a, args.b);
   return result.pass() ? 0 : 1;
 }
@@ -156,4 +157,11 @@ int sc_main(int argc, char* argv[]) {
     std::cerr << "gpusim: internal error: " << e.what() << "\n";
   }
   return gpusim::kExitError;
+}
+
+// Our own main() takes precedence over libsystemc's: it silences SystemC's
+// banner (unless the user asks for it) before the kernel starts.
+int main(int argc, char* argv[]) {
+  setenv("SC_COPYRIGHT_MESSAGE", "DISABLE", 0);
+  return sc_core::sc_elab_and_sim(argc, argv);
 }
