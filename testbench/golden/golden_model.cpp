@@ -19,7 +19,9 @@ glm::vec3 mul(const glm::mat3& m, const glm::vec3& v) {
   for (int i = 0; i < 3; ++i) r[i] = m[0][i] * v.x + m[1][i] * v.y + m[2][i] * v.z;
   return r;
 }
-float dot3(const glm::vec3& a, const glm::vec3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+float dot3(const glm::vec3& a, const glm::vec3& b) {
+  return a.x * b.x + a.y * b.y + a.z * b.z;
+}
 glm::vec3 normalized(const glm::vec3& v) {
   const float len2 = dot3(v, v);
   if (!(len2 > 0.0f)) return v;
@@ -70,17 +72,28 @@ glm::vec4 light_vertex(const Scene& scene, const Draw& draw, const glm::vec4& ey
 // Blend factor for channel i (3 = alpha) given source s and destination d.
 float blend_factor(BlendFactor f, const glm::vec4& s, const glm::vec4& d, int i) {
   switch (f) {
-    case BlendFactor::zero: return 0.0f;
-    case BlendFactor::one: return 1.0f;
-    case BlendFactor::src_color: return s[i];
-    case BlendFactor::one_minus_src_color: return 1.0f - s[i];
-    case BlendFactor::dst_color: return d[i];
-    case BlendFactor::one_minus_dst_color: return 1.0f - d[i];
-    case BlendFactor::src_alpha: return s.w;
-    case BlendFactor::one_minus_src_alpha: return 1.0f - s.w;
-    case BlendFactor::dst_alpha: return d.w;
-    case BlendFactor::one_minus_dst_alpha: return 1.0f - d.w;
-    case BlendFactor::src_alpha_saturate: return i < 3 ? std::min(s.w, 1.0f - d.w) : 1.0f;
+    case BlendFactor::zero:
+      return 0.0f;
+    case BlendFactor::one:
+      return 1.0f;
+    case BlendFactor::src_color:
+      return s[i];
+    case BlendFactor::one_minus_src_color:
+      return 1.0f - s[i];
+    case BlendFactor::dst_color:
+      return d[i];
+    case BlendFactor::one_minus_dst_color:
+      return 1.0f - d[i];
+    case BlendFactor::src_alpha:
+      return s.w;
+    case BlendFactor::one_minus_src_alpha:
+      return 1.0f - s.w;
+    case BlendFactor::dst_alpha:
+      return d.w;
+    case BlendFactor::one_minus_dst_alpha:
+      return 1.0f - d.w;
+    case BlendFactor::src_alpha_saturate:
+      return i < 3 ? std::min(s.w, 1.0f - d.w) : 1.0f;
   }
   return 0.0f;
 }
@@ -89,9 +102,12 @@ float blend_channel(const RenderState& st, const glm::vec4& s, const glm::vec4& 
   const float a = s[i] * blend_factor(st.blend_src, s, d, i);
   const float b = d[i] * blend_factor(st.blend_dst, s, d, i);
   switch (st.blend_equation) {
-    case BlendEquation::add: return a + b;
-    case BlendEquation::subtract: return a - b;
-    case BlendEquation::reverse_subtract: return b - a;
+    case BlendEquation::add:
+      return a + b;
+    case BlendEquation::subtract:
+      return a - b;
+    case BlendEquation::reverse_subtract:
+      return b - a;
   }
   return a;
 }
@@ -171,8 +187,7 @@ class Renderer {
     }
   }
 
-  void render_triangle(const RenderState& st, const std::array<ShadedVertex, 3>& tri,
-                       int64_t id) {
+  void render_triangle(const RenderState& st, const std::array<ShadedVertex, 3>& tri, int64_t id) {
     const std::vector<ShadedVertex> poly = clip_triangle(tri, m_guard_band);
     if (poly.size() < 3) {
       ++m_stats.triangles_clipped_away;
@@ -344,13 +359,20 @@ GuardBand guard_band_for(int width, int height) {
 
 float clip_distance(int plane, const glm::vec4& c, const GuardBand& gb) {
   switch (plane) {
-    case 0: return c.w - kMinClipW;
-    case 1: return c.z + c.w;
-    case 2: return c.w - c.z;
-    case 3: return c.x + gb.left * c.w;
-    case 4: return gb.right * c.w - c.x;
-    case 5: return c.y + gb.bottom * c.w;
-    case 6: return gb.top * c.w - c.y;
+    case 0:
+      return c.w - kMinClipW;
+    case 1:
+      return c.z + c.w;
+    case 2:
+      return c.w - c.z;
+    case 3:
+      return c.x + gb.left * c.w;
+    case 4:
+      return gb.right * c.w - c.x;
+    case 5:
+      return c.y + gb.bottom * c.w;
+    case 6:
+      return gb.top * c.w - c.y;
   }
   return 0.0f;
 }
@@ -373,18 +395,23 @@ std::vector<ShadedVertex> clip_triangle(const std::array<ShadedVertex, 3>& tri,
       const bool in_i = d[i] >= 0.0f, in_j = d[j] >= 0.0f;
       if (in_i) next.push_back(poly[i]);
       if (in_i == in_j) continue;
-      // Interpolate from the inside vertex towards the outside one, so an
-      // edge shared by two triangles is cut at the same point in both.
-      const ShadedVertex& a = in_i ? poly[i] : poly[j];
-      const ShadedVertex& b = in_i ? poly[j] : poly[i];
-      const float da = in_i ? d[i] : d[j];
-      const float db = in_i ? d[j] : d[i];
+      // Interpolate from the endpoint nearer the plane (the inside one on a
+      // tie), which keeps t small and the cut precise; the choice depends only
+      // on the edge, so an edge shared by two triangles is cut identically.
+      const bool from_i =
+          std::fabs(d[i]) < std::fabs(d[j]) || (std::fabs(d[i]) == std::fabs(d[j]) && in_i);
+      const ShadedVertex& a = from_i ? poly[i] : poly[j];
+      const ShadedVertex& b = from_i ? poly[j] : poly[i];
+      const float da = from_i ? d[i] : d[j];
+      const float db = from_i ? d[j] : d[i];
       const float t = da / (da - db);
       ShadedVertex v;
       for (int k = 0; k < 4; ++k) {
         v.clip[k] = a.clip[k] + t * (b.clip[k] - a.clip[k]);
         v.color[k] = a.color[k] + t * (b.color[k] - a.color[k]);
       }
+      // Rounding can leave a cut on the w plane at or below 0; 1/w must stay finite.
+      if (plane == 0) v.clip.w = std::max(v.clip.w, kMinClipW);
       next.push_back(v);
     }
     poly.swap(next);
@@ -436,6 +463,8 @@ nlohmann::json Stats::to_json() const {
           {"fragments_written", fragments_written}};
 }
 
-Result render(const Scene& scene) { return Renderer(scene).run(); }
+Result render(const Scene& scene) {
+  return Renderer(scene).run();
+}
 
 }  // namespace gpusim::golden

@@ -1,0 +1,313 @@
+// A bounded FIFO channel joining two pipeline stages, after Accellera's
+// simple_perf example: it records its own occupancy and how long its writers
+// were stalled and its readers starved, so every stage boundary reports its
+// bottleneck without extra code in the stages.
+//
+// Semantics are sc_fifo's: an item written in one delta cycle becomes
+// readable in the next, and a slot freed by a read becomes writable in the
+// next, so the result never depends on the order in which the kernel runs the
+// processes of one delta. Events are delta notifications from update().
+//
+// Cost: a ring buffer allocated once, one request_update() per delta with
+// activity, no clock and no per-cycle work. A stage with nothing to do sleeps
+// in read() (or on data_written_event()) and costs the kernel nothing.
+//
+// Statistics integrate in simulated time and are computed up to "now" on
+// demand, so they can be read at any point, including after sc_start()
+// returned with a stage still blocked. Blocked time is counted only in the
+// blocking read() and write(); a stage that polls with nb_read()/nb_write()
+// accounts for its own waiting. Mean occupancy is over [0, now].
+#pragma once
+
+#include <algorithm>
+#include <cassert>
+#include <cstddef>
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <string>
+#include <systemc>
+#include <utility>
+#include <vector>
+
+namespace gpusim {
+
+// The reader's side, for stages that reach their input through an sc_port.
+template <typename T>
+class FifoInIf : public virtual sc_core::sc_interface {
+ public:
+  virtual T read() = 0;
+  virtual bool nb_read(T& item) = 0;
+  virtual size_t size() const = 0;
+  virtual const T& front() const = 0;
+  virtual const sc_core::sc_event& data_written_event() const = 0;
+};
+
+// The writer's side.
+template <typename T>
+class FifoOutIf : public virtual sc_core::sc_interface {
+ public:
+  virtual void write(const T& item) = 0;
+  virtual bool nb_write(const T& item) = 0;
+  virtual size_t num_free() const = 0;
+  virtual size_t depth() const = 0;
+  virtual const sc_core::sc_event& data_read_event() const = 0;
+};
+
+template <typename T>
+using FifoInPort = sc_core::sc_port<FifoInIf<T>>;
+template <typename T>
+using FifoOutPort = sc_core::sc_port<FifoOutIf<T>>;
+
+// Times are sc_time; *_cycles conversions use the cycle given to stats_json().
+struct FifoStats {
+  uint64_t written = 0;
+  uint64_t read = 0;
+  size_t max_occupancy = 0;
+  double mean_occupancy = 0.0;      // time-weighted over [0, now]
+  sc_core::sc_time full;            // time holding depth() items
+  sc_core::sc_time empty;           // time holding no item
+  sc_core::sc_time writer_blocked;  // summed over writers blocked in write(): stall
+  sc_core::sc_time reader_blocked;  // summed over readers blocked in read(): starve
+  uint64_t injected_stalls = 0;     // reads and writes delayed by inject_random_stalls
+  sc_core::sc_time injected_stall;  // total delay they added
+  sc_core::sc_time observed;        // now: the window of every time above
+};
+
+namespace fifo_detail {
+
+// Time integral of a level that changes at discrete instants: occupancy, or
+// the number of processes currently blocked. Values are in units of the
+// SystemC time resolution; 64 bits hold depth 65536 for 2^48 ps (~280 s).
+struct Integral {
+  uint64_t level = 0;
+  uint64_t since = 0;  // sc_time value of the last change
+  uint64_t area = 0;
+
+  void set(uint64_t new_level, uint64_t now) {
+    area += level * (now - since);
+    since = now;
+    level = new_level;
+  }
+  uint64_t area_at(uint64_t now) const { return area + level * (now - since); }
+};
+
+// splitmix64: tiny, fast and fully specified, so a seed gives the same stall
+// pattern with every compiler and standard library.
+struct SplitMix64 {
+  uint64_t state = 0;
+  uint64_t next() {
+    uint64_t z = (state += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+  }
+  double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }  // [0, 1)
+};
+
+}  // namespace fifo_detail
+
+template <typename T>
+class Fifo : public sc_core::sc_prim_channel, public FifoInIf<T>, public FifoOutIf<T> {
+ public:
+  // T must be default-constructible and copy-assignable: the ring holds
+  // `depth` values from construction on, so a write is one assignment.
+  Fifo(const char* name, size_t depth)
+      : sc_core::sc_prim_channel(name),
+        m_buf(depth),
+        m_data_written_event((std::string(name) + "_written").c_str()),
+        m_data_read_event((std::string(name) + "_read").c_str()) {
+    if (depth == 0) throw std::invalid_argument(std::string("Fifo ") + name + ": depth 0");
+  }
+
+  const char* kind() const override { return "gpusim::Fifo"; }
+
+  // Blocking; SC_THREAD only. Waits while the FIFO is full.
+  void write(const T& item) override {
+    maybe_stall(m_write_rng);
+    if (num_free() == 0) {
+      begin_blocked(m_blocked_writers);
+      do {
+        sc_core::wait(m_data_read_event);
+      } while (num_free() == 0);
+      end_blocked(m_blocked_writers);
+    }
+    push(item);
+  }
+
+  // Blocking; SC_THREAD only. Waits while no item is readable.
+  T read() override {
+    maybe_stall(m_read_rng);
+    if (size() == 0) {
+      begin_blocked(m_blocked_readers);
+      do {
+        sc_core::wait(m_data_written_event);
+      } while (size() == 0);
+      end_blocked(m_blocked_readers);
+    }
+    return pop();
+  }
+
+  bool nb_write(const T& item) override {
+    if (num_free() == 0) return false;
+    push(item);
+    return true;
+  }
+
+  bool nb_read(T& item) override {
+    if (size() == 0) return false;
+    item = pop();
+    return true;
+  }
+
+  // Items the reader can take now (written before this delta, not yet read).
+  size_t size() const override { return m_committed - m_num_read; }
+  // Slots a writer can fill now (slots freed in this delta count from the next).
+  size_t num_free() const override { return m_buf.size() - m_committed - m_num_written; }
+  size_t depth() const override { return m_buf.size(); }
+  // The oldest readable item; requires size() > 0.
+  const T& front() const override {
+    assert(size() > 0);
+    return m_buf[m_head];
+  }
+
+  // Notified (delta) after a delta cycle in which items were written / read.
+  const sc_core::sc_event& data_written_event() const override { return m_data_written_event; }
+  const sc_core::sc_event& data_read_event() const override { return m_data_read_event; }
+
+  // From now on, every blocking read() and write() first waits, with
+  // `probability`, a uniformly drawn 1..max_cycles cycles. Readers and writers
+  // draw from separate streams derived from `seed`, so a run is reproducible.
+  // Used to prove that results do not depend on timing (as MatchLib does).
+  void inject_random_stalls(uint64_t seed, double probability, unsigned max_cycles,
+                            sc_core::sc_time cycle) {
+    if (!(probability >= 0.0 && probability <= 1.0) || max_cycles == 0 ||
+        cycle == sc_core::SC_ZERO_TIME) {
+      throw std::invalid_argument(std::string("Fifo ") + name() +
+                                  ": inject_random_stalls needs probability in [0, 1], "
+                                  "max_cycles >= 1 and a non-zero cycle");
+    }
+    m_stall_probability = probability;
+    m_stall_max_cycles = max_cycles;
+    m_stall_cycle = cycle;
+    m_write_rng.state = seed;
+    m_read_rng.state = seed ^ 0xD1B54A32D192ED03ull;
+  }
+
+  FifoStats stats() const {
+    const uint64_t now = sc_core::sc_time_stamp().value();
+    const uint64_t dt = now - m_occupancy.since;
+    FifoStats s;
+    s.written = m_total_written;
+    s.read = m_total_read;
+    s.max_occupancy = m_max_occupancy;
+    s.mean_occupancy =
+        now == 0 ? 0.0 : static_cast<double>(m_occupancy.area_at(now)) / static_cast<double>(now);
+    s.full = sc_core::sc_time::from_value(m_full + (m_committed == depth() ? dt : 0));
+    s.empty = sc_core::sc_time::from_value(m_empty + (m_committed == 0 ? dt : 0));
+    s.writer_blocked = sc_core::sc_time::from_value(m_blocked_writers.area_at(now));
+    s.reader_blocked = sc_core::sc_time::from_value(m_blocked_readers.area_at(now));
+    s.injected_stalls = m_injected_stalls;
+    s.injected_stall = m_injected_stall;
+    s.observed = sc_core::sc_time_stamp();
+    return s;
+  }
+
+  // Times in cycles of `cycle` (fractional if not whole cycles).
+  nlohmann::json stats_json(sc_core::sc_time cycle) const {
+    const FifoStats s = stats();
+    const auto cycles = [&](sc_core::sc_time t) { return t / cycle; };
+    return {
+        {"depth", depth()},
+        {"written", s.written},
+        {"read", s.read},
+        {"max_occupancy", s.max_occupancy},
+        {"mean_occupancy", s.mean_occupancy},
+        {"full_cycles", cycles(s.full)},
+        {"empty_cycles", cycles(s.empty)},
+        {"writer_blocked_cycles", cycles(s.writer_blocked)},
+        {"reader_blocked_cycles", cycles(s.reader_blocked)},
+        {"injected_stalls", s.injected_stalls},
+        {"injected_stall_cycles", cycles(s.injected_stall)},
+        {"observed_cycles", cycles(s.observed)},
+    };
+  }
+
+ private:
+  void push(const T& item) {
+    m_buf[m_tail] = item;
+    m_tail = m_tail + 1 == m_buf.size() ? 0 : m_tail + 1;
+    ++m_num_written;
+    ++m_total_written;
+    request_update();
+  }
+
+  T pop() {
+    T item = std::move(m_buf[m_head]);
+    m_head = m_head + 1 == m_buf.size() ? 0 : m_head + 1;
+    ++m_num_read;
+    ++m_total_read;
+    request_update();
+    return item;
+  }
+
+  // Commits this delta's reads and writes: the occupancy seen by the other
+  // side, and the statistics, change only here.
+  void update() override {
+    const uint64_t now = sc_core::sc_time_stamp().value();
+    const uint64_t dt = now - m_occupancy.since;
+    if (m_committed == depth()) m_full += dt;
+    if (m_committed == 0) m_empty += dt;
+    m_committed = m_committed - m_num_read + m_num_written;
+    m_occupancy.set(m_committed, now);
+    m_max_occupancy = std::max(m_max_occupancy, m_committed);
+    if (m_num_written) m_data_written_event.notify(sc_core::SC_ZERO_TIME);
+    if (m_num_read) m_data_read_event.notify(sc_core::SC_ZERO_TIME);
+    m_num_written = 0;
+    m_num_read = 0;
+  }
+
+  static void begin_blocked(fifo_detail::Integral& blocked) {
+    blocked.set(blocked.level + 1, sc_core::sc_time_stamp().value());
+  }
+  static void end_blocked(fifo_detail::Integral& blocked) {
+    blocked.set(blocked.level - 1, sc_core::sc_time_stamp().value());
+  }
+
+  void maybe_stall(fifo_detail::SplitMix64& rng) {
+    if (m_stall_probability <= 0.0 || rng.uniform() >= m_stall_probability) return;
+    const uint64_t n = 1 + rng.next() % m_stall_max_cycles;
+    const sc_core::sc_time t = sc_core::sc_time::from_value(m_stall_cycle.value() * n);
+    ++m_injected_stalls;
+    m_injected_stall += t;
+    sc_core::wait(t);
+  }
+
+  std::vector<T> m_buf;
+  size_t m_head = 0;         // oldest item
+  size_t m_tail = 0;         // next free slot
+  size_t m_committed = 0;    // items held at the start of this delta
+  size_t m_num_read = 0;     // in this delta
+  size_t m_num_written = 0;  // in this delta
+  sc_core::sc_event m_data_written_event;
+  sc_core::sc_event m_data_read_event;
+
+  uint64_t m_total_written = 0;
+  uint64_t m_total_read = 0;
+  size_t m_max_occupancy = 0;
+  fifo_detail::Integral m_occupancy;
+  uint64_t m_full = 0;  // sc_time values, closed at each update()
+  uint64_t m_empty = 0;
+  fifo_detail::Integral m_blocked_writers;
+  fifo_detail::Integral m_blocked_readers;
+
+  double m_stall_probability = 0.0;
+  unsigned m_stall_max_cycles = 0;
+  sc_core::sc_time m_stall_cycle;
+  fifo_detail::SplitMix64 m_write_rng;
+  fifo_detail::SplitMix64 m_read_rng;
+  uint64_t m_injected_stalls = 0;
+  sc_core::sc_time m_injected_stall;
+};
+
+}  // namespace gpusim

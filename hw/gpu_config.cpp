@@ -1,0 +1,284 @@
+#include "hw/gpu_config.h"
+
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <stdexcept>
+
+namespace gpusim {
+namespace {
+
+// Upper bounds keep every product of the model (cycles x items, bytes x
+// requests) far from overflow and catch typos such as a missing decimal point.
+constexpr double kMaxClockMhz = 10000.0;
+constexpr unsigned kMaxUnits = 64;
+constexpr unsigned kMinTile = 8;
+constexpr unsigned kMaxTile = 256;
+constexpr unsigned kMaxFifoDepth = 65536;
+constexpr unsigned kMaxStageCycles = 1000000;
+constexpr unsigned kMaxMemoryLatency = 1000000;
+constexpr unsigned kMaxBytesPerCycle = 65536;
+constexpr unsigned kMaxVertexCache = 65536;
+constexpr uint64_t kMaxWatchdog = 1000000000000ull;
+
+bool is_power_of_two(uint64_t v) {
+  return v != 0 && (v & (v - 1)) == 0;
+}
+
+// Walks one JSON document, carrying the source name for error messages.
+class Reader {
+ public:
+  explicit Reader(const std::string& source) : m_source(source) {}
+
+  [[noreturn]] void fail(const std::string& path, const std::string& problem) const {
+    throw InputError(m_source + ": " + (path.empty() ? "(root)" : path) + ": " + problem);
+  }
+
+  static std::string join(const std::string& path, const std::string& key) {
+    return path.empty() ? key : path + "." + key;
+  }
+
+  void expect_object(const nlohmann::json& j, const std::string& path) const {
+    if (!j.is_object()) fail(path, std::string("expected an object, got ") + j.type_name());
+  }
+
+  // Every key of `j` must be one of `known`.
+  void check_keys(const nlohmann::json& j, const std::string& path,
+                  const std::vector<std::string>& known) const {
+    for (const auto& item : j.items()) {
+      bool found = false;
+      for (const auto& k : known) found = found || k == item.key();
+      if (!found) fail(join(path, item.key()), "unknown key");
+    }
+  }
+
+  uint64_t get_uint(const nlohmann::json& j, const std::string& path, uint64_t lo,
+                    uint64_t hi) const {
+    if (j.is_number_float()) fail(path, "expected an integer, got " + j.dump());
+    if (!j.is_number_integer())
+      fail(path, std::string("expected an integer, got ") + j.type_name());
+    // Parsed non-negative numbers are number_unsigned, but ones built in C++
+    // from an int are signed.
+    if (j.is_number_unsigned() || j.get<int64_t>() >= 0) {
+      const uint64_t v = j.get<uint64_t>();
+      if (v >= lo && v <= hi) return v;
+    }
+    fail(path, j.dump() + " is out of range " + std::to_string(lo) + ".." + std::to_string(hi));
+  }
+
+  unsigned get_unsigned(const nlohmann::json& j, const std::string& path, unsigned lo,
+                        unsigned hi) const {
+    return static_cast<unsigned>(get_uint(j, path, lo, hi));
+  }
+
+ private:
+  std::string m_source;
+};
+
+}  // namespace
+
+const std::vector<std::string>& GpuConfig::stage_names() {
+  static const std::vector<std::string> names{
+      "command_processor", "vertex_fetch", "vertex_shader", "clipper",    "triangle_setup",
+      "tile_distributor",  "rasterizer",   "interpolator",  "depth_test", "rop"};
+  return names;
+}
+
+const std::vector<std::string>& GpuConfig::fifo_names() {
+  static const std::vector<std::string> names{
+      "command_to_fetch",           "fetch_to_shader",       "shader_to_clipper",
+      "clipper_to_setup",           "setup_to_distributor",  "distributor_to_rasterizer",
+      "rasterizer_to_interpolator", "interpolator_to_depth", "depth_to_rop"};
+  return names;
+}
+
+// Defaults model a fully pipelined fixed-function part at 1 GHz; the
+// reasoning for each value is in docs/gpu-config.md.
+std::map<std::string, StageCost, std::less<>> GpuConfig::default_stage_costs() {
+  return {
+      {"command_processor", {1, 2}},  // decode one command
+      {"vertex_fetch", {1, 2}},       // per vertex, plus the memory's own delay
+      {"vertex_shader", {4, 24}},     // per vertex: 4 shared multiply-add ranks, T&L
+      {"clipper", {2, 8}},            // per triangle: assembly, clip test, divide, viewport
+      {"triangle_setup", {4, 16}},    // per triangle: edge and attribute plane equations
+      {"tile_distributor", {1, 2}},   // per triangle-tile pair
+      {"rasterizer", {1, 2}},         // per stamp
+      {"interpolator", {1, 6}},       // per stamp: perspective-correct reciprocal and products
+      {"depth_test", {1, 2}},         // per stamp, plus the memory's own delay
+      {"rop", {1, 4}},                // per stamp: blend and mask, plus the memory's delay
+  };
+}
+
+const StageCost& GpuConfig::stage(std::string_view name) const {
+  const auto it = stages.find(name);
+  if (it == stages.end()) {
+    throw std::invalid_argument("GpuConfig::stage: unknown stage '" + std::string(name) + "'");
+  }
+  return it->second;
+}
+
+unsigned GpuConfig::fifo_depth_of(std::string_view name) const {
+  const auto it = fifo_depths.find(name);
+  if (it != fifo_depths.end()) return it->second;
+  for (const auto& n : fifo_names()) {
+    if (n == name) return fifo_depth;
+  }
+  throw std::invalid_argument("GpuConfig::fifo_depth_of: unknown FIFO '" + std::string(name) + "'");
+}
+
+sc_core::sc_time GpuConfig::cycle() const {
+  return sc_core::sc_time(1000.0 / clock_mhz, sc_core::SC_NS);
+}
+
+sc_core::sc_time GpuConfig::cycles(uint64_t n) const {
+  return sc_core::sc_time::from_value(cycle().value() * n);
+}
+
+bool GpuConfig::operator==(const GpuConfig& o) const {
+  if (clock_mhz != o.clock_mhz || units != o.units || tile_size != o.tile_size ||
+      stamp != o.stamp || fifo_depth != o.fifo_depth || stages != o.stages || memory != o.memory ||
+      vertex_cache_entries != o.vertex_cache_entries || watchdog_cycles != o.watchdog_cycles) {
+    return false;
+  }
+  for (const auto& n : fifo_names()) {
+    if (fifo_depth_of(n) != o.fifo_depth_of(n)) return false;
+  }
+  return true;
+}
+
+GpuConfig gpu_config_from_json(const nlohmann::json& j, const std::string& source_name) {
+  const Reader r(source_name);
+  GpuConfig c;
+  r.expect_object(j, "");
+  r.check_keys(j, "",
+               {"clock_mhz", "units", "tile_size", "stamp", "fifo_depth", "fifo_depths", "stages",
+                "memory", "vertex_cache_entries", "watchdog_cycles"});
+
+  if (j.contains("clock_mhz")) {
+    const auto& v = j["clock_mhz"];
+    if (!v.is_number()) r.fail("clock_mhz", std::string("expected a number, got ") + v.type_name());
+    const double mhz = v.get<double>();
+    if (!(mhz > 0.0 && mhz <= kMaxClockMhz)) {
+      r.fail("clock_mhz", v.dump() + " is out of range (0, " +
+                              std::to_string(static_cast<unsigned>(kMaxClockMhz)) + "]");
+    }
+    c.clock_mhz = mhz;
+  }
+  if (j.contains("units")) c.units = r.get_unsigned(j["units"], "units", 1, kMaxUnits);
+  if (j.contains("tile_size")) {
+    c.tile_size = r.get_unsigned(j["tile_size"], "tile_size", kMinTile, kMaxTile);
+    if (!is_power_of_two(c.tile_size)) {
+      r.fail("tile_size", std::to_string(c.tile_size) + " is not a power of two");
+    }
+  }
+  if (j.contains("stamp")) {
+    const auto& s = j["stamp"];
+    if (!s.is_array() || s.size() != 2) r.fail("stamp", "expected an array of 2 integers");
+    for (size_t i = 0; i < 2; ++i) {
+      const std::string path = "stamp[" + std::to_string(i) + "]";
+      const unsigned v = r.get_unsigned(s[i], path, 1, kMaxTile);
+      if (!is_power_of_two(v)) r.fail(path, std::to_string(v) + " is not a power of two");
+      // tile_size is read first; the default stamp fits the smallest tile.
+      if (v > c.tile_size) {
+        r.fail(path, std::to_string(v) + " exceeds tile_size " + std::to_string(c.tile_size));
+      }
+      c.stamp[i] = v;
+    }
+  }
+  if (j.contains("fifo_depth")) {
+    c.fifo_depth = r.get_unsigned(j["fifo_depth"], "fifo_depth", 1, kMaxFifoDepth);
+  }
+  if (j.contains("fifo_depths")) {
+    const auto& f = j["fifo_depths"];
+    r.expect_object(f, "fifo_depths");
+    r.check_keys(f, "fifo_depths", GpuConfig::fifo_names());
+    for (const auto& item : f.items()) {
+      c.fifo_depths[item.key()] =
+          r.get_unsigned(item.value(), "fifo_depths." + item.key(), 1, kMaxFifoDepth);
+    }
+  }
+  if (j.contains("stages")) {
+    const auto& st = j["stages"];
+    r.expect_object(st, "stages");
+    r.check_keys(st, "stages", GpuConfig::stage_names());
+    for (const auto& item : st.items()) {
+      const std::string path = "stages." + item.key();
+      const auto& s = item.value();
+      r.expect_object(s, path);
+      r.check_keys(s, path, {"ii", "latency"});
+      StageCost& cost = c.stages[item.key()];
+      if (s.contains("ii")) cost.ii = r.get_unsigned(s["ii"], path + ".ii", 1, kMaxStageCycles);
+      if (s.contains("latency")) {
+        cost.latency = r.get_unsigned(s["latency"], path + ".latency", 0, kMaxStageCycles);
+      }
+    }
+  }
+  if (j.contains("memory")) {
+    const auto& m = j["memory"];
+    r.expect_object(m, "memory");
+    r.check_keys(m, "memory", {"latency", "bytes_per_cycle"});
+    if (m.contains("latency")) {
+      c.memory.latency = r.get_unsigned(m["latency"], "memory.latency", 0, kMaxMemoryLatency);
+    }
+    if (m.contains("bytes_per_cycle")) {
+      c.memory.bytes_per_cycle =
+          r.get_unsigned(m["bytes_per_cycle"], "memory.bytes_per_cycle", 1, kMaxBytesPerCycle);
+    }
+  }
+  if (j.contains("vertex_cache_entries")) {
+    c.vertex_cache_entries =
+        r.get_unsigned(j["vertex_cache_entries"], "vertex_cache_entries", 0, kMaxVertexCache);
+  }
+  if (j.contains("watchdog_cycles")) {
+    c.watchdog_cycles = r.get_uint(j["watchdog_cycles"], "watchdog_cycles", 1, kMaxWatchdog);
+  }
+  return c;
+}
+
+GpuConfig load_gpu_config(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(text.str(), nullptr, /*allow_exceptions=*/true,
+                              /*ignore_comments=*/true);
+  } catch (const nlohmann::json::parse_error& e) {
+    // nlohmann's message reads "[json.exception.parse_error.101] parse error at
+    // line L, column C: <message>"; keep the position and the message.
+    static const std::regex pattern(R"(line (\d+), column (\d+): (.*))");
+    std::smatch m;
+    const std::string what = e.what();
+    if (std::regex_search(what, m, pattern)) {
+      throw InputError(path + ": line " + m[1].str() + ", column " + m[2].str() + ": " +
+                       m[3].str());
+    }
+    throw InputError(path + ": byte " + std::to_string(e.byte) + ": " + what);
+  }
+  return gpu_config_from_json(j, path);
+}
+
+nlohmann::json to_json(const GpuConfig& c) {
+  nlohmann::json j;
+  j["clock_mhz"] = c.clock_mhz;
+  j["units"] = c.units;
+  j["tile_size"] = c.tile_size;
+  j["stamp"] = {c.stamp[0], c.stamp[1]};
+  j["fifo_depth"] = c.fifo_depth;
+  nlohmann::json depths = nlohmann::json::object();
+  for (const auto& n : GpuConfig::fifo_names()) depths[n] = c.fifo_depth_of(n);
+  j["fifo_depths"] = depths;
+  nlohmann::json stages = nlohmann::json::object();
+  for (const auto& n : GpuConfig::stage_names()) {
+    const StageCost& s = c.stage(n);
+    stages[n] = {{"ii", s.ii}, {"latency", s.latency}};
+  }
+  j["stages"] = stages;
+  j["memory"] = {{"latency", c.memory.latency}, {"bytes_per_cycle", c.memory.bytes_per_cycle}};
+  j["vertex_cache_entries"] = c.vertex_cache_entries;
+  j["watchdog_cycles"] = c.watchdog_cycles;
+  return j;
+}
+
+}  // namespace gpusim

@@ -1,0 +1,94 @@
+// The one configuration of the cycle model: clock, unit count, tile and stamp
+// sizes, FIFO depths, per-stage costs, memory timing. Loaded from a JSON file
+// (docs/gpu-config.md), passed by const reference to every module, and dumped
+// with the results (to_json) so statistics always carry the configuration
+// that produced them.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <string_view>
+#include <systemc>
+#include <vector>
+
+#include "testbench/input_error.h"
+
+namespace gpusim {
+
+// Cost of a pipelined stage: it accepts a new item every `ii` cycles
+// (initiation interval) and its result leaves `latency` cycles after the item
+// was accepted.
+struct StageCost {
+  unsigned ii = 1;
+  unsigned latency = 0;
+
+  bool operator==(const StageCost& o) const { return ii == o.ii && latency == o.latency; }
+  bool operator!=(const StageCost& o) const { return !(*this == o); }
+};
+
+// The one memory shared by every client (see hw/memory.h for the model).
+struct MemoryConfig {
+  unsigned latency = 20;          // cycles from the end of the bus transfer to completion
+  unsigned bytes_per_cycle = 32;  // data bus width, shared by all clients
+
+  bool operator==(const MemoryConfig& o) const {
+    return latency == o.latency && bytes_per_cycle == o.bytes_per_cycle;
+  }
+  bool operator!=(const MemoryConfig& o) const { return !(*this == o); }
+};
+
+struct GpuConfig {
+  double clock_mhz = 1000.0;
+  unsigned units = 4;                   // tile rasterizer units
+  unsigned tile_size = 16;              // square screen tile owned by one unit, in pixels
+  std::array<unsigned, 2> stamp{4, 4};  // pixels (x, y) evaluated per cycle by one unit
+  unsigned fifo_depth = 16;             // depth of every FIFO without an override
+  // Per-FIFO overrides of fifo_depth, keyed by a name of fifo_names(). Only
+  // overrides are stored; fifo_depth_of() resolves.
+  std::map<std::string, unsigned, std::less<>> fifo_depths;
+  // Cost of every stage of stage_names(); a default-constructed config holds
+  // every stage at its documented default.
+  std::map<std::string, StageCost, std::less<>> stages = default_stage_costs();
+  MemoryConfig memory;
+  unsigned vertex_cache_entries = 32;  // post-transform vertex cache; 0 disables it
+  uint64_t watchdog_cycles = 1000000;  // no stage progress for this long stops the run
+
+  // The fixed names of the pipeline stages and FIFOs, in pipeline order.
+  static const std::vector<std::string>& stage_names();
+  static const std::vector<std::string>& fifo_names();
+  static std::map<std::string, StageCost, std::less<>> default_stage_costs();
+
+  // Lookups by a name of stage_names() / fifo_names(); an unknown name is a
+  // programming error and throws std::invalid_argument.
+  const StageCost& stage(std::string_view name) const;
+  unsigned fifo_depth_of(std::string_view name) const;
+
+  // The clock period, rounded to the SystemC time resolution (1 ps unless the
+  // testbench changes it), and n periods as an exact multiple of it.
+  sc_core::sc_time cycle() const;
+  sc_core::sc_time cycles(uint64_t n) const;
+
+  // Equality of the resolved configurations: a FIFO left at the default depth
+  // equals one overridden with the same depth, so a config equals its round
+  // trip through to_json().
+  bool operator==(const GpuConfig& o) const;
+  bool operator!=(const GpuConfig& o) const { return !(*this == o); }
+};
+
+// Strict: unknown keys, wrong types and out-of-range values throw InputError
+// with one line "<source_name>: <json path>: <problem>"; absent keys keep
+// their defaults.
+GpuConfig gpu_config_from_json(const nlohmann::json& j, const std::string& source_name);
+
+// Reads and validates a file. Malformed JSON throws InputError
+// "<path>: line L, column C: <message>". Comments (// and /* */) are allowed.
+GpuConfig load_gpu_config(const std::string& path);
+
+// Every value resolved: all stages and the depth of every FIFO.
+nlohmann::json to_json(const GpuConfig& c);
+
+}  // namespace gpusim

@@ -1,0 +1,777 @@
+// load_scene(): parses a scene file (docs/scene-format.md), validates every
+// value, and resolves it into what the models consume: matrices, eye-space
+// lights, vertex arrays. Every problem becomes a one-line InputError naming the
+// file and the JSON path, so a bad scene never reaches the models.
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <initializer_list>
+#include <limits>
+#include <optional>
+#include <set>
+#include <sstream>
+#include <string_view>
+
+#include "testbench/scene/mesh_import.h"
+#include "testbench/scene/scene.h"
+
+namespace gpusim {
+namespace {
+
+namespace fs = std::filesystem;
+// Ordered so unknown keys are reported in file order.
+using Json = nlohmann::ordered_json;
+using Out = nlohmann::json;
+
+constexpr int64_t kMaxFramebufferSize = 8192;
+// The format nests at most 5 deep; the limit keeps pathological files cheap.
+constexpr size_t kMaxNesting = 32;
+
+std::string member_path(const std::string& parent, std::string_view key) {
+  return parent.empty() ? std::string(key) : parent + "." + std::string(key);
+}
+std::string element_path(const std::string& parent, size_t i) {
+  return parent + "[" + std::to_string(i) + "]";
+}
+
+std::string one_line(std::string s) {
+  for (char& c : s) {
+    if (c == '\n' || c == '\r') c = ' ';
+  }
+  return s;
+}
+
+// A value as quoted in messages: scalars as written, containers summarised.
+std::string describe(const Json& v) {
+  if (v.is_array()) {
+    return "an array of " + std::to_string(v.size()) + (v.size() == 1 ? " element" : " elements");
+  }
+  if (v.is_object()) return "an object";
+  std::string s = v.dump();
+  if (s.size() > 60) s = s.substr(0, 57) + "...";
+  return s;
+}
+
+// Floats go into the resolved JSON through their shortest decimal form, so
+// stats.json shows 0.2 rather than 0.20000000298023224.
+double tidy(float f) {
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof buf, f);
+  double d = f;
+  std::from_chars(buf, r.ptr, d);
+  return d;
+}
+Out out_vec(const glm::vec3& v) {
+  return Out::array({tidy(v.x), tidy(v.y), tidy(v.z)});
+}
+Out out_vec(const glm::vec4& v) {
+  return Out::array({tidy(v.x), tidy(v.y), tidy(v.z), tidy(v.w)});
+}
+// Rows, as matrices are written in scene files (glm is column-major: m[col][row]).
+Out out_mat(const glm::mat4& m) {
+  Out rows = Out::array();
+  for (int r = 0; r < 4; ++r)
+    rows.push_back(out_vec(glm::vec4(m[0][r], m[1][r], m[2][r], m[3][r])));
+  return rows;
+}
+
+bool all_finite(const glm::mat3& m) {
+  for (int c = 0; c < 3; ++c) {
+    for (int r = 0; r < 3; ++r) {
+      if (!std::isfinite(m[c][r])) return false;
+    }
+  }
+  return true;
+}
+
+// A JSON value and its path in the file ("draws[2].state.cull").
+struct At {
+  const Json& v;
+  std::string path;
+};
+
+class SceneReader {
+ public:
+  explicit SceneReader(std::string file)
+      : file_(std::move(file)), dir_(fs::path(file_).parent_path()) {}
+
+  Scene read();
+
+ private:
+  [[noreturn]] void fail(const std::string& path, const std::string& problem) const {
+    throw InputError(one_line(file_ + ": " + (path.empty() ? "" : path + ": ") + problem));
+  }
+  [[noreturn]] void fail_value(const At& a, const std::string& expected) const {
+    fail(a.path, expected + ", got " + describe(a.v));
+  }
+
+  Json parse(const std::string& text) const;
+
+  // Structure.
+  void expect_object(const At& a) const {
+    if (!a.v.is_object()) fail_value(a, "expected an object");
+  }
+  void check_keys(const At& obj, std::initializer_list<std::string_view> allowed) const;
+  bool has(const At& obj, std::string_view key) const { return obj.v.contains(key); }
+  At member(const At& obj, std::string_view key) const {
+    const auto it = obj.v.find(key);
+    if (it == obj.v.end()) fail(obj.path, "missing key \"" + std::string(key) + "\"");
+    return At{*it, member_path(obj.path, key)};
+  }
+  At element(const At& arr, size_t i) const { return At{arr.v[i], element_path(arr.path, i)}; }
+
+  // Scalars and small vectors.
+  float real(const At& a) const;
+  int64_t integer(const At& a, int64_t lo, int64_t hi) const;
+  bool boolean(const At& a) const {
+    if (!a.v.is_boolean()) fail_value(a, "expected true or false");
+    return a.v.get<bool>();
+  }
+  std::string string(const At& a) const {
+    if (!a.v.is_string()) fail_value(a, "expected a string");
+    return a.v.get<std::string>();
+  }
+  template <typename E>
+  E enumeration(const At& a) const {
+    const auto e = enum_from_string<E>(string(a));
+    if (!e) fail_value(a, "expected one of " + enum_names<E>());
+    return *e;
+  }
+  // `min`..`max` numbers; missing trailing ones are left as they are in `out`.
+  void numbers(const At& a, size_t min, size_t max, float* out) const;
+  glm::vec3 vec3(const At& a) const {
+    glm::vec3 v;
+    numbers(a, 3, 3, glm::value_ptr(v));
+    return v;
+  }
+  glm::vec4 color(const At& a) const {
+    glm::vec4 v;
+    numbers(a, 4, 4, glm::value_ptr(v));
+    return v;
+  }
+  glm::mat4 matrix(const At& a) const;
+
+  // Sections.
+  void read_framebuffer(const At& root, Scene& scene);
+  void read_camera(const At& root, Scene& scene);
+  void read_lights(const At& root, Scene& scene);
+  Light read_light(const At& a, Out& resolved) const;
+  void read_draw(const At& a, Scene& scene) const;
+  glm::mat4 read_transform(const At& a) const;
+  Material read_material(const At& a) const;
+  RenderState read_state(const At& a) const;
+  void finish_draw(Draw& d, const glm::mat4& model, const At& a, Scene& scene, Out resolved) const;
+
+  std::string file_;
+  fs::path dir_;
+  glm::mat4 view_{1.0f};
+  glm::mat4 projection_{1.0f};
+};
+
+void SceneReader::check_keys(const At& obj, std::initializer_list<std::string_view> allowed) const {
+  for (const auto& item : obj.v.items()) {
+    bool known = false;
+    for (auto k : allowed) known = known || item.key() == k;
+    if (known) continue;
+    std::string list;
+    for (auto k : allowed) list += (list.empty() ? "" : ", ") + std::string(k);
+    fail(member_path(obj.path, item.key()), "unknown key (allowed: " + list + ")");
+  }
+}
+
+float SceneReader::real(const At& a) const {
+  if (!a.v.is_number()) fail_value(a, "expected a number");
+  const double d = a.v.get<double>();
+  const float f = static_cast<float>(d);
+  if (!std::isfinite(d) || !std::isfinite(f)) fail_value(a, "expected a number in float range");
+  return f;
+}
+
+int64_t SceneReader::integer(const At& a, int64_t lo, int64_t hi) const {
+  const std::string range =
+      "expected an integer in " + std::to_string(lo) + ".." + std::to_string(hi);
+  // nlohmann stores non-negative integers as unsigned, negative ones as signed.
+  if (a.v.is_number_unsigned()) {
+    const uint64_t u = a.v.get<uint64_t>();
+    if (hi < 0 || u > static_cast<uint64_t>(hi) || static_cast<int64_t>(u) < lo) {
+      fail_value(a, range);
+    }
+    return static_cast<int64_t>(u);
+  }
+  if (a.v.is_number_integer()) {
+    const int64_t i = a.v.get<int64_t>();
+    if (i < lo || i > hi) fail_value(a, range);
+    return i;
+  }
+  fail_value(a, range);
+}
+
+void SceneReader::numbers(const At& a, size_t min, size_t max, float* out) const {
+  const std::string count =
+      min == max ? std::to_string(min) : std::to_string(min) + " or " + std::to_string(max);
+  if (!a.v.is_array() || a.v.size() < min || a.v.size() > max) {
+    fail_value(a, "expected an array of " + count + " numbers");
+  }
+  for (size_t i = 0; i < a.v.size(); ++i) out[i] = real(element(a, i));
+}
+
+glm::mat4 SceneReader::matrix(const At& a) const {
+  if (!a.v.is_array() || a.v.size() != 4) fail_value(a, "expected 4 rows of 4 numbers");
+  glm::mat4 m;
+  for (int r = 0; r < 4; ++r) {
+    glm::vec4 row;
+    numbers(element(a, r), 4, 4, glm::value_ptr(row));
+    for (int c = 0; c < 4; ++c) m[c][r] = row[c];
+  }
+  return m;
+}
+
+// Parses strict JSON, additionally rejecting duplicate keys (nlohmann would
+// silently keep the last) and absurd nesting.
+Json SceneReader::parse(const std::string& text) const {
+  struct Frame {
+    bool object = false;
+    size_t index = 0;  // arrays: the element being parsed
+    std::string key;   // objects: the member being parsed
+    std::set<std::string> keys;
+  };
+  std::vector<Frame> stack;
+  // Path of the value being parsed, through the first `n` open containers.
+  const auto path_of = [&](size_t n) {
+    std::string p;
+    for (size_t i = 0; i < n; ++i) {
+      p = stack[i].object ? member_path(p, stack[i].key) : element_path(p, stack[i].index);
+    }
+    return p;
+  };
+  const auto element_done = [&] {
+    if (!stack.empty() && !stack.back().object) ++stack.back().index;
+  };
+  const Json::parser_callback_t callback = [&](int, Json::parse_event_t event, Json& parsed) {
+    switch (event) {
+      case Json::parse_event_t::object_start:
+      case Json::parse_event_t::array_start:
+        if (stack.size() >= kMaxNesting) fail(path_of(stack.size()), "nested too deeply");
+        stack.emplace_back();
+        stack.back().object = event == Json::parse_event_t::object_start;
+        break;
+      case Json::parse_event_t::key: {
+        Frame& top = stack.back();
+        top.key = parsed.get<std::string>();
+        if (!top.keys.insert(top.key).second) fail(path_of(stack.size()), "duplicate key");
+        break;
+      }
+      case Json::parse_event_t::value:
+        element_done();
+        break;
+      case Json::parse_event_t::object_end:
+      case Json::parse_event_t::array_end:
+        stack.pop_back();
+        element_done();
+        break;
+    }
+    return true;
+  };
+
+  try {
+    return Json::parse(text, callback);
+  } catch (const Json::parse_error& e) {
+    const std::string msg = e.what();
+    // "[json.exception.parse_error.101] parse error at line 3, column 7: ..."
+    const std::string at = "parse error at line ";
+    const size_t p = msg.find(at);
+    if (p != std::string::npos) fail("", msg.substr(p + at.size() - 5));
+    const size_t b = msg.find("] ");
+    fail("", "byte " + std::to_string(e.byte) + ": " +
+                 (b == std::string::npos ? msg : msg.substr(b + 2)));
+  } catch (const Json::exception& e) {
+    // e.g. out_of_range.406 "number overflow parsing '1e400'".
+    const std::string msg = e.what();
+    const size_t b = msg.find("] ");
+    fail("", b == std::string::npos ? msg : msg.substr(b + 2));
+  }
+}
+
+Scene SceneReader::read() {
+  std::error_code ec;
+  if (fs::is_directory(file_, ec)) fail("", "is a directory, not a scene file");
+  std::ifstream in(file_, std::ios::binary);
+  if (!in) fail("", std::string("cannot open: ") + std::strerror(errno));
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) fail("", "read error");
+
+  const Json json = parse(text.str());
+  const At root{json, ""};
+  expect_object(root);
+  check_keys(root, {"framebuffer", "camera", "ambient", "lights", "draws"});
+
+  Scene scene;
+  scene.path = file_;
+  scene.resolved = Out::object();
+  scene.resolved["file"] = file_;
+  read_framebuffer(root, scene);
+  read_camera(root, scene);
+  if (has(root, "ambient")) scene.global_ambient = color(member(root, "ambient"));
+  scene.resolved["ambient"] = out_vec(scene.global_ambient);
+  read_lights(root, scene);
+
+  scene.resolved["draws"] = Out::array();
+  if (has(root, "draws")) {
+    const At draws = member(root, "draws");
+    if (!draws.v.is_array()) fail_value(draws, "expected an array of draws");
+    for (size_t i = 0; i < draws.v.size(); ++i) read_draw(element(draws, i), scene);
+  }
+  return scene;
+}
+
+void SceneReader::read_framebuffer(const At& root, Scene& scene) {
+  FramebufferDesc& fb = scene.framebuffer;
+  if (has(root, "framebuffer")) {
+    const At a = member(root, "framebuffer");
+    expect_object(a);
+    check_keys(a,
+               {"width", "height", "color_format", "depth_format", "clear_color", "clear_depth"});
+    if (has(a, "width")) fb.width = integer(member(a, "width"), 1, kMaxFramebufferSize);
+    if (has(a, "height")) fb.height = integer(member(a, "height"), 1, kMaxFramebufferSize);
+    if (has(a, "color_format"))
+      fb.color_format = enumeration<ColorFormat>(member(a, "color_format"));
+    if (has(a, "depth_format"))
+      fb.depth_format = enumeration<DepthFormat>(member(a, "depth_format"));
+    if (has(a, "clear_color")) fb.clear_color = color(member(a, "clear_color"));
+    if (has(a, "clear_depth")) {
+      const At d = member(a, "clear_depth");
+      fb.clear_depth = real(d);
+      if (!(fb.clear_depth >= 0.0f && fb.clear_depth <= 1.0f)) fail_value(d, "expected 0..1");
+    }
+  }
+  scene.resolved["framebuffer"] = {{"width", fb.width},
+                                   {"height", fb.height},
+                                   {"color_format", to_string(fb.color_format)},
+                                   {"depth_format", to_string(fb.depth_format)},
+                                   {"clear_color", out_vec(fb.clear_color)},
+                                   {"clear_depth", tidy(fb.clear_depth)}};
+}
+
+void SceneReader::read_camera(const At& root, Scene& scene) {
+  const FramebufferDesc& fb = scene.framebuffer;
+  Out resolved;
+  if (!has(root, "camera")) {
+    resolved["type"] = "none";
+  } else {
+    const At cam = member(root, "camera");
+    expect_object(cam);
+    if (has(cam, "type")) {
+      const At type = member(cam, "type");
+      const std::string t = string(type);
+      const bool perspective = t == "perspective";
+      if (!perspective && t != "orthographic") {
+        fail_value(type, "expected one of perspective, orthographic");
+      }
+      if (perspective) {
+        check_keys(cam, {"type", "fovy", "aspect", "near", "far", "eye", "target", "up"});
+      } else {
+        check_keys(
+            cam, {"type", "left", "right", "bottom", "top", "near", "far", "eye", "target", "up"});
+      }
+      resolved["type"] = t;
+
+      // Without eye/target/up the view is GL's default camera (identity).
+      glm::vec3 eye{0.0f, 0.0f, 0.0f}, target{0.0f, 0.0f, -1.0f}, up{0.0f, 1.0f, 0.0f};
+      if (has(cam, "eye")) eye = vec3(member(cam, "eye"));
+      if (has(cam, "target")) target = vec3(member(cam, "target"));
+      if (has(cam, "up")) up = vec3(member(cam, "up"));
+      const glm::vec3 forward = target - eye;
+      if (glm::length(forward) == 0.0f) fail(member_path(cam.path, "target"), "equals eye");
+      if (glm::length(up) == 0.0f) fail(member_path(cam.path, "up"), "is the zero vector");
+      if (glm::length(glm::cross(glm::normalize(forward), glm::normalize(up))) < 1e-6f) {
+        fail(member_path(cam.path, "up"), "is parallel to the view direction (target - eye)");
+      }
+      view_ = glm::lookAt(eye, target, up);
+
+      const At near_at = member(cam, "near"), far_at = member(cam, "far");
+      const float near = real(near_at), far = real(far_at);
+      if (!(far > near)) fail_value(far_at, "expected far > near (" + describe(near_at.v) + ")");
+      if (perspective) {
+        const At fovy_at = member(cam, "fovy");
+        const float fovy = real(fovy_at);
+        if (!(fovy > 0.0f && fovy < 180.0f)) fail_value(fovy_at, "expected degrees in (0, 180)");
+        float aspect = static_cast<float>(fb.width) / static_cast<float>(fb.height);
+        if (has(cam, "aspect")) {
+          const At aspect_at = member(cam, "aspect");
+          aspect = real(aspect_at);
+          if (!(aspect > 0.0f)) fail_value(aspect_at, "expected a positive number");
+        }
+        if (!(near > 0.0f)) fail_value(near_at, "expected a positive number");
+        projection_ = glm::perspective(glm::radians(fovy), aspect, near, far);
+        resolved["fovy"] = tidy(fovy);
+        resolved["aspect"] = tidy(aspect);
+      } else {
+        float box[4];
+        const char* names[4] = {"left", "right", "bottom", "top"};
+        for (int i = 0; i < 4; ++i) box[i] = real(member(cam, names[i]));
+        if (!(box[1] > box[0])) fail_value(member(cam, "right"), "expected right > left");
+        if (!(box[3] > box[2])) fail_value(member(cam, "top"), "expected top > bottom");
+        projection_ = glm::ortho(box[0], box[1], box[2], box[3], near, far);
+        for (int i = 0; i < 4; ++i) resolved[names[i]] = tidy(box[i]);
+      }
+      resolved["near"] = tidy(near);
+      resolved["far"] = tidy(far);
+      resolved["eye"] = out_vec(eye);
+      resolved["target"] = out_vec(target);
+      resolved["up"] = out_vec(up);
+    } else if (has(cam, "view") || has(cam, "projection")) {
+      check_keys(cam, {"view", "projection"});
+      view_ = matrix(member(cam, "view"));
+      projection_ = matrix(member(cam, "projection"));
+      resolved["type"] = "matrices";
+    } else {
+      fail(cam.path,
+           "expected \"type\" (perspective, orthographic) or \"view\" and \"projection\" "
+           "matrices");
+    }
+  }
+  resolved["view"] = out_mat(view_);
+  resolved["projection"] = out_mat(projection_);
+  scene.resolved["camera"] = resolved;
+}
+
+Out out_material(const Material& m) {
+  return {{"ambient", out_vec(m.ambient)},
+          {"diffuse", out_vec(m.diffuse)},
+          {"specular", out_vec(m.specular)},
+          {"emission", out_vec(m.emission)},
+          {"shininess", tidy(m.shininess)}};
+}
+
+Out out_state(const RenderState& s) {
+  Out blend = "off";
+  if (s.blend) {
+    blend = {{"src", std::string(to_string(s.blend_src))},
+             {"dst", std::string(to_string(s.blend_dst))},
+             {"equation", std::string(to_string(s.blend_equation))}};
+  }
+  return {{"cull", std::string(to_string(s.cull))},
+          {"front_face", std::string(to_string(s.front_face))},
+          {"depth_test", s.depth_test ? std::string(to_string(s.depth_func)) : "off"},
+          {"depth_write", s.depth_write},
+          {"polygon_offset", Out::array({tidy(s.offset_factor), tidy(s.offset_units)})},
+          {"blend", blend},
+          {"color_mask", s.color_mask},
+          {"shading", std::string(to_string(s.shading))}};
+}
+
+void SceneReader::read_lights(const At& root, Scene& scene) {
+  scene.resolved["lights"] = Out::array();
+  if (!has(root, "lights")) return;
+  const At lights = member(root, "lights");
+  if (!lights.v.is_array()) fail_value(lights, "expected an array of lights");
+  for (size_t i = 0; i < lights.v.size(); ++i) {
+    Out resolved;
+    scene.lights.push_back(read_light(element(lights, i), resolved));
+    scene.resolved["lights"].push_back(resolved);
+  }
+}
+
+Light SceneReader::read_light(const At& a, Out& resolved) const {
+  expect_object(a);
+  const At type = member(a, "type");
+  const std::string t = string(type);
+  Light l;
+  if (t == "directional") {
+    check_keys(a, {"type", "direction", "ambient", "diffuse", "specular"});
+    const At dir_at = member(a, "direction");
+    const glm::vec3 dir = vec3(dir_at);
+    // Scene files give the direction the light travels; the models want the
+    // unit vector from the surface towards the light.
+    const glm::vec3 towards = glm::mat3(view_) * -dir;
+    if (!(glm::length(towards) > 0.0f) || !std::isfinite(glm::length(towards))) {
+      fail_value(dir_at, "expected a direction that is non-zero in eye space");
+    }
+    l.type = LightType::directional;
+    l.vector = glm::normalize(towards);
+    resolved["direction"] = out_vec(dir);
+  } else if (t == "point") {
+    check_keys(a, {"type", "position", "ambient", "diffuse", "specular", "attenuation"});
+    const At pos_at = member(a, "position");
+    const glm::vec3 pos = vec3(pos_at);
+    l.type = LightType::point;
+    l.vector = glm::vec3(view_ * glm::vec4(pos, 1.0f));
+    if (!std::isfinite(l.vector.x) || !std::isfinite(l.vector.y) || !std::isfinite(l.vector.z)) {
+      fail_value(pos_at, "expected a position that is finite in eye space");
+    }
+    if (has(a, "attenuation")) {
+      const At att = member(a, "attenuation");
+      float k[3];
+      numbers(att, 3, 3, k);
+      if (k[0] < 0.0f || k[1] < 0.0f || k[2] < 0.0f || k[0] + k[1] + k[2] == 0.0f) {
+        fail(att.path, "expected non-negative [constant, linear, quadratic], not all zero");
+      }
+      l.constant_attenuation = k[0];
+      l.linear_attenuation = k[1];
+      l.quadratic_attenuation = k[2];
+    }
+    resolved["position"] = out_vec(pos);
+    resolved["attenuation"] = Out::array(
+        {tidy(l.constant_attenuation), tidy(l.linear_attenuation), tidy(l.quadratic_attenuation)});
+  } else {
+    fail_value(type, "expected one of directional, point");
+  }
+  if (has(a, "ambient")) l.ambient = color(member(a, "ambient"));
+  if (has(a, "diffuse")) l.diffuse = color(member(a, "diffuse"));
+  if (has(a, "specular")) l.specular = color(member(a, "specular"));
+  resolved["type"] = t;
+  resolved["eye_vector"] = out_vec(l.vector);
+  resolved["ambient"] = out_vec(l.ambient);
+  resolved["diffuse"] = out_vec(l.diffuse);
+  resolved["specular"] = out_vec(l.specular);
+  return l;
+}
+
+glm::mat4 SceneReader::read_transform(const At& a) const {
+  expect_object(a);
+  if (has(a, "matrix")) {
+    for (const auto& item : a.v.items()) {
+      if (item.key() != "matrix") {
+        fail(member_path(a.path, item.key()), "cannot be combined with \"matrix\"");
+      }
+    }
+    return matrix(member(a, "matrix"));
+  }
+  check_keys(a, {"translate", "rotate", "scale", "matrix"});
+  glm::mat4 t{1.0f}, r{1.0f}, s{1.0f};
+  if (has(a, "translate")) t = glm::translate(glm::mat4(1.0f), vec3(member(a, "translate")));
+  if (has(a, "rotate")) {
+    const At rot = member(a, "rotate");
+    const auto rotation = [&](const At& e) {
+      float v[4];
+      numbers(e, 4, 4, v);
+      const glm::vec3 axis{v[1], v[2], v[3]};
+      if (glm::length(axis) == 0.0f) fail(e.path, "the rotation axis is the zero vector");
+      return glm::rotate(glm::mat4(1.0f), glm::radians(v[0]), axis);
+    };
+    if (!rot.v.is_array()) fail_value(rot, "expected [degrees, x, y, z] or a list of them");
+    if (!rot.v.empty() && rot.v[0].is_number()) {
+      r = rotation(rot);
+    } else {
+      // Listed order is the order the rotations act on the object, so each
+      // later one multiplies from the left.
+      for (size_t i = 0; i < rot.v.size(); ++i) r = rotation(element(rot, i)) * r;
+    }
+  }
+  if (has(a, "scale")) {
+    const At sc = member(a, "scale");
+    const glm::vec3 k = sc.v.is_number() ? glm::vec3(real(sc)) : vec3(sc);
+    s = glm::scale(glm::mat4(1.0f), k);
+  }
+  return t * r * s;
+}
+
+Material SceneReader::read_material(const At& a) const {
+  expect_object(a);
+  check_keys(a, {"color", "ambient", "diffuse", "specular", "emission", "shininess"});
+  Material m;
+  if (has(a, "color")) m.ambient = m.diffuse = color(member(a, "color"));
+  if (has(a, "ambient")) m.ambient = color(member(a, "ambient"));
+  if (has(a, "diffuse")) m.diffuse = color(member(a, "diffuse"));
+  if (has(a, "specular")) m.specular = color(member(a, "specular"));
+  if (has(a, "emission")) m.emission = color(member(a, "emission"));
+  if (has(a, "shininess")) {
+    const At sh = member(a, "shininess");
+    m.shininess = real(sh);
+    if (!(m.shininess >= 0.0f && m.shininess <= 128.0f)) fail_value(sh, "expected 0..128");
+  }
+  return m;
+}
+
+RenderState SceneReader::read_state(const At& a) const {
+  expect_object(a);
+  check_keys(a, {"cull", "front_face", "depth_test", "depth_write", "polygon_offset", "blend",
+                 "color_mask", "shading"});
+  RenderState s;
+  if (has(a, "cull")) s.cull = enumeration<CullMode>(member(a, "cull"));
+  if (has(a, "front_face")) s.front_face = enumeration<FrontFace>(member(a, "front_face"));
+  if (has(a, "depth_test")) {
+    const At d = member(a, "depth_test");
+    const std::string name = string(d);
+    if (name == "off") {
+      s.depth_test = false;
+    } else if (const auto f = enum_from_string<CompareFunc>(name)) {
+      s.depth_func = *f;
+    } else {
+      fail_value(d, "expected one of off, " + enum_names<CompareFunc>());
+    }
+  }
+  if (has(a, "depth_write")) s.depth_write = boolean(member(a, "depth_write"));
+  if (has(a, "polygon_offset")) {
+    float k[2];
+    numbers(member(a, "polygon_offset"), 2, 2, k);
+    s.offset_factor = k[0];
+    s.offset_units = k[1];
+  }
+  if (has(a, "blend")) {
+    const At b = member(a, "blend");
+    const std::string expected = "expected \"off\" or an object {src, dst, equation}";
+    if (b.v.is_object()) {
+      check_keys(b, {"src", "dst", "equation"});
+      s.blend = true;
+      if (has(b, "src")) s.blend_src = enumeration<BlendFactor>(member(b, "src"));
+      if (has(b, "dst")) s.blend_dst = enumeration<BlendFactor>(member(b, "dst"));
+      if (has(b, "equation")) s.blend_equation = enumeration<BlendEquation>(member(b, "equation"));
+    } else if (!(b.v.is_string() && b.v.get<std::string>() == "off")) {
+      fail_value(b, expected);
+    }
+  }
+  if (has(a, "color_mask")) {
+    const At m = member(a, "color_mask");
+    if (!m.v.is_array() || m.v.size() != 4) fail_value(m, "expected an array of 4 booleans");
+    for (size_t i = 0; i < 4; ++i) s.color_mask[i] = boolean(element(m, i));
+  }
+  if (has(a, "shading")) s.shading = enumeration<Shading>(member(a, "shading"));
+  return s;
+}
+
+void SceneReader::read_draw(const At& a, Scene& scene) const {
+  expect_object(a);
+  const bool is_mesh = has(a, "mesh");
+  if (is_mesh) {
+    check_keys(a, {"mesh", "transform", "material", "lighting", "state"});
+  } else if (has(a, "positions") || has(a, "primitive")) {
+    check_keys(a,
+               {"primitive", "positions", "colors", "indices", "transform", "material", "state"});
+  } else {
+    fail(a.path, "expected a \"mesh\" key or a \"positions\" key");
+  }
+  // The cheap checks first, so a typo is reported before a slow mesh import.
+  const glm::mat4 model =
+      has(a, "transform") ? read_transform(member(a, "transform")) : glm::mat4(1.0f);
+  std::optional<Material> material;
+  if (has(a, "material")) material = read_material(member(a, "material"));
+  const RenderState state = has(a, "state") ? read_state(member(a, "state")) : RenderState{};
+
+  if (!is_mesh) {
+    Draw d;
+    d.name = a.path;
+    if (has(a, "primitive")) d.primitive = enumeration<PrimitiveType>(member(a, "primitive"));
+    const At pos = member(a, "positions");
+    if (!pos.v.is_array()) fail_value(pos, "expected an array of [x, y, z] or [x, y, z, w]");
+    for (size_t i = 0; i < pos.v.size(); ++i) {
+      glm::vec4 p{0.0f, 0.0f, 0.0f, 1.0f};
+      numbers(element(pos, i), 3, 4, glm::value_ptr(p));
+      d.positions.push_back(p);
+    }
+    if (has(a, "colors")) {
+      const At col = member(a, "colors");
+      if (!col.v.is_array() || col.v.size() != d.positions.size()) {
+        fail_value(col, "expected an array of " + std::to_string(d.positions.size()) +
+                            " colours (one per position)");
+      }
+      for (size_t i = 0; i < col.v.size(); ++i) d.colors.push_back(color(element(col, i)));
+    }
+    if (has(a, "indices")) {
+      const At idx = member(a, "indices");
+      if (!idx.v.is_array()) fail_value(idx, "expected an array of indices");
+      // Not range-checked against positions: the pipeline drops triangles with
+      // out-of-range indices, and scenes may test exactly that.
+      for (size_t i = 0; i < idx.v.size(); ++i) {
+        d.indices.push_back(static_cast<uint32_t>(
+            integer(element(idx, i), 0, std::numeric_limits<uint32_t>::max())));
+      }
+    }
+    d.lighting = false;  // no normals
+    d.material = material.value_or(Material{});
+    d.state = state;
+    finish_draw(d, model, a, scene, Out{{"material_from", material ? "scene" : "default"}});
+    return;
+  }
+
+  const At mesh_at = member(a, "mesh");
+  const std::string mesh = string(mesh_at);
+  if (mesh.empty()) fail_value(mesh_at, "expected a file name");
+  std::optional<bool> lighting;
+  if (has(a, "lighting")) lighting = boolean(member(a, "lighting"));
+  fs::path file = mesh;
+  if (file.is_relative()) file = dir_ / file;
+
+  std::vector<ImportedMesh> meshes;
+  try {
+    meshes = import_mesh(file.string());
+  } catch (const MeshImportError& e) {
+    fail(mesh_at.path, "cannot read \"" + mesh + "\": " + e.what());
+  } catch (const std::exception& e) {
+    fail(mesh_at.path, "cannot read \"" + mesh + "\": " + e.what());
+  }
+  const std::string base = fs::path(mesh).filename().string();
+  for (ImportedMesh& m : meshes) {
+    Draw d;
+    d.name = a.path + " " + base + " mesh " + std::to_string(m.index);
+    d.primitive = PrimitiveType::triangles;
+    d.positions = std::move(m.positions);
+    d.normals = std::move(m.normals);
+    d.colors = std::move(m.colors);
+    d.indices = std::move(m.indices);
+    d.lighting = lighting.value_or(!scene.lights.empty() && !d.normals.empty());
+    if (d.lighting && d.normals.empty()) {
+      fail(member_path(a.path, "lighting"), "mesh " + std::to_string(m.index) + " has no normals");
+    }
+    d.material = material.value_or(m.material);
+    d.state = state;
+    finish_draw(d, model, a, scene,
+                Out{{"mesh", file.string()}, {"material_from", material ? "scene" : "mesh file"}});
+  }
+}
+
+void SceneReader::finish_draw(Draw& d, const glm::mat4& model, const At& a, Scene& scene,
+                              Out resolved) const {
+  d.model_view = view_ * model;
+  d.projection = projection_;
+  d.mvp = projection_ * d.model_view;
+  for (int c = 0; c < 4; ++c) {
+    for (int r = 0; r < 4; ++r) {
+      if (!std::isfinite(d.mvp[c][r]) || !std::isfinite(d.model_view[c][r])) {
+        fail(a.path, "the transform and camera matrices overflow float");
+      }
+    }
+  }
+  const glm::mat3 upper(d.model_view);
+  const glm::mat3 normal_matrix = glm::transpose(glm::inverse(upper));
+  if (glm::determinant(upper) == 0.0f || !all_finite(normal_matrix)) {
+    if (d.lighting) {
+      fail(a.path,
+           "the model-view matrix is singular, so a lit draw's normals cannot be "
+           "transformed (check transform and camera)");
+    }
+    d.normal_matrix = glm::mat3(1.0f);  // unused without lighting
+  } else {
+    d.normal_matrix = normal_matrix;
+  }
+
+  const size_t n = d.vertex_count();
+  const size_t triangles = d.primitive == PrimitiveType::triangles ? n / 3 : (n >= 3 ? n - 2 : 0);
+  resolved["name"] = d.name;
+  resolved["primitive"] = std::string(to_string(d.primitive));
+  resolved["positions"] = d.positions.size();
+  resolved["normals"] = d.normals.size();
+  resolved["colors"] = d.colors.size();
+  resolved["indices"] = d.indices.size();
+  resolved["triangles"] = triangles;
+  resolved["lighting"] = d.lighting;
+  resolved["material"] = out_material(d.material);
+  resolved["state"] = out_state(d.state);
+  resolved["model"] = out_mat(model);
+  scene.resolved["draws"].push_back(std::move(resolved));
+  scene.draws.push_back(std::move(d));
+}
+
+}  // namespace
+
+Scene load_scene(const std::string& path) {
+  return SceneReader(path).read();
+}
+
+}  // namespace gpusim

@@ -1,0 +1,258 @@
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+#include "hw/gpu_config.h"
+
+namespace gpusim {
+namespace {
+
+using nlohmann::json;
+
+std::string error_of(const json& j) {
+  try {
+    gpu_config_from_json(j, "gpu.json");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+// Writes `text` to a file in the build tree and returns its path.
+std::string write_file(const std::string& name, const std::string& text) {
+  const std::string path = std::string(GPUSIM_BINARY_DIR) + "/" + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+std::string load_error(const std::string& path) {
+  try {
+    load_gpu_config(path);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST(GpuConfig, Defaults) {
+  const GpuConfig c;
+  EXPECT_EQ(c.clock_mhz, 1000.0);
+  EXPECT_EQ(c.cycle(), sc_core::sc_time(1, sc_core::SC_NS));
+  EXPECT_EQ(c.cycles(7), sc_core::sc_time(7, sc_core::SC_NS));
+  EXPECT_EQ(c.units, 4u);
+  EXPECT_EQ(c.tile_size, 16u);
+  EXPECT_EQ(c.stamp[0], 4u);
+  EXPECT_EQ(c.stamp[1], 4u);
+  EXPECT_EQ(c.fifo_depth, 16u);
+  EXPECT_EQ(c.memory.latency, 20u);
+  EXPECT_EQ(c.memory.bytes_per_cycle, 32u);
+  EXPECT_EQ(c.vertex_cache_entries, 32u);
+  EXPECT_EQ(c.watchdog_cycles, 1000000u);
+
+  ASSERT_EQ(GpuConfig::stage_names().size(), 10u);
+  EXPECT_EQ(GpuConfig::stage_names().front(), "command_processor");
+  EXPECT_EQ(GpuConfig::stage_names().back(), "rop");
+  ASSERT_EQ(GpuConfig::fifo_names().size(), 9u);
+  EXPECT_EQ(GpuConfig::fifo_names()[5], "distributor_to_rasterizer");
+  for (const auto& n : GpuConfig::fifo_names()) EXPECT_EQ(c.fifo_depth_of(n), 16u) << n;
+  EXPECT_EQ(c.stages.size(), 10u);
+  for (const auto& n : GpuConfig::stage_names()) EXPECT_GE(c.stage(n).ii, 1u) << n;
+  EXPECT_EQ(c.stage("rasterizer"), (StageCost{1, 2}));
+  EXPECT_EQ(c.stage("vertex_shader"), (StageCost{4, 24}));
+  EXPECT_EQ(c.stage("triangle_setup"), (StageCost{4, 16}));
+
+  EXPECT_THROW(c.stage("rasterizr"), std::invalid_argument);
+  EXPECT_THROW(c.fifo_depth_of("nowhere"), std::invalid_argument);
+
+  EXPECT_EQ(gpu_config_from_json(json::object(), "gpu.json"), c);
+}
+
+TEST(GpuConfig, CycleFollowsClock) {
+  GpuConfig c;
+  c.clock_mhz = 250;
+  EXPECT_EQ(c.cycle(), sc_core::sc_time(4, sc_core::SC_NS));
+  EXPECT_EQ(c.cycles(3), sc_core::sc_time(12, sc_core::SC_NS));
+  c.clock_mhz = 400;
+  EXPECT_EQ(c.cycle(), sc_core::sc_time(2500, sc_core::SC_PS));
+}
+
+TEST(GpuConfig, PartialOverridesKeepOtherDefaults) {
+  const GpuConfig c =
+      gpu_config_from_json(json::parse(R"({"fifo_depth": 8, "fifo_depths": {"depth_to_rop": 2},
+                      "stages": {"clipper": {"latency": 30}},
+                      "memory": {"bytes_per_cycle": 16}})"),
+                           "gpu.json");
+  EXPECT_EQ(c.fifo_depth_of("depth_to_rop"), 2u);
+  EXPECT_EQ(c.fifo_depth_of("fetch_to_shader"), 8u);
+  EXPECT_EQ(c.stage("clipper"), (StageCost{2, 30}));  // ii keeps its default 2
+  EXPECT_EQ(c.stage("rop"), GpuConfig().stage("rop"));
+  EXPECT_EQ(c.memory.bytes_per_cycle, 16u);
+  EXPECT_EQ(c.memory.latency, 20u);
+  EXPECT_EQ(c.units, 4u);
+}
+
+TEST(GpuConfig, RoundTrip) {
+  GpuConfig c;
+  c.clock_mhz = 533.5;
+  c.units = 16;
+  c.tile_size = 64;
+  c.stamp = {8, 2};
+  c.fifo_depth = 3;
+  c.fifo_depths["shader_to_clipper"] = 7;
+  c.stages["rasterizer"] = {2, 9};
+  c.stages["command_processor"] = {5, 0};
+  c.memory = {100, 8};
+  c.vertex_cache_entries = 0;
+  c.watchdog_cycles = 5000;
+
+  const json j = to_json(c);
+  // Every value resolved.
+  EXPECT_EQ(j["fifo_depths"].size(), GpuConfig::fifo_names().size());
+  EXPECT_EQ(j["fifo_depths"]["shader_to_clipper"], 7);
+  EXPECT_EQ(j["fifo_depths"]["depth_to_rop"], 3);
+  EXPECT_EQ(j["stages"].size(), GpuConfig::stage_names().size());
+  EXPECT_EQ(j["stages"]["rasterizer"], json({{"ii", 2}, {"latency", 9}}));
+  EXPECT_EQ(j["stamp"], json({8, 2}));
+
+  const GpuConfig back = gpu_config_from_json(j, "dump");
+  EXPECT_EQ(back, c);
+  // Through text as well, as stats.json is written and read.
+  EXPECT_EQ(gpu_config_from_json(json::parse(j.dump(2)), "dump"), c);
+  EXPECT_EQ(to_json(back), j);
+
+  // Equality sees every field.
+  GpuConfig d = c;
+  d.fifo_depths["depth_to_rop"] = 4;
+  EXPECT_NE(d, c);
+  d = c;
+  d.stages["rop"].latency += 1;
+  EXPECT_NE(d, c);
+  d = c;
+  d.memory.latency = 99;
+  EXPECT_NE(d, c);
+  d = c;
+  d.stamp = {2, 8};
+  EXPECT_NE(d, c);
+  // An override equal to the default depth is the same resolved config.
+  d = c;
+  d.fifo_depths["depth_to_rop"] = 3;
+  EXPECT_EQ(d, c);
+}
+
+TEST(GpuConfig, UnknownKeysNameTheirPath) {
+  EXPECT_EQ(error_of(json{{"unitz", 4}}), "gpu.json: unitz: unknown key");
+  EXPECT_EQ(error_of(json::parse(R"({"stages": {"rasterizr": {"ii": 1}}})")),
+            "gpu.json: stages.rasterizr: unknown key");
+  EXPECT_EQ(error_of(json::parse(R"({"stages": {"rasterizer": {"iii": 1}}})")),
+            "gpu.json: stages.rasterizer.iii: unknown key");
+  EXPECT_EQ(error_of(json::parse(R"({"fifo_depths": {"fetch_to_shadr": 4}})")),
+            "gpu.json: fifo_depths.fetch_to_shadr: unknown key");
+  EXPECT_EQ(error_of(json::parse(R"({"memory": {"latancy": 4}})")),
+            "gpu.json: memory.latancy: unknown key");
+}
+
+TEST(GpuConfig, WrongTypes) {
+  EXPECT_EQ(error_of(json::array()), "gpu.json: (root): expected an object, got array");
+  EXPECT_EQ(error_of(json{{"units", "4"}}), "gpu.json: units: expected an integer, got string");
+  EXPECT_EQ(error_of(json{{"units", 4.5}}), "gpu.json: units: expected an integer, got 4.5");
+  EXPECT_EQ(error_of(json{{"units", true}}), "gpu.json: units: expected an integer, got boolean");
+  EXPECT_EQ(error_of(json{{"clock_mhz", "fast"}}),
+            "gpu.json: clock_mhz: expected a number, got string");
+  EXPECT_EQ(error_of(json{{"stamp", 4}}), "gpu.json: stamp: expected an array of 2 integers");
+  EXPECT_EQ(error_of(json{{"stamp", {4, 4, 4}}}),
+            "gpu.json: stamp: expected an array of 2 integers");
+  EXPECT_EQ(error_of(json{{"stamp", {4, nullptr}}}),
+            "gpu.json: stamp[1]: expected an integer, got null");
+  EXPECT_EQ(error_of(json{{"stages", json::array()}}),
+            "gpu.json: stages: expected an object, got array");
+  EXPECT_EQ(error_of(json::parse(R"({"stages": {"rop": 3}})")),
+            "gpu.json: stages.rop: expected an object, got number");
+  EXPECT_EQ(error_of(json::parse(R"({"stages": {"rop": {"latency": "2"}}})")),
+            "gpu.json: stages.rop.latency: expected an integer, got string");
+  EXPECT_EQ(error_of(json{{"fifo_depths", 4}}),
+            "gpu.json: fifo_depths: expected an object, got number");
+  EXPECT_EQ(error_of(json{{"memory", nullptr}}), "gpu.json: memory: expected an object, got null");
+}
+
+TEST(GpuConfig, OutOfRangeValues) {
+  EXPECT_EQ(error_of(json{{"units", 0}}), "gpu.json: units: 0 is out of range 1..64");
+  EXPECT_EQ(error_of(json{{"units", 65}}), "gpu.json: units: 65 is out of range 1..64");
+  EXPECT_EQ(error_of(json{{"units", -1}}), "gpu.json: units: -1 is out of range 1..64");
+  EXPECT_EQ(error_of(json{{"clock_mhz", 0}}), "gpu.json: clock_mhz: 0 is out of range (0, 10000]");
+  EXPECT_EQ(error_of(json{{"clock_mhz", -5.5}}),
+            "gpu.json: clock_mhz: -5.5 is out of range (0, 10000]");
+  EXPECT_EQ(error_of(json{{"tile_size", 24}}), "gpu.json: tile_size: 24 is not a power of two");
+  EXPECT_EQ(error_of(json{{"tile_size", 4}}), "gpu.json: tile_size: 4 is out of range 8..256");
+  EXPECT_EQ(error_of(json{{"tile_size", 512}}), "gpu.json: tile_size: 512 is out of range 8..256");
+  EXPECT_EQ(error_of(json{{"stamp", {32, 4}}}), "gpu.json: stamp[0]: 32 exceeds tile_size 16");
+  EXPECT_EQ(error_of(json{{"tile_size", 8}, {"stamp", {4, 16}}}),
+            "gpu.json: stamp[1]: 16 exceeds tile_size 8");
+  EXPECT_EQ(error_of(json{{"stamp", {4, 3}}}), "gpu.json: stamp[1]: 3 is not a power of two");
+  EXPECT_EQ(error_of(json{{"stamp", {0, 4}}}), "gpu.json: stamp[0]: 0 is out of range 1..256");
+  EXPECT_EQ(error_of(json{{"fifo_depth", 0}}), "gpu.json: fifo_depth: 0 is out of range 1..65536");
+  EXPECT_EQ(error_of(json::parse(R"({"fifo_depths": {"depth_to_rop": 0}})")),
+            "gpu.json: fifo_depths.depth_to_rop: 0 is out of range 1..65536");
+  EXPECT_EQ(error_of(json::parse(R"({"stages": {"rasterizer": {"ii": 0}}})")),
+            "gpu.json: stages.rasterizer.ii: 0 is out of range 1..1000000");
+  EXPECT_EQ(error_of(json::parse(R"({"stages": {"rasterizer": {"latency": -1}}})")),
+            "gpu.json: stages.rasterizer.latency: -1 is out of range 0..1000000");
+  EXPECT_EQ(error_of(json::parse(R"({"memory": {"bytes_per_cycle": 0}})")),
+            "gpu.json: memory.bytes_per_cycle: 0 is out of range 1..65536");
+  EXPECT_EQ(error_of(json{{"watchdog_cycles", 0}}),
+            "gpu.json: watchdog_cycles: 0 is out of range 1..1000000000000");
+  EXPECT_EQ(error_of(json{{"vertex_cache_entries", 70000}}),
+            "gpu.json: vertex_cache_entries: 70000 is out of range 0..65536");
+
+  // Limits themselves are accepted.
+  const GpuConfig c = gpu_config_from_json(
+      json::parse(R"({"units": 64, "tile_size": 256, "stamp": [256, 1], "fifo_depth": 1,
+                      "stages": {"rop": {"ii": 1, "latency": 0}},
+                      "memory": {"latency": 0, "bytes_per_cycle": 1},
+                      "vertex_cache_entries": 0, "watchdog_cycles": 1})"),
+      "gpu.json");
+  EXPECT_EQ(c.units, 64u);
+  EXPECT_EQ(c.stamp[0], 256u);
+  EXPECT_EQ(c.vertex_cache_entries, 0u);
+}
+
+TEST(GpuConfig, MalformedJsonGivesLineAndColumn) {
+  const std::string path = write_file("hw_gpu_config_test_bad.json", "{\n  \"units\": 4,\n}\n");
+  const std::string e = load_error(path);
+  const std::string expected_start = path + ": line 3, column 1: syntax error";
+  EXPECT_EQ(e.substr(0, expected_start.size()), expected_start) << e;
+  EXPECT_EQ(e.find('\n'), std::string::npos);
+  EXPECT_EQ(e.find("json.exception"), std::string::npos) << e;
+  std::remove(path.c_str());
+}
+
+TEST(GpuConfig, FileErrorsAndComments) {
+  const std::string missing = std::string(GPUSIM_BINARY_DIR) + "/no_such_gpu.json";
+  EXPECT_EQ(load_error(missing), missing + ": cannot open file");
+
+  const std::string bad = write_file("hw_gpu_config_test_range.json", "{\"units\": 0}");
+  EXPECT_EQ(load_error(bad), bad + ": units: 0 is out of range 1..64");
+  std::remove(bad.c_str());
+
+  const std::string commented =
+      write_file("hw_gpu_config_test_comments.json",
+                 "{\n  // two units\n  \"units\": 2, /* wide bus */ \"memory\": "
+                 "{\"bytes_per_cycle\": 64}\n}\n");
+  const GpuConfig c = load_gpu_config(commented);
+  EXPECT_EQ(c.units, 2u);
+  EXPECT_EQ(c.memory.bytes_per_cycle, 64u);
+  std::remove(commented.c_str());
+}
+
+TEST(GpuConfig, DefaultFileHoldsEveryDefault) {
+  const std::string path = std::string(GPUSIM_SOURCE_DIR) + "/configs/default.json";
+  EXPECT_EQ(load_gpu_config(path), GpuConfig());
+  // Not only equal once loaded: the file spells out every value.
+  std::ifstream in(path);
+  ASSERT_TRUE(in);
+  EXPECT_EQ(json::parse(in), to_json(GpuConfig()));
+}
+
+}  // namespace
+}  // namespace gpusim
