@@ -2,14 +2,13 @@
 // frames. Bad input ends in one line on stderr naming the file and the problem
 // and exit status 2; outputs are written all together or not at all.
 #include <CLI/CLI.hpp>
-#include <systemc>
-
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
 #include <map>
 #include <string>
+#include <systemc>
 
 #include "testbench/golden/golden_model.h"
 #include "testbench/input_error.h"
@@ -115,7 +114,8 @@ int main_with_errors(int argc, char** argv) {
 
   CompareArgs cmp;
   CLI::App* compare = app.add_subcommand(
-      "compare", "Compare two EXR frames; exit 0 when equal within tolerance, 1 when not, 2 on error");
+      "compare",
+      "Compare two EXR frames; exit 0 when equal within tolerance, 1 when not, 2 on error");
   compare->add_option("a", cmp.a, "First EXR")->required();
   compare->add_option("b", cmp.b, "Second EXR")->required();
   CLI::Option* exact =
@@ -123,9 +123,9 @@ int main_with_errors(int argc, char** argv) {
   CLI::Option* tolerance =
       compare->add_option("--tolerance", cmp.tolerance, "Largest |a - b| accepted in any channel")
           ->check(CLI::NonNegativeNumber);
-  CLI::Option* channel_tolerance = compare->add_option(
-      "--channel-tolerance", cmp.channel_tolerances,
-      "Per-channel tolerance, CHANNEL=VALUE (repeatable), e.g. Z=1e-6");
+  CLI::Option* channel_tolerance =
+      compare->add_option("--channel-tolerance", cmp.channel_tolerances,
+                          "Per-channel tolerance, CHANNEL=VALUE (repeatable), e.g. Z=1e-6");
   compare->add_option("--diff", cmp.diff_png, "Write a heat-map PNG of the difference");
   exact->excludes(tolerance)->excludes(channel_tolerance);
 

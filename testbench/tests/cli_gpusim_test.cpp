@@ -1,0 +1,190 @@
+// build/gpusim end to end: outputs, exit codes, error lines, untouched outputs
+// on failure, determinism, and scene statistics checked against counts taken
+// from the input files themselves.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+#include "testbench/io/image_files.h"
+
+namespace gpusim {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kGpusim = GPUSIM_BINARY_DIR "/gpusim";
+const std::string kScenes = GPUSIM_SOURCE_DIR "/testbench/scenes";
+
+struct CommandResult {
+  int status = -1;
+  std::string out;  // stdout and stderr together
+};
+
+CommandResult run(const std::string& args) {
+  CommandResult r;
+  FILE* p = popen((kGpusim + " " + args + " 2>&1").c_str(), "r");
+  if (!p) return r;
+  std::array<char, 4096> buf;
+  size_t n;
+  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
+  const int st = pclose(p);
+  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  return r;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+
+// Triangles of an OBJ file after fan triangulation: sum of (corners - 2) over "f" lines.
+uint64_t obj_triangles(const std::string& path) {
+  std::ifstream f(path);
+  std::string line;
+  uint64_t n = 0;
+  while (std::getline(f, line)) {
+    std::istringstream ls(line);
+    std::string tag, corner;
+    ls >> tag;
+    if (tag != "f") continue;
+    int corners = 0;
+    while (ls >> corner) ++corners;
+    if (corners >= 3) n += corners - 2;
+  }
+  return n;
+}
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::path(::testing::TempDir()) / ("gpusim_cli_" + std::to_string(getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path dir_;
+};
+
+// The spec's bookkeeping (docs/pipeline-spec.md, section 13).
+void expect_conservation(const nlohmann::json& s) {
+  const auto u = [&](const char* k) { return s.at(k).get<uint64_t>(); };
+  // Every triangle surviving the clipper leaves it as at least one triangle.
+  ASSERT_GE(u("triangles_in"), u("triangles_invalid") + u("triangles_clipped_away"));
+  EXPECT_GE(u("triangles_after_clip"),
+            u("triangles_in") - u("triangles_invalid") - u("triangles_clipped_away"));
+  EXPECT_EQ(u("triangles_after_clip"),
+            u("triangles_degenerate") + u("triangles_culled") + u("triangles_rasterized"));
+  EXPECT_LE(u("fragments_written"), u("fragments_passed_depth"));
+  EXPECT_LE(u("fragments_passed_depth"), u("fragments_generated"));
+}
+
+TEST_F(Cli, GoldenDefaultSceneWritesFrameAndStats) {
+  const CommandResult r =
+      run("golden " + kScenes + "/default.json --out " + (dir_ / "out").string());
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("frame.exr"), std::string::npos) << r.out;
+
+  const nlohmann::json stats = nlohmann::json::parse(slurp(dir_ / "out/stats.json"));
+  const nlohmann::json& s = stats.at("stats");
+  // default.json: a ground strip (2), the Wuson mesh, a 7-vertex fan (5), an
+  // indexed quad (2) and a blended strip (2).
+  const uint64_t wuson = obj_triangles("/usr/share/assimp/models/OBJ/WusonOBJ.obj");
+  EXPECT_EQ(s.at("triangles_in").get<uint64_t>(), 2 + wuson + 5 + 2 + 2);
+  expect_conservation(s);
+  // Nothing in the default scene reaches the near plane or the guard band.
+  EXPECT_EQ(s.at("triangles_clipped").get<uint64_t>(), 0u);
+  EXPECT_EQ(s.at("triangles_invalid").get<uint64_t>(), 0u);
+  // The mesh is closed and drawn with back-face culling: about half its
+  // triangles face away.
+  EXPECT_GT(s.at("triangles_culled").get<uint64_t>(), wuson / 3);
+  EXPECT_LT(s.at("triangles_culled").get<uint64_t>(), wuson * 2 / 3);
+  EXPECT_EQ(stats.at("settings").at("framebuffer").at("width"), 640);
+
+  // The EXR as exrheader (an independent reader) sees it.
+  FILE* p = popen(("exrheader " + (dir_ / "out/frame.exr").string()).c_str(), "r");
+  ASSERT_NE(p, nullptr);
+  std::string header;
+  std::array<char, 4096> buf;
+  size_t n;
+  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) header.append(buf.data(), n);
+  ASSERT_EQ(pclose(p), 0) << "exrheader (package openexr) failed: " << header;
+  for (const char* ch :
+       {"R, 16-bit floating-point", "G, 16-bit floating-point", "B, 16-bit floating-point",
+        "A, 16-bit floating-point", "Z, 32-bit floating-point"}) {
+    EXPECT_NE(header.find(ch), std::string::npos) << ch << "\n" << header;
+  }
+  EXPECT_NE(header.find("(0 0) - (639 479)"), std::string::npos) << header;
+  EXPECT_TRUE(fs::file_size(dir_ / "out/frame.png") > 1000);
+}
+
+TEST_F(Cli, GoldenSpiderCountsTheMeshTriangles) {
+  const CommandResult r =
+      run("golden " + kScenes + "/spider.json --out " + (dir_ / "out").string());
+  ASSERT_EQ(r.status, 0) << r.out;
+  const nlohmann::json s = nlohmann::json::parse(slurp(dir_ / "out/stats.json")).at("stats");
+  EXPECT_EQ(s.at("triangles_in").get<uint64_t>(),
+            obj_triangles("/usr/share/assimp/models/OBJ/spider.obj"));
+  expect_conservation(s);
+  EXPECT_GT(s.at("fragments_written").get<uint64_t>(), 10000u);
+}
+
+TEST_F(Cli, SameInputGivesSameBytes) {
+  for (const char* out : {"a", "b"}) {
+    ASSERT_EQ(run("golden " + kScenes + "/default.json --out " + (dir_ / out).string()).status, 0);
+  }
+  for (const char* f : {"frame.exr", "frame.png", "stats.json"}) {
+    EXPECT_EQ(slurp(dir_ / "a" / f), slurp(dir_ / "b" / f)) << f;
+  }
+}
+
+TEST_F(Cli, BadSceneFailsWithOneLineAndLeavesOutputsIntact) {
+  const fs::path out = dir_ / "out";
+  ASSERT_EQ(run("golden " + kScenes + "/quad_clipspace.json --out " + out.string()).status, 0);
+  const std::string before = slurp(out / "frame.exr");
+  const fs::path bad = dir_ / "bad.json";
+  std::ofstream(bad) << R"({"framebuffer": {"width": 0}})";
+  const CommandResult r = run("golden " + bad.string() + " --out " + out.string());
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+  EXPECT_NE(r.out.find(bad.string()), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("framebuffer.width"), std::string::npos) << r.out;
+  EXPECT_EQ(slurp(out / "frame.exr"), before);
+  for (const auto& e : fs::directory_iterator(out)) {
+    EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << e.path();
+  }
+  EXPECT_EQ(run("golden " + (dir_ / "missing.json").string() + " --out " + out.string()).status, 2);
+}
+
+TEST_F(Cli, CompareExitCodesAndFirstDifferingPixel) {
+  Framebuffer fb(8, 6, ColorFormat::rgba8, DepthFormat::unorm24);
+  for (size_t i = 0; i < fb.color.size(); ++i) fb.color[i] = static_cast<ColorChannel>(i % 251);
+  for (size_t i = 0; i < fb.depth.size(); ++i) fb.depth[i] = static_cast<DepthValue>(i * 1000);
+  const std::string a = (dir_ / "a.exr").string(), b = (dir_ / "b.exr").string();
+  write_frame_exr(fb, a);
+  fb.color_at(5, 2)[1] = static_cast<ColorChannel>(fb.color_at(5, 2)[1] + 1);
+  write_frame_exr(fb, b);
+
+  const CommandResult same = run("compare " + a + " " + a + " --exact");
+  EXPECT_EQ(same.status, 0) << same.out;
+  const CommandResult diff = run("compare " + a + " " + b + " --diff " + (dir_ / "d.png").string());
+  EXPECT_EQ(diff.status, 1) << diff.out;
+  EXPECT_NE(diff.out.find("x=5 y=2"), std::string::npos) << diff.out;
+  EXPECT_TRUE(fs::exists(dir_ / "d.png"));
+  // One unorm8 step, 1/255, is within a tolerance of 0.005.
+  EXPECT_EQ(run("compare " + a + " " + b + " --tolerance 0.005").status, 0);
+  EXPECT_EQ(run("compare " + a + " " + b + " --channel-tolerance G=0.005").status, 0);
+  EXPECT_EQ(run("compare " + a + " " + (dir_ / "nope.exr").string()).status, 2);
+  EXPECT_EQ(run("compare " + a).status, 2);
+}
+
+}  // namespace
+}  // namespace gpusim
