@@ -48,6 +48,9 @@ template <typename T>
 class FifoOutIf : public virtual sc_core::sc_interface {
  public:
   virtual void write(const T& item) = 0;
+  // Write now, but the reader sees the item only from `ready_at` on: a
+  // stage's pipeline latency. The item holds its slot from now.
+  virtual void write(const T& item, const sc_core::sc_time& ready_at) = 0;
   virtual bool nb_write(const T& item) = 0;
   virtual size_t num_free() const = 0;
   virtual size_t depth() const = 0;
@@ -115,6 +118,7 @@ class Fifo : public sc_core::sc_prim_channel, public FifoInIf<T>, public FifoOut
   Fifo(const char* name, size_t depth)
       : sc_core::sc_prim_channel(name),
         m_buf(depth),
+        m_ready(depth),
         m_data_written_event((std::string(name) + "_written").c_str()),
         m_data_read_event((std::string(name) + "_read").c_str()) {
     if (depth == 0) throw std::invalid_argument(std::string("Fifo ") + name + ": depth 0");
@@ -123,7 +127,9 @@ class Fifo : public sc_core::sc_prim_channel, public FifoInIf<T>, public FifoOut
   const char* kind() const override { return "gpusim::Fifo"; }
 
   // Blocking; SC_THREAD only. Waits while the FIFO is full.
-  void write(const T& item) override {
+  void write(const T& item) override { write(item, sc_core::SC_ZERO_TIME); }
+
+  void write(const T& item, const sc_core::sc_time& ready_at) override {
     maybe_stall(m_write_rng);
     if (num_free() == 0) {
       begin_blocked(m_blocked_writers);
@@ -132,7 +138,7 @@ class Fifo : public sc_core::sc_prim_channel, public FifoInIf<T>, public FifoOut
       } while (num_free() == 0);
       end_blocked(m_blocked_writers);
     }
-    push(item);
+    push(item, ready_at);
   }
 
   // Blocking; SC_THREAD only. Waits while no item is readable.
@@ -145,17 +151,25 @@ class Fifo : public sc_core::sc_prim_channel, public FifoInIf<T>, public FifoOut
       } while (size() == 0);
       end_blocked(m_blocked_readers);
     }
+    // An item still in the writer's pipeline: waiting for it is starving too.
+    const uint64_t ready = m_ready[m_head];
+    const uint64_t now = sc_core::sc_time_stamp().value();
+    if (ready > now) {
+      begin_blocked(m_blocked_readers);
+      sc_core::wait(sc_core::sc_time::from_value(ready - now));
+      end_blocked(m_blocked_readers);
+    }
     return pop();
   }
 
   bool nb_write(const T& item) override {
     if (num_free() == 0) return false;
-    push(item);
+    push(item, sc_core::SC_ZERO_TIME);
     return true;
   }
 
   bool nb_read(T& item) override {
-    if (size() == 0) return false;
+    if (size() == 0 || m_ready[m_head] > sc_core::sc_time_stamp().value()) return false;
     item = pop();
     return true;
   }
@@ -234,8 +248,9 @@ class Fifo : public sc_core::sc_prim_channel, public FifoInIf<T>, public FifoOut
   }
 
  private:
-  void push(const T& item) {
+  void push(const T& item, const sc_core::sc_time& ready_at) {
     m_buf[m_tail] = item;
+    m_ready[m_tail] = ready_at.value();
     m_tail = m_tail + 1 == m_buf.size() ? 0 : m_tail + 1;
     ++m_num_written;
     ++m_total_written;
@@ -284,6 +299,7 @@ class Fifo : public sc_core::sc_prim_channel, public FifoInIf<T>, public FifoOut
   }
 
   std::vector<T> m_buf;
+  std::vector<uint64_t> m_ready;  // per slot: sc_time value from which the reader may take it
   size_t m_head = 0;         // oldest item
   size_t m_tail = 0;         // next free slot
   size_t m_committed = 0;    // items held at the start of this delta

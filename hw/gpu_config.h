@@ -15,7 +15,7 @@
 #include <systemc>
 #include <vector>
 
-#include "testbench/input_error.h"
+#include "hw/input_error.h"
 
 namespace gpusim {
 

@@ -11,7 +11,7 @@
 #include <systemc>
 
 #include "testbench/golden/golden_model.h"
-#include "testbench/input_error.h"
+#include "hw/input_error.h"
 #include "testbench/io/image_compare.h"
 #include "testbench/io/image_files.h"
 #include "testbench/io/output_file.h"

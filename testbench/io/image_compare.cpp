@@ -8,7 +8,7 @@
 #include <stdexcept>
 
 #include "hw/pixel_formats.h"
-#include "testbench/input_error.h"
+#include "hw/input_error.h"
 
 namespace gpusim {
 

@@ -19,7 +19,7 @@
 #include <new>
 #include <stdexcept>
 
-#include "testbench/input_error.h"
+#include "hw/input_error.h"
 #include "testbench/io/output_file.h"
 
 namespace gpusim {

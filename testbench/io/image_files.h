@@ -14,7 +14,7 @@ namespace gpusim {
 
 // Write fb as EXR: channels R, G, B, A (HALF) decoded from the colour buffer
 // and Z (FLOAT) decoded from the depth buffer; header attributes record the
-// buffer formats. Throws InputError (testbench/input_error.h) on failure.
+// buffer formats. Throws InputError (hw/input_error.h) on failure.
 void write_frame_exr(const Framebuffer& fb, const std::string& path);
 
 // Write an 8-bit RGBA PNG preview: each channel clamped to [0, 1] (NaN -> 0)

@@ -8,7 +8,7 @@
 #include <filesystem>
 #include <system_error>
 
-#include "testbench/input_error.h"
+#include "hw/input_error.h"
 
 namespace gpusim {
 

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "hw/render_state.h"
-#include "testbench/input_error.h"
+#include "hw/input_error.h"
 
 namespace gpusim {
 
