@@ -10,44 +10,11 @@
 #include <string>
 #include <vector>
 
+#include "hw/draw_state.h"
 #include "hw/render_state.h"
 #include "hw/input_error.h"
 
 namespace gpusim {
-
-struct FramebufferDesc {
-  int width = 256;
-  int height = 256;
-  ColorFormat color_format = ColorFormat::rgba8;
-  DepthFormat depth_format = DepthFormat::unorm24;
-  glm::vec4 clear_color{0.0f, 0.0f, 0.0f, 1.0f};
-  float clear_depth = 1.0f;
-};
-
-enum class LightType : uint8_t { directional, point };
-
-// A fixed-function light, already transformed into eye space.
-struct Light {
-  LightType type = LightType::directional;
-  // directional: unit vector from the surface towards the light (eye space);
-  // point: the light's position (eye space).
-  glm::vec3 vector{0.0f, 0.0f, 1.0f};
-  glm::vec4 ambient{0.0f, 0.0f, 0.0f, 1.0f};
-  glm::vec4 diffuse{1.0f, 1.0f, 1.0f, 1.0f};
-  glm::vec4 specular{1.0f, 1.0f, 1.0f, 1.0f};
-  // Point lights: 1 / (constant + linear * d + quadratic * d^2).
-  float constant_attenuation = 1.0f;
-  float linear_attenuation = 0.0f;
-  float quadratic_attenuation = 0.0f;
-};
-
-struct Material {
-  glm::vec4 ambient{0.2f, 0.2f, 0.2f, 1.0f};
-  glm::vec4 diffuse{0.8f, 0.8f, 0.8f, 1.0f};
-  glm::vec4 specular{0.0f, 0.0f, 0.0f, 1.0f};
-  glm::vec4 emission{0.0f, 0.0f, 0.0f, 1.0f};
-  float shininess = 0.0f;
-};
 
 struct Draw {
   std::string name;  // "draws[3] (spider.obj)", for messages and stats

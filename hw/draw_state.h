@@ -1,0 +1,93 @@
+// Per-frame and per-draw state as the GPU's stages read it: the register
+// values a driver would program. Written once before the frame starts and
+// immutable while it runs, so packets name a draw by its id instead of
+// carrying its state.
+#pragma once
+
+#include <cstdint>
+#include <glm/glm.hpp>
+#include <vector>
+
+#include "hw/render_state.h"
+
+namespace gpusim {
+
+struct FramebufferDesc {
+  int width = 256;
+  int height = 256;
+  ColorFormat color_format = ColorFormat::rgba8;
+  DepthFormat depth_format = DepthFormat::unorm24;
+  glm::vec4 clear_color{0.0f, 0.0f, 0.0f, 1.0f};
+  float clear_depth = 1.0f;
+};
+
+enum class LightType : uint8_t { directional, point };
+
+// A fixed-function light, already transformed into eye space.
+struct Light {
+  LightType type = LightType::directional;
+  // directional: unit vector from the surface towards the light (eye space);
+  // point: the light's position (eye space).
+  glm::vec3 vector{0.0f, 0.0f, 1.0f};
+  glm::vec4 ambient{0.0f, 0.0f, 0.0f, 1.0f};
+  glm::vec4 diffuse{1.0f, 1.0f, 1.0f, 1.0f};
+  glm::vec4 specular{1.0f, 1.0f, 1.0f, 1.0f};
+  // Point lights: 1 / (constant + linear * d + quadratic * d^2).
+  float constant_attenuation = 1.0f;
+  float linear_attenuation = 0.0f;
+  float quadratic_attenuation = 0.0f;
+};
+
+struct Material {
+  glm::vec4 ambient{0.2f, 0.2f, 0.2f, 1.0f};
+  glm::vec4 diffuse{0.8f, 0.8f, 0.8f, 1.0f};
+  glm::vec4 specular{0.0f, 0.0f, 0.0f, 1.0f};
+  glm::vec4 emission{0.0f, 0.0f, 0.0f, 1.0f};
+  float shininess = 0.0f;
+};
+
+// Where a draw's arrays live in GPU memory. Attributes are tightly packed
+// float32: position 16 bytes (x, y, z, w), normal 12 (x, y, z), colour 16
+// (r, g, b, a); indices are uint32. An address of kNoBuffer means absent.
+constexpr uint64_t kNoBuffer = ~uint64_t{0};
+struct DrawBuffers {
+  uint64_t positions = kNoBuffer;
+  uint64_t normals = kNoBuffer;
+  uint64_t colors = kNoBuffer;
+  uint64_t indices = kNoBuffer;
+  uint32_t vertex_count = 0;  // positions
+  uint32_t slot_count = 0;    // indices when indexed, else vertex_count
+};
+
+struct DrawState {
+  PrimitiveType primitive = PrimitiveType::triangles;
+  DrawBuffers buffers;
+  bool lighting = false;
+  Material material;
+  glm::mat4 model_view{1.0f};
+  glm::mat4 mvp{1.0f};
+  glm::mat3 normal_matrix{1.0f};
+  RenderState state;
+  int64_t first_primitive_id = 0;  // id of the draw's first assembled triangle
+};
+
+// The colour buffer stores 4 bytes (rgba8) or 8 bytes (rgba16f, half bits)
+// per pixel; the depth buffer 2 bytes (unorm16) or 4 (unorm24 in the low 24
+// bits, float32). Both row-major, row 0 = bottom row, little endian.
+struct FrameState {
+  FramebufferDesc framebuffer;
+  glm::vec4 global_ambient{0.2f, 0.2f, 0.2f, 1.0f};
+  std::vector<Light> lights;
+  std::vector<DrawState> draws;
+  uint64_t color_address = 0;
+  uint64_t depth_address = 0;
+};
+
+inline unsigned color_bytes_per_pixel(ColorFormat f) {
+  return f == ColorFormat::rgba8 ? 4 : 8;
+}
+inline unsigned depth_bytes_per_pixel(DepthFormat f) {
+  return f == DepthFormat::unorm16 ? 2 : 4;
+}
+
+}  // namespace gpusim

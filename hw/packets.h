@@ -1,0 +1,143 @@
+// Packets crossing the FIFOs between stage groups. Small value types: no
+// owning raw pointers; a triangle set up once is shared read-only by every
+// unit and stage that needs it. Control tokens (clear, end of frame) travel
+// in band, so they stay ordered with the work around them.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <glm/glm.hpp>
+#include <memory>
+#include <ostream>
+#include <vector>
+
+#include "hw/fixed_point.h"
+
+namespace gpusim {
+
+enum class PacketKind : uint8_t {
+  work,          // a draw, a triangle, stamps
+  clear,         // clear colour and depth to the frame's clear values
+  end_of_frame,  // flush and report completion
+};
+std::ostream& operator<<(std::ostream& os, PacketKind k);
+
+// Driver -> command processor -> vertex fetch.
+struct Command {
+  PacketKind kind = PacketKind::work;  // work: draw `draw_id`
+  uint32_t draw_id = 0;
+  bool operator==(const Command& o) const { return kind == o.kind && draw_id == o.draw_id; }
+};
+std::ostream& operator<<(std::ostream& os, const Command& c);
+
+// A vertex leaving the clipper: window coordinates before snapping
+// (docs/pipeline-spec.md, section 5).
+struct ClippedVertex {
+  float x = 0.0f, y = 0.0f, z = 0.0f;
+  float inv_w = 0.0f;
+  glm::vec4 color_over_w{0.0f};
+  bool operator==(const ClippedVertex& o) const {
+    return x == o.x && y == o.y && z == o.z && inv_w == o.inv_w && color_over_w == o.color_over_w;
+  }
+};
+
+// Clipper -> triangle setup.
+struct ClippedTriangle {
+  PacketKind kind = PacketKind::work;
+  uint32_t draw_id = 0;
+  int64_t primitive_id = 0;
+  std::array<ClippedVertex, 3> v;
+  glm::vec4 flat_color{0.0f};  // the provoking vertex's colour
+  bool operator==(const ClippedTriangle& o) const {
+    return kind == o.kind && draw_id == o.draw_id && primitive_id == o.primitive_id && v == o.v &&
+           flat_color == o.flat_color;
+  }
+};
+std::ostream& operator<<(std::ostream& os, const ClippedTriangle& t);
+
+// Edge function E(px, py) = a * px + b * py + c over subpixel coordinates:
+// for the edge from (Xa, Ya) to (Xb, Yb), a = -(Yb - Ya), b = Xb - Xa,
+// c = (Yb - Ya) * Xa - (Xb - Xa) * Ya, which equals the spec's
+// (Xb - Xa)(py - Ya) - (Yb - Ya)(px - Xa) exactly. |a|, |b| < 2^25 and
+// |c| < 2^50 (hw/fixed_point.h), so every evaluation fits int64.
+struct EdgeEquation {
+  EdgeValue a = 0, b = 0, c = 0;
+  EdgeValue bias = 0;  // 0 when the edge owns its boundary, else 1: covered iff E - bias >= 0
+  EdgeValue at(Subpixel px, Subpixel py) const { return a * px + b * py + c; }
+  bool operator==(const EdgeEquation& o) const {
+    return a == o.a && b == o.b && c == o.c && bias == o.bias;
+  }
+};
+
+// Triangle setup's result, counter-clockwise; edge k is opposite vertex k
+// (E0 = edge v1 -> v2, E1 = v2 -> v0, E2 = v0 -> v1).
+struct RasterTriangle {
+  uint32_t draw_id = 0;
+  int64_t primitive_id = 0;
+  std::array<Subpixel, 3> x{}, y{};
+  EdgeValue area2 = 0;  // > 0
+  std::array<EdgeEquation, 3> edge;
+  int32_t x0 = 0, y0 = 0, x1 = -1,
+          y1 = -1;  // pixel bounding box, inclusive, inside the framebuffer
+  std::array<float, 3> z{}, inv_w{};
+  std::array<glm::vec4, 3> color_over_w{};
+  glm::vec4 flat_color{0.0f};
+  bool has_depth_offset = false;
+  float depth_offset = 0.0f;
+  bool operator==(const RasterTriangle& o) const;
+};
+std::ostream& operator<<(std::ostream& os, const RasterTriangle& t);
+
+// Triangle setup -> tile distributor -> each tile rasterizer unit.
+struct SetupPacket {
+  PacketKind kind = PacketKind::work;
+  std::shared_ptr<const RasterTriangle> triangle;  // work only
+  bool operator==(const SetupPacket& o) const;
+};
+std::ostream& operator<<(std::ostream& os, const SetupPacket& p);
+
+// A stamp: stamp_w x stamp_h pixels with origin pixel (x, y) at its lower left.
+// Bit i of `mask` is pixel (x + i % stamp_w, y + i / stamp_w). `e` holds the
+// three raw edge values (without bias) at the origin pixel's centre; the back
+// end steps them by the triangle's edge coefficients to reach any pixel.
+struct Stamp {
+  int32_t x = 0, y = 0;
+  uint64_t mask = 0;
+  std::array<EdgeValue, 3> e{};
+  bool operator==(const Stamp& o) const {
+    return x == o.x && y == o.y && mask == o.mask && e == o.e;
+  }
+};
+
+// Rasterizer -> depth test -> interpolator, per unit: the stamps one triangle
+// covers in one tile, in the order the unit walked them.
+struct StampBatch {
+  PacketKind kind = PacketKind::work;
+  std::shared_ptr<const RasterTriangle> triangle;
+  std::vector<Stamp> stamps;
+  // Per covered pixel (stamp order, then bit order), the depth value the
+  // depth test computed, for stages after it; empty before the depth test.
+  std::vector<float> depth;
+  bool operator==(const StampBatch& o) const;
+};
+std::ostream& operator<<(std::ostream& os, const StampBatch& b);
+
+// Interpolator -> ROP, per unit: surviving stamps and a colour per covered
+// pixel (stamp order, then bit order).
+struct ShadedStampBatch {
+  PacketKind kind = PacketKind::work;
+  std::shared_ptr<const RasterTriangle> triangle;
+  std::vector<Stamp> stamps;
+  std::vector<glm::vec4> colors;
+  bool operator==(const ShadedStampBatch& o) const;
+};
+std::ostream& operator<<(std::ostream& os, const ShadedStampBatch& b);
+
+// Screen tiles: tile (tx, ty) covers pixels [tx * size, (tx + 1) * size) x
+// [ty * size, ...). Ownership interleaves diagonally so neighbouring tiles
+// go to different units and a triangle's work spreads across them.
+inline unsigned tile_owner(int tx, int ty, unsigned units) {
+  return static_cast<unsigned>(tx + ty) % units;
+}
+
+}  // namespace gpusim
