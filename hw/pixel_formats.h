@@ -109,6 +109,8 @@ inline bool depth_compare(CompareFunc func, DepthValue fragment, DepthValue stor
 // depth buffers), with e clamped below so r never underflows to 0.
 inline float min_resolvable_depth(DepthFormat f, float max_abs_z) {
   if (f != DepthFormat::float32) return static_cast<float>(1.0 / unorm_depth_max(f));
+  // Zero has no exponent: take the smallest, so r is the smallest denormal.
+  if (!(max_abs_z > 0.0f)) return std::ldexp(1.0f, -149);
   int e = 0;
   std::frexp(max_abs_z, &e);  // max_abs_z = m * 2^e, m in [0.5, 1)
   return std::ldexp(1.0f, std::max(e - 1, -126) - 23);
