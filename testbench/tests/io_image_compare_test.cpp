@@ -12,7 +12,7 @@
 #include <limits>
 #include <sstream>
 
-#include "testbench/input_error.h"
+#include "hw/input_error.h"
 #include "testbench/io/image_compare.h"
 
 namespace gpusim {

@@ -21,7 +21,7 @@
 #include <set>
 #include <sstream>
 
-#include "testbench/input_error.h"
+#include "hw/input_error.h"
 #include "testbench/io/image_files.h"
 
 namespace gpusim {

@@ -8,7 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "testbench/input_error.h"
+#include "hw/input_error.h"
 #include "testbench/io/image_files.h"
 #include "testbench/io/output_file.h"
 

@@ -1,0 +1,82 @@
+// Packets inside the geometry front end: vertex fetch -> vertex shader ->
+// clipper. A batch carries up to kVertexBatchSlots consecutive vertex slots of
+// one draw in fixed-size arrays, so a packet has a known size and moving it
+// through a FIFO allocates nothing.
+//
+// The post-transform vertex cache is split the way hardware splits it: vertex
+// fetch owns the tags (it decides hit or miss and which entry a miss fills),
+// the clipper owns the data (the shaded vertices). Each slot tells the clipper
+// what fetch decided, and since both see the slots in the same order the two
+// halves never disagree, whatever the timing.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <glm/glm.hpp>
+#include <ostream>
+
+#include "hw/packets.h"
+
+namespace gpusim {
+
+// Slots per batch: 32 uint32 indices are one 128-byte index read.
+constexpr uint32_t kVertexBatchSlots = 32;
+// A slot's cache entry when the cache does not hold it.
+constexpr uint32_t kNoCacheEntry = ~uint32_t{0};
+
+enum class SlotKind : uint8_t {
+  fetched,  // a new vertex: its attributes are in the batch, it is shaded
+  cached,   // a cache hit: the clipper reads the shaded vertex from `entry`
+  invalid,  // the index is not below the draw's vertex count: no vertex
+};
+std::ostream& operator<<(std::ostream& os, SlotKind k);
+
+struct VertexSlot {
+  SlotKind kind = SlotKind::invalid;
+  // fetched: the cache entry the shaded vertex is stored in (kNoCacheEntry
+  // when the draw is not indexed or the cache is disabled); cached: the entry
+  // holding it.
+  uint32_t entry = kNoCacheEntry;
+  uint32_t vertex = 0;  // fetched: its position in the batch's vertex arrays
+  bool operator==(const VertexSlot& o) const {
+    return kind == o.kind && entry == o.entry && vertex == o.vertex;
+  }
+};
+
+// The common header: which slots of which draw the batch holds.
+struct BatchHeader {
+  PacketKind kind = PacketKind::work;  // control tokens carry no slots
+  uint32_t draw_id = 0;
+  uint32_t first_slot = 0;    // slot number of slots[0] within the draw
+  uint32_t slot_count = 0;    // 1..kVertexBatchSlots for work
+  uint32_t vertex_count = 0;  // fetched slots, i.e. vertices in the arrays below
+  std::array<VertexSlot, kVertexBatchSlots> slots{};
+  bool operator==(const BatchHeader& o) const;
+};
+
+// Vertex fetch -> vertex shader: the raw attributes of the fetched vertices,
+// as read from memory. `normals` is filled only for lit draws with a normal
+// array, `colors` only for draws with a colour array.
+struct VertexBatch : BatchHeader {
+  std::array<glm::vec4, kVertexBatchSlots> positions{};
+  std::array<glm::vec3, kVertexBatchSlots> normals{};
+  std::array<glm::vec4, kVertexBatchSlots> colors{};
+  bool operator==(const VertexBatch& o) const;
+};
+std::ostream& operator<<(std::ostream& os, const VertexBatch& b);
+
+// A vertex after transform and lighting (docs/pipeline-spec.md, section 2).
+struct ShadedVertex {
+  glm::vec4 clip{0.0f};
+  glm::vec4 color{0.0f};
+  bool operator==(const ShadedVertex& o) const { return clip == o.clip && color == o.color; }
+};
+
+// Vertex shader -> clipper: the same slots, the fetched vertices shaded.
+struct ShadedBatch : BatchHeader {
+  std::array<ShadedVertex, kVertexBatchSlots> vertices{};
+  bool operator==(const ShadedBatch& o) const;
+};
+std::ostream& operator<<(std::ostream& os, const ShadedBatch& b);
+
+}  // namespace gpusim

@@ -1,0 +1,169 @@
+#!/usr/bin/env python3
+"""Writes the procedural test scenes in testbench/scenes/ (deterministic: a
+fixed seed, so running it again gives the same files)."""
+import json
+import math
+import os
+import random
+
+OUT = os.path.join(os.path.dirname(__file__), "..", "..", "testbench", "scenes")
+
+
+def write(name, scene):
+    with open(os.path.join(OUT, name), "w") as f:
+        json.dump(scene, f, indent=1)
+        f.write("\n")
+
+
+def r(x):
+    return round(x, 5)
+
+
+def tiny_triangles():
+    """Sub-pixel, 1-pixel, slivers and needles in clip space, 96x64."""
+    rng = random.Random(1234)
+    w, h = 96, 64
+    pos, col = [], []
+    for _ in range(400):
+        cx, cy = rng.uniform(-1, 1), rng.uniform(-1, 1)
+        size = 2.0 ** rng.uniform(-3, 3) / w * 2  # 1/8 .. 8 pixels
+        kind = rng.random()
+        for k in range(3):
+            a = rng.uniform(0, 2 * math.pi)
+            s = size * (0.02 if kind < 0.2 and k == 2 else 1.0)  # slivers
+            pos.append([r(cx + s * math.cos(a)), r(cy + s * math.sin(a) * (8 if kind > 0.9 else 1)),
+                        r(rng.uniform(-0.9, 0.9)), 1])
+            col.append([r(rng.random()), r(rng.random()), r(rng.random()), 1])
+    return {
+        "framebuffer": {"width": w, "height": h, "depth_format": "unorm16"},
+        "draws": [{"primitive": "triangles", "positions": pos, "colors": col,
+                   "state": {"depth_test": "lequal"}}],
+    }
+
+
+def shared_edges():
+    """A 12x9 grid of quads as indexed triangles sharing every edge, and a
+    fan around the centre, additively blended so that any pixel drawn twice
+    shows: the fill rule must cover each pixel exactly once."""
+    n, m = 12, 9
+    pos, col, idx = [], [], []
+    rng = random.Random(7)
+    for j in range(m + 1):
+        for i in range(n + 1):
+            jitter = 0.0 if i in (0, n) or j in (0, m) else rng.uniform(-0.03, 0.03)
+            pos.append([r(-1 + 2 * i / n + jitter), r(-1 + 2 * j / m - jitter), 0.5, 1])
+            col.append([0.25, 0.25, 0.25, 1])
+    for j in range(m):
+        for i in range(n):
+            a = j * (n + 1) + i
+            idx += [a, a + 1, a + n + 2, a, a + n + 2, a + n + 1]
+    fan = [[0, 0, 0.2, 1]]
+    for k in range(17):
+        a = 2 * math.pi * (k % 16) / 16
+        fan.append([r(0.7 * math.cos(a)), r(0.7 * math.sin(a)), 0.2, 1])
+    additive = {"blend": {"src": "one", "dst": "one"}, "depth_test": "off"}
+    return {
+        "framebuffer": {"width": 120, "height": 90, "clear_color": [0, 0, 0, 0]},
+        "draws": [
+            {"primitive": "triangles", "positions": pos, "colors": col, "indices": idx,
+             "state": additive},
+            {"primitive": "triangle_fan", "positions": fan,
+             "colors": [[0.3, 0.1, 0.05, 0.5]] * len(fan), "state": additive},
+        ],
+    }
+
+
+def clipping():
+    """A perspective view where geometry crosses the near and far planes,
+    passes behind the eye and reaches far beyond the guard band."""
+    ground = {"primitive": "triangle_strip",
+              "positions": [[-500, -1, 500], [500, -1, 500], [-500, -1, -500], [500, -1, -500]],
+              "colors": [[0.2, 0.6, 0.2, 1], [0.6, 0.6, 0.2, 1], [0.2, 0.2, 0.6, 1], [0.6, 0.2, 0.6, 1]]}
+    near_cut = {"primitive": "triangles",
+                "positions": [[-0.5, -0.3, 0.5], [0.6, -0.2, -3], [0.1, 0.6, -2],
+                              [-3, 0.2, -1], [2, 0.1, 1], [0.5, 1.5, -6]],
+                "colors": [[1, 0, 0, 1], [0, 1, 0, 1], [0, 0, 1, 1], [1, 1, 0, 1], [0, 1, 1, 1], [1, 0, 1, 1]]}
+    behind = {"primitive": "triangles",
+              "positions": [[-1, 0, 2], [1, 0, 2], [0, 1, 3]], "colors": [[1, 1, 1, 1]] * 3}
+    huge = {"primitive": "triangles",
+            "positions": [[-100000, -0.5, -10], [100000, -0.4, -10], [0, 80000, -12]],
+            "colors": [[0.9, 0.4, 0.1, 1], [0.1, 0.4, 0.9, 1], [0.5, 0.9, 0.5, 1]],
+            "state": {"depth_test": "lequal", "shading": "flat"}}
+    return {
+        "framebuffer": {"width": 128, "height": 96, "depth_format": "float32",
+                        "clear_color": [0.05, 0.05, 0.1, 1]},
+        "camera": {"type": "perspective", "fovy": 70, "near": 0.5, "far": 40,
+                   "eye": [0, 0, 0], "target": [0, -0.1, -1]},
+        "draws": [ground, near_cut, behind, huge],
+    }
+
+
+def zfight():
+    """Coplanar planes: the second loses with less, wins with polygon offset."""
+    quad = [[-1, -1, 0], [1, -1, 0], [-1, 1, 0], [1, 1, 0]]
+    def plane(color, state):
+        return {"primitive": "triangle_strip", "positions": quad, "colors": [color] * 4,
+                "transform": {"rotate": [[60, 1, 0, 0], [25, 0, 1, 0]], "translate": [0, 0, -3]},
+                "state": state}
+    return {
+        "framebuffer": {"width": 100, "height": 100, "depth_format": "unorm16"},
+        "camera": {"type": "perspective", "fovy": 60, "near": 1, "far": 50},
+        "draws": [
+            plane([0.8, 0.2, 0.2, 1], {"depth_test": "less"}),
+            plane([0.2, 0.8, 0.2, 1], {"depth_test": "less"}),
+            {**plane([0.2, 0.2, 0.8, 1], {"depth_test": "less", "polygon_offset": [-1, -2]}),
+             "transform": {"rotate": [[60, 1, 0, 0], [25, 0, 1, 0]], "translate": [0, 0, -3],
+                           "scale": 0.5}},
+        ],
+    }
+
+
+def states():
+    """Strips, fans, culling modes, front faces, blending, colour masks,
+    depth functions, flat shading, into an rgba16f buffer."""
+    draws = []
+    rng = random.Random(99)
+    funcs = ["less", "lequal", "greater", "gequal", "equal", "notequal", "always", "never", "off"]
+    blends = [("src_alpha", "one_minus_src_alpha", "add"), ("one", "one", "add"),
+              ("dst_color", "zero", "add"), ("one", "one", "subtract"),
+              ("src_alpha_saturate", "one", "reverse_subtract"), ("one_minus_dst_alpha", "dst_alpha", "add")]
+    for k in range(18):
+        cx, cy = -0.8 + 0.32 * (k % 6), -0.7 + 0.7 * (k // 6)
+        strip = k % 2 == 0
+        n = 6
+        pos = []
+        for v in range(n):
+            if strip:
+                pos.append([r(cx + 0.05 * v), r(cy + (0.25 if v % 2 else 0) + rng.uniform(-0.02, 0.02)),
+                            r(rng.uniform(-0.5, 0.5)), 1])
+            else:
+                a = 2 * math.pi * v / n
+                pos.append([r(cx + (0 if v == 0 else 0.15 * math.cos(a))),
+                            r(cy + (0 if v == 0 else 0.15 * math.sin(a))), r(rng.uniform(-0.5, 0.5)), 1])
+        b = blends[k % len(blends)]
+        draws.append({
+            "primitive": "triangle_strip" if strip else "triangle_fan",
+            "positions": pos,
+            "colors": [[r(rng.random()), r(rng.random()), r(rng.random()), r(rng.uniform(0.2, 1))] for _ in pos],
+            "state": {"cull": ["none", "back", "front"][k % 3], "front_face": ["ccw", "cw"][(k // 3) % 2],
+                      "depth_test": funcs[k % len(funcs)], "depth_write": k % 4 != 3,
+                      "blend": {"src": b[0], "dst": b[1], "equation": b[2]} if k % 3 else "off",
+                      "color_mask": [True, k % 5 != 1, True, k % 7 != 2],
+                      "shading": "flat" if k % 4 == 1 else "gouraud"}})
+    # A full-screen backdrop first so every depth function has something to meet.
+    draws.insert(0, {"primitive": "triangle_strip",
+                     "positions": [[-1, -1, 0.1, 1], [1, -1, 0.1, 1], [-1, 1, 0.1, 1], [1, 1, 0.1, 1]],
+                     "colors": [[0.5, 0.5, 0.5, 0.5]] * 4})
+    return {
+        "framebuffer": {"width": 160, "height": 90, "color_format": "rgba16f", "depth_format": "unorm24",
+                        "clear_color": [0.1, 0.2, 0.3, 0.4], "clear_depth": 0.75},
+        "draws": draws,
+    }
+
+
+if __name__ == "__main__":
+    write("tiny_triangles.json", tiny_triangles())
+    write("shared_edges.json", shared_edges())
+    write("clipping.json", clipping())
+    write("zfight_offset.json", zfight())
+    write("states.json", states())

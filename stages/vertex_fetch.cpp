@@ -1,0 +1,172 @@
+#include "stages/vertex_fetch.h"
+
+#include <algorithm>
+
+namespace gpusim {
+namespace {
+
+constexpr uint32_t kNoTag = ~uint32_t{0};
+constexpr uint64_t kPositionBytes = 16;
+constexpr uint64_t kNormalBytes = 12;
+constexpr uint64_t kColorBytes = 16;
+// Bursts are read straight into the packet's arrays, which must therefore be
+// laid out like memory: tightly packed float32.
+static_assert(sizeof(glm::vec4) == kPositionBytes && sizeof(glm::vec3) == kNormalBytes,
+              "glm vectors must be tightly packed floats");
+
+}  // namespace
+
+VertexFetch::VertexFetch(sc_core::sc_module_name name, const GpuConfig& config,
+                         const FrameState& frame)
+    : sc_core::sc_module(name),
+      in("in"),
+      out("out"),
+      mem("mem"),
+      m_config(config),
+      m_frame(frame),
+      m_cost(config.stage("vertex_fetch")),
+      m_cache_entries(config.vertex_cache_entries),
+      m_tag(config.vertex_cache_entries, kNoTag) {
+  m_stats.formula("cache_hit_rate", "cache_hits / cache_lookups",
+                  [this] { return static_cast<double>(m_hits) / static_cast<double>(m_lookups); });
+  SC_HAS_PROCESS(VertexFetch);
+  SC_THREAD(run);
+}
+
+void VertexFetch::run() {
+  for (;;) {
+    const Command cmd = in->read();
+    ++m_tokens_in;
+    if (cmd.kind == PacketKind::work) {
+      fetch_draw(cmd.draw_id);
+    } else {
+      forward(cmd);
+    }
+  }
+}
+
+void VertexFetch::forward(const Command& cmd) {
+  m_busy_cycles += m_cost.ii;
+  sc_core::wait(m_config.cycles(m_cost.ii));
+  VertexBatch token;
+  token.kind = cmd.kind;
+  out->write(token, sc_core::sc_time_stamp() + m_config.cycles(m_cost.latency));
+  ++m_tokens_out;
+}
+
+void VertexFetch::fetch_draw(uint32_t draw_id) {
+  ++m_draws;
+  const DrawState& draw = m_frame.draws.at(draw_id);
+  const DrawBuffers& b = draw.buffers;
+  if (b.indices != kNoBuffer && m_cache_entries > 0) {
+    cache_flush();
+    if (m_entry_of.size() < b.vertex_count) m_entry_of.resize(b.vertex_count, kNoCacheEntry);
+  }
+  const uint64_t cycle = m_config.cycle().value();
+  for (uint32_t first = 0; first < b.slot_count; first += kVertexBatchSlots) {
+    VertexBatch& batch = m_batch;
+    batch.kind = PacketKind::work;
+    batch.draw_id = draw_id;
+    batch.first_slot = first;
+    batch.slot_count = std::min(kVertexBatchSlots, b.slot_count - first);
+    const sc_core::sc_time memory = fetch_batch(draw, batch);
+    // Every delay is a whole number of cycles: requests start at cycle
+    // boundaries and the bus and the memory count in cycles.
+    const uint64_t memory_cycles = (memory.value() + cycle - 1) / cycle;
+    const uint64_t busy = uint64_t{m_cost.ii} * batch.slot_count + memory_cycles;
+    m_memory_cycles += memory_cycles;
+    m_busy_cycles += busy;
+    m_slots += batch.slot_count;
+    sc_core::wait(m_config.cycles(busy));
+    out->write(batch, sc_core::sc_time_stamp() + m_config.cycles(m_cost.latency));
+    ++m_batches;
+    ++m_tokens_out;
+  }
+}
+
+sc_core::sc_time VertexFetch::fetch_batch(const DrawState& draw, VertexBatch& batch) {
+  const DrawBuffers& b = draw.buffers;
+  const bool indexed = b.indices != kNoBuffer;
+  const uint32_t n = batch.slot_count;
+  sc_core::sc_time memory = sc_core::SC_ZERO_TIME;
+
+  if (indexed) {
+    memory =
+        mem.read(b.indices + uint64_t{batch.first_slot} * 4, m_indices.data(), uint64_t{n} * 4);
+    ++m_requests;
+    m_bytes += uint64_t{n} * 4;
+  } else {
+    for (uint32_t i = 0; i < n; ++i) m_indices[i] = batch.first_slot + i;
+  }
+
+  // Classify the slots.
+  uint32_t fetched = 0;
+  for (uint32_t i = 0; i < n; ++i) {
+    VertexSlot& slot = batch.slots[i];
+    const uint32_t index = m_indices[i];
+    if (index >= b.vertex_count) {
+      slot = {SlotKind::invalid, kNoCacheEntry, 0};
+      ++m_invalid;
+      continue;
+    }
+    uint32_t entry = kNoCacheEntry;
+    if (indexed) {
+      ++m_lookups;
+      if (m_cache_entries > 0 && cache_lookup(index, entry)) {
+        ++m_hits;
+        slot = {SlotKind::cached, entry, 0};
+        continue;
+      }
+      ++m_misses;
+    }
+    slot = {SlotKind::fetched, entry, fetched};
+    m_fetch_index[fetched++] = index;
+  }
+  batch.vertex_count = fetched;
+  m_fetched += fetched;
+
+  // Attribute bursts, issued once the indices are back (at `issue`), queued
+  // on the bus in order; the memory time is when the last one completes.
+  const sc_core::sc_time issue = memory;
+  const bool normals = draw.lighting && b.normals != kNoBuffer;
+  const bool colors = b.colors != kNoBuffer;
+  const auto read = [&](uint64_t base, uint32_t index, void* dst, uint64_t bytes, uint32_t count) {
+    const uint64_t len = bytes * count;
+    const sc_core::sc_time done = mem.read(base + bytes * index, dst, len, issue);
+    memory = std::max(memory, done);
+    ++m_requests;
+    m_bytes += len;
+  };
+  for (uint32_t first = 0; first < fetched;) {
+    uint32_t count = 1;
+    while (first + count < fetched && m_fetch_index[first + count] == m_fetch_index[first] + count)
+      ++count;
+    const uint32_t index = m_fetch_index[first];
+    read(b.positions, index, &batch.positions[first], kPositionBytes, count);
+    if (normals) read(b.normals, index, &batch.normals[first], kNormalBytes, count);
+    if (colors) read(b.colors, index, &batch.colors[first], kColorBytes, count);
+    first += count;
+  }
+  return memory;
+}
+
+bool VertexFetch::cache_lookup(uint32_t index, uint32_t& entry) {
+  entry = m_entry_of[index];
+  if (entry != kNoCacheEntry) return true;
+  entry = m_next;
+  m_next = m_next + 1 == m_cache_entries ? 0 : m_next + 1;
+  if (m_tag[entry] != kNoTag) m_entry_of[m_tag[entry]] = kNoCacheEntry;
+  m_tag[entry] = index;
+  m_entry_of[index] = entry;
+  return false;
+}
+
+void VertexFetch::cache_flush() {
+  for (uint32_t& tag : m_tag) {
+    if (tag != kNoTag) m_entry_of[tag] = kNoCacheEntry;
+    tag = kNoTag;
+  }
+  m_next = 0;
+}
+
+}  // namespace gpusim
