@@ -73,12 +73,14 @@ void VertexFetch::fetch_draw(uint32_t draw_id) {
     // Every delay is a whole number of cycles: requests start at cycle
     // boundaries and the bus and the memory count in cycles.
     const uint64_t memory_cycles = (memory.value() + cycle - 1) / cycle;
-    const uint64_t busy = uint64_t{m_cost.ii} * batch.slot_count + memory_cycles;
+    const uint64_t busy = uint64_t{m_cost.ii} * batch.slot_count;
+    const sc_core::sc_time ready =
+        sc_core::sc_time_stamp() + m_config.cycles(std::max(busy, memory_cycles) + m_cost.latency);
     m_memory_cycles += memory_cycles;
     m_busy_cycles += busy;
     m_slots += batch.slot_count;
     sc_core::wait(m_config.cycles(busy));
-    out->write(batch, sc_core::sc_time_stamp() + m_config.cycles(m_cost.latency));
+    out->write(batch, ready);
     ++m_batches;
     ++m_tokens_out;
   }

@@ -17,13 +17,15 @@
 //   slot order form one burst: one request per attribute array per burst, so
 //   a non-indexed batch costs three requests at most.
 //
-// Cost model, per batch: busy = ii(vertex_fetch) x slots + the memory time,
-// where the memory time is the delay of the index read (0 when not indexed)
-// plus the attribute reads, issued together once the indices are back and
-// queued on the bus in order: the time until the last one completes. Address
-// generation does not overlap the memory wait. The batch is readable by the
-// shader latency(vertex_fetch) cycles after that. Control tokens cost ii and
-// are forwarded in order.
+// Cost model, per batch: the stage is busy ii(vertex_fetch) x slots cycles
+// generating addresses; its reads stay in flight meanwhile (the next batch's
+// requests queue behind them on the shared bus, so bandwidth still limits).
+// The memory time is the delay of the index read (0 when not indexed) plus
+// the attribute reads, issued together once the indices are back and queued
+// on the bus in order: the time until the last one completes. The batch is
+// readable by the shader max(ii x slots, memory time) + latency(vertex_fetch)
+// cycles after the batch started; the output FIFO's depth bounds the batches
+// in flight. Control tokens cost ii and are forwarded in order.
 #pragma once
 
 #include <systemc>
@@ -75,7 +77,7 @@ class VertexFetch : public sc_core::sc_module {
 
   StatGroup m_stats{name()};
   uint64_t& m_busy_cycles =
-      m_stats.counter("busy_cycles", "cycles spent on commands and batches, memory waits included");
+      m_stats.counter("busy_cycles", "cycles spent on commands and generating batch addresses");
   uint64_t& m_tokens_in = m_stats.counter("tokens_in", "commands read");
   uint64_t& m_tokens_out = m_stats.counter("tokens_out", "batches and control tokens written");
   uint64_t& m_draws = m_stats.counter("draws", "draw commands");
@@ -93,7 +95,7 @@ class VertexFetch : public sc_core::sc_module {
       m_stats.counter("memory_requests", "memory reads: index blocks and attribute bursts");
   uint64_t& m_bytes = m_stats.counter("bytes_read", "bytes read from memory");
   uint64_t& m_memory_cycles =
-      m_stats.counter("memory_wait_cycles", "cycles of busy_cycles spent waiting for memory");
+      m_stats.counter("memory_wait_cycles", "memory time of the batches (overlapping busy_cycles)");
 };
 
 }  // namespace gpusim

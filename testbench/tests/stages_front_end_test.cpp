@@ -735,28 +735,29 @@ TEST(FrontEndTiming, OneTriangle) {
   // command processor: draw at 0, busy 1, readable at 3; end of frame
   //   read at 1, readable at 4.
   // fetch: draw at 3; 3 positions in one 48-byte burst: bus 2 cycles + 20
-  //   = 22; busy 3 x 1 + 22 = 25 -> 28, readable 30. End of frame: 28 ->
-  //   29, readable 31.
-  // shader: batch at 30, 3 vertices x 4 = 12 -> 42, readable 66; end of
-  //   frame 42 -> 46, readable 70.
-  // clipper: batch at 66, 1 triangle x 2 -> 68, readable 76; end of frame
-  //   70 -> 72, readable 80.
+  //   = 22 of memory time; busy 3 x 1 -> 6; readable at 3 + max(3, 22) + 2
+  //   = 27. End of frame: 6 -> 7, readable 9 (behind the batch).
+  // shader: batch at 27, 3 vertices x 4 = 12 -> 39, readable 63; end of
+  //   frame 39 -> 43, readable 67.
+  // clipper: batch at 63, 1 triangle x 2 -> 65, readable 73; end of frame
+  //   67 -> 69, readable 77.
   Scene scene;
   Draw d;
   d.positions = {{-0.5f, -0.5f, 0.0f, 1.0f}, {0.5f, -0.5f, 0.0f, 1.0f}, {0.0f, 0.5f, 0.0f, 1.0f}};
   scene.draws = {d};
-  run_timing(scene, {76, 80});
+  run_timing(scene, {73, 77});
 }
 
 TEST(FrontEndTiming, IndexedWithColorsAndCacheHits) {
   // fetch: draw at 3; 6 indices (24 B) bus [3, 4), back at 4 + 20 = 24;
   //   misses 0 1 2 3 (2 and 1 hit) are one burst: positions 64 B bus
   //   [24, 26), colours 64 B bus [26, 28), done at 28 + 20 = 48: memory time
-  //   45; busy 6 x 1 + 45 = 51 -> 54, readable 56. End of frame 54 -> 55.
-  // shader: batch at 56, 4 new vertices x 4 = 16 -> 72, readable 96; end
-  //   of frame 72 -> 76, readable 100.
-  // clipper: batch at 96, 2 triangles x 2 = 4 -> 100, both readable 108;
-  //   end of frame 100 -> 102, readable 110.
+  //   45; busy 6 x 1 -> 9; readable at 3 + max(6, 45) + 2 = 50. End of
+  //   frame 9 -> 10.
+  // shader: batch at 50, 4 new vertices x 4 = 16 -> 66, readable 90; end
+  //   of frame 66 -> 70, readable 94.
+  // clipper: batch at 90, 2 triangles x 2 = 4 -> 94, both readable 102;
+  //   end of frame 94 -> 96, readable 104.
   Scene scene;
   Draw d;
   d.positions = {{-0.5f, -0.5f, 0.0f, 1.0f},
@@ -766,32 +767,32 @@ TEST(FrontEndTiming, IndexedWithColorsAndCacheHits) {
   d.colors.assign(4, glm::vec4(0.25f, 0.5f, 0.75f, 1.0f));
   d.indices = {0, 1, 2, 2, 1, 3};
   scene.draws = {d};
-  run_timing(scene, {108, 108, 110});
+  run_timing(scene, {102, 102, 104});
 }
 
 TEST(FrontEndTiming, ClippedTrianglePaysPerOutputTriangle) {
   // One triangle with one vertex behind the near plane: a quad, 2 triangles.
-  // fetch as in OneTriangle: batch readable 30, shader readable 66.
-  // clipper: (1 + 1 extra) x 2 = 4 -> 70, both readable 78; end of frame
-  //   (readable 70) read at 70 -> 72, readable 80.
+  // fetch as in OneTriangle: batch readable 27, shader readable 63.
+  // clipper: (1 + 1 extra) x 2 = 4 -> 67, both readable 75; end of frame
+  //   (readable 67) read at 67 -> 69, readable 77.
   Scene scene;
   Draw d;
   d.positions = {{-0.5f, -0.5f, 0.0f, 1.0f}, {0.5f, -0.5f, 0.0f, 1.0f}, {0.0f, 0.5f, -3.0f, 1.0f}};
   scene.draws = {d};
   const Expected e = expected_stream(scene);
   ASSERT_EQ(e.triangles.size(), 2u);
-  run_timing(scene, {78, 78, 80});
+  run_timing(scene, {75, 75, 77});
 }
 
 TEST(FrontEndTiming, StageCostsFromConfig) {
   // Same triangle as OneTriangle with other costs and a slow, narrow memory:
   // cp ii 3 lat 1: draw readable 4, end of frame 3 -> 6, readable 7.
-  // fetch ii 2 lat 5: 48 B at 8 B/cycle = 6 bus cycles + 50 = 56;
-  //   busy 3 x 2 + 56 = 62 -> 66, readable 71; end of frame 66 -> 68,
-  //   readable 73.
-  // shader ii 1 lat 3: 71 -> 74, readable 77; end of frame 74 -> 75,
-  //   readable 78.
-  // clipper ii 5 lat 0: 77 -> 82, readable 82; end of frame 82 -> 87.
+  // fetch ii 2 lat 5: draw at 4; 48 B at 8 B/cycle = 6 bus cycles + 50 =
+  //   56 of memory time; busy 3 x 2 -> 10; readable 4 + max(6, 56) + 5 =
+  //   65; end of frame 10 -> 12, readable 17.
+  // shader ii 1 lat 3: 65 -> 68, readable 71; end of frame 68 -> 69,
+  //   readable 72.
+  // clipper ii 5 lat 0: 71 -> 76, readable 76; end of frame 76 -> 81.
   GpuConfig config = timing_config();
   config.stages["command_processor"] = {3, 1};
   config.stages["vertex_fetch"] = {2, 5};
@@ -802,7 +803,7 @@ TEST(FrontEndTiming, StageCostsFromConfig) {
   Draw d;
   d.positions = {{-0.5f, -0.5f, 0.0f, 1.0f}, {0.5f, -0.5f, 0.0f, 1.0f}, {0.0f, 0.5f, 0.0f, 1.0f}};
   scene.draws = {d};
-  run_timing(scene, {82, 87}, config);
+  run_timing(scene, {76, 81}, config);
 }
 
 }  // namespace
