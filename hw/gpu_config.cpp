@@ -19,6 +19,7 @@ constexpr unsigned kMaxStageCycles = 1000000;
 constexpr unsigned kMaxMemoryLatency = 1000000;
 constexpr unsigned kMaxBytesPerCycle = 65536;
 constexpr unsigned kMaxVertexCache = 65536;
+constexpr unsigned kMaxTileCache = 1024;
 constexpr uint64_t kMaxWatchdog = 1000000000000ull;
 
 bool is_power_of_two(uint64_t v) {
@@ -88,7 +89,7 @@ const std::vector<std::string>& GpuConfig::fifo_names() {
   static const std::vector<std::string> names{
       "command_to_fetch",           "fetch_to_shader",       "shader_to_clipper",
       "clipper_to_setup",           "setup_to_distributor",  "distributor_to_rasterizer",
-      "rasterizer_to_interpolator", "interpolator_to_depth", "depth_to_rop"};
+      "rasterizer_to_depth", "depth_to_interpolator", "interpolator_to_rop"};
   return names;
 }
 
@@ -137,7 +138,8 @@ sc_core::sc_time GpuConfig::cycles(uint64_t n) const {
 bool GpuConfig::operator==(const GpuConfig& o) const {
   if (clock_mhz != o.clock_mhz || units != o.units || tile_size != o.tile_size ||
       stamp != o.stamp || fifo_depth != o.fifo_depth || stages != o.stages || memory != o.memory ||
-      vertex_cache_entries != o.vertex_cache_entries || watchdog_cycles != o.watchdog_cycles) {
+      vertex_cache_entries != o.vertex_cache_entries ||
+      tile_cache_entries != o.tile_cache_entries || watchdog_cycles != o.watchdog_cycles) {
     return false;
   }
   for (const auto& n : fifo_names()) {
@@ -152,7 +154,7 @@ GpuConfig gpu_config_from_json(const nlohmann::json& j, const std::string& sourc
   r.expect_object(j, "");
   r.check_keys(j, "",
                {"clock_mhz", "units", "tile_size", "stamp", "fifo_depth", "fifo_depths", "stages",
-                "memory", "vertex_cache_entries", "watchdog_cycles"});
+                "memory", "vertex_cache_entries", "tile_cache_entries", "watchdog_cycles"});
 
   if (j.contains("clock_mhz")) {
     const auto& v = j["clock_mhz"];
@@ -229,6 +231,10 @@ GpuConfig gpu_config_from_json(const nlohmann::json& j, const std::string& sourc
     c.vertex_cache_entries =
         r.get_unsigned(j["vertex_cache_entries"], "vertex_cache_entries", 0, kMaxVertexCache);
   }
+  if (j.contains("tile_cache_entries")) {
+    c.tile_cache_entries =
+        r.get_unsigned(j["tile_cache_entries"], "tile_cache_entries", 1, kMaxTileCache);
+  }
   if (j.contains("watchdog_cycles")) {
     c.watchdog_cycles = r.get_uint(j["watchdog_cycles"], "watchdog_cycles", 1, kMaxWatchdog);
   }
@@ -277,6 +283,7 @@ nlohmann::json to_json(const GpuConfig& c) {
   j["stages"] = stages;
   j["memory"] = {{"latency", c.memory.latency}, {"bytes_per_cycle", c.memory.bytes_per_cycle}};
   j["vertex_cache_entries"] = c.vertex_cache_entries;
+  j["tile_cache_entries"] = c.tile_cache_entries;
   j["watchdog_cycles"] = c.watchdog_cycles;
   return j;
 }

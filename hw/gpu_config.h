@@ -55,6 +55,7 @@ struct GpuConfig {
   std::map<std::string, StageCost, std::less<>> stages = default_stage_costs();
   MemoryConfig memory;
   unsigned vertex_cache_entries = 32;  // post-transform vertex cache; 0 disables it
+  unsigned tile_cache_entries = 16;    // framebuffer tiles cached per unit, per buffer
   uint64_t watchdog_cycles = 1000000;  // no stage progress for this long stops the run
 
   // The fixed names of the pipeline stages and FIFOs, in pipeline order.

@@ -8,6 +8,7 @@
 #include <iostream>
 #include <map>
 #include <string>
+#include <unistd.h>
 #include <systemc>
 
 #include "testbench/golden/golden_model.h"
@@ -16,6 +17,8 @@
 #include "testbench/io/image_files.h"
 #include "testbench/io/output_file.h"
 #include "testbench/scene/scene.h"
+#include "testbench/sim/gpu_run.h"
+#include "hw/gpu_config.h"
 
 namespace gpusim {
 namespace {
@@ -66,6 +69,108 @@ int run_golden(const std::string& scene_path, const std::string& out_dir) {
   return 0;
 }
 
+struct RunArgs {
+  std::string scene;
+  std::string config;
+  unsigned units = 0;  // 0: the configuration's
+  std::string out_dir = "out";
+  bool check = false;
+};
+
+std::string pixel_text(const Framebuffer& fb, int x, int y) {
+  const ColorChannel* c = fb.color_at(x, y);
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "colour (%g, %g, %g, %g) depth %g",
+                decode_color(fb.color_format, c[0]), decode_color(fb.color_format, c[1]),
+                decode_color(fb.color_format, c[2]), decode_color(fb.color_format, c[3]),
+                decode_depth(fb.depth_format, fb.depth[fb.pixel_index(x, y)]));
+  return buf;
+}
+
+// Compares the cycle model's frame and counters with the golden model's.
+bool check_against_golden(const Scene& scene, const GpuRunResult& gpu) {
+  const golden::Result ref = golden::render(scene);
+  const Framebuffer& a = gpu.framebuffer;
+  const Framebuffer& b = ref.framebuffer;
+  bool ok = true;
+  for (int y = 0; y < a.height && ok; ++y) {
+    for (int x = 0; x < a.width; ++x) {
+      const size_t p = a.pixel_index(x, y);
+      if (std::equal(a.color_at(x, y), a.color_at(x, y) + 4, b.color_at(x, y)) &&
+          a.depth[p] == b.depth[p]) {
+        continue;
+      }
+      std::printf("check: FAIL: first differing pixel x=%d y=%d\n", x, y);
+      std::printf("  cycle model: %s, last written by primitive %lld\n", pixel_text(a, x, y).c_str(),
+                  static_cast<long long>(gpu.last_writer[p]));
+      std::printf("  golden:      %s, last written by primitive %lld\n", pixel_text(b, x, y).c_str(),
+                  static_cast<long long>(ref.last_writer[p]));
+      ok = false;
+      break;
+    }
+  }
+  const nlohmann::json golden_counts = ref.stats.to_json();
+  for (const auto& item : golden_counts.items()) {
+    if (gpu.counts.value(item.key(), nlohmann::json()) != item.value()) {
+      std::printf("check: FAIL: %s is %s in the cycle model, %s in the golden model\n",
+                  item.key().c_str(), gpu.counts.value(item.key(), nlohmann::json()).dump().c_str(),
+                  item.value().dump().c_str());
+      ok = false;
+    }
+  }
+  if (ok) {
+    std::printf("check: bit-exact with the golden model (%dx%d colour and depth, all counters)\n",
+                a.width, a.height);
+  }
+  return ok;
+}
+
+int run_cycle_model(const RunArgs& args) {
+  const Scene scene = load_scene(args.scene);
+  GpuConfig config = args.config.empty() ? GpuConfig{} : load_gpu_config(args.config);
+  if (args.units != 0) {
+    nlohmann::json j = to_json(config);
+    j["units"] = args.units;
+    config = gpu_config_from_json(j, "--units");
+  }
+  GpuRunOptions options;
+  options.record_last_writer = args.check;
+  options.progress = isatty(STDERR_FILENO);
+  const GpuRunResult result = run_gpu(scene, config, options);
+  if (!result.completed) {
+    std::fprintf(stderr, "gpusim: %s: the simulation stopped at cycle %llu before the frame completed\n",
+                 args.scene.c_str(), static_cast<unsigned long long>(result.cycles));
+    return 3;
+  }
+  // No wall-clock figures in stats.json: the same input gives the same bytes.
+  const nlohmann::json stats = {
+      {"model", "cycle"},
+      {"scene", args.scene},
+      {"settings", scene.resolved},
+      {"config", to_json(config)},
+      {"stats", result.counts},
+      {"timing", result.timing},
+  };
+  write_frame_outputs(args.out_dir, result.framebuffer, stats);
+
+  const double mhz = config.clock_mhz;
+  std::printf("run: %s on %u units: %llu cycles (%.3f ms at %g MHz), simulated in %.3f s (%.3g cycles/s)\n",
+              args.scene.c_str(), config.units, static_cast<unsigned long long>(result.cycles),
+              static_cast<double>(result.cycles) / (mhz * 1e3), mhz, result.wall_seconds,
+              static_cast<double>(result.cycles) / std::max(result.wall_seconds, 1e-9));
+  const nlohmann::json& c = result.counts;
+  std::printf("  triangles: %s in, %s culled, %s clipped, %s rasterized\n",
+              c["triangles_in"].dump().c_str(), c["triangles_culled"].dump().c_str(),
+              c["triangles_clipped"].dump().c_str(), c["triangles_rasterized"].dump().c_str());
+  std::printf("  fragments: %s generated, %s passed depth, %s written\n",
+              c["fragments_generated"].dump().c_str(), c["fragments_passed_depth"].dump().c_str(),
+              c["fragments_written"].dump().c_str());
+  std::printf("  frame: %s/frame.exr, %s/frame.png, %s/stats.json\n", args.out_dir.c_str(),
+              args.out_dir.c_str(), args.out_dir.c_str());
+  if (args.check && !check_against_golden(scene, result)) return 1;
+  return 0;
+}
+
 struct CompareArgs {
   std::string a, b;
   bool exact = false;
@@ -112,6 +217,16 @@ int main_with_errors(int argc, char** argv) {
   golden->add_option("--out", out_dir, "Output directory for frame.exr, frame.png, stats.json")
       ->capture_default_str();
 
+  RunArgs run;
+  CLI::App* run_cmd = app.add_subcommand("run", "Simulate the cycle-modeled GPU on a scene");
+  run_cmd->add_option("scene", run.scene, "Scene file (JSON, docs/scene-format.md)")->required();
+  run_cmd->add_option("--config", run.config, "GPU configuration (JSON, docs/gpu-config.md)");
+  run_cmd->add_option("--units", run.units, "Tile rasterizer units (overrides the configuration)");
+  run_cmd->add_option("--out", run.out_dir, "Output directory for frame.exr, frame.png, stats.json")
+      ->capture_default_str();
+  run_cmd->add_flag("--check", run.check,
+                    "Also render with the golden model and compare bit for bit (exit 1 on a difference)");
+
   CompareArgs cmp;
   CLI::App* compare = app.add_subcommand(
       "compare",
@@ -141,6 +256,7 @@ int main_with_errors(int argc, char** argv) {
   }
 
   if (golden->parsed()) return run_golden(scene_path, out_dir);
+  if (run_cmd->parsed()) return run_cycle_model(run);
   if (compare->parsed()) return run_compare(cmp);
   return kExitError;
 }

@@ -49,6 +49,7 @@ TEST(GpuConfig, Defaults) {
   EXPECT_EQ(c.memory.latency, 20u);
   EXPECT_EQ(c.memory.bytes_per_cycle, 32u);
   EXPECT_EQ(c.vertex_cache_entries, 32u);
+  EXPECT_EQ(c.tile_cache_entries, 16u);
   EXPECT_EQ(c.watchdog_cycles, 1000000u);
 
   ASSERT_EQ(GpuConfig::stage_names().size(), 10u);
@@ -80,11 +81,11 @@ TEST(GpuConfig, CycleFollowsClock) {
 
 TEST(GpuConfig, PartialOverridesKeepOtherDefaults) {
   const GpuConfig c =
-      gpu_config_from_json(json::parse(R"({"fifo_depth": 8, "fifo_depths": {"depth_to_rop": 2},
+      gpu_config_from_json(json::parse(R"({"fifo_depth": 8, "fifo_depths": {"interpolator_to_rop": 2},
                       "stages": {"clipper": {"latency": 30}},
                       "memory": {"bytes_per_cycle": 16}})"),
                            "gpu.json");
-  EXPECT_EQ(c.fifo_depth_of("depth_to_rop"), 2u);
+  EXPECT_EQ(c.fifo_depth_of("interpolator_to_rop"), 2u);
   EXPECT_EQ(c.fifo_depth_of("fetch_to_shader"), 8u);
   EXPECT_EQ(c.stage("clipper"), (StageCost{2, 30}));  // ii keeps its default 2
   EXPECT_EQ(c.stage("rop"), GpuConfig().stage("rop"));
@@ -105,13 +106,14 @@ TEST(GpuConfig, RoundTrip) {
   c.stages["command_processor"] = {5, 0};
   c.memory = {100, 8};
   c.vertex_cache_entries = 0;
+  c.tile_cache_entries = 18;
   c.watchdog_cycles = 5000;
 
   const json j = to_json(c);
   // Every value resolved.
   EXPECT_EQ(j["fifo_depths"].size(), GpuConfig::fifo_names().size());
   EXPECT_EQ(j["fifo_depths"]["shader_to_clipper"], 7);
-  EXPECT_EQ(j["fifo_depths"]["depth_to_rop"], 3);
+  EXPECT_EQ(j["fifo_depths"]["interpolator_to_rop"], 3);
   EXPECT_EQ(j["stages"].size(), GpuConfig::stage_names().size());
   EXPECT_EQ(j["stages"]["rasterizer"], json({{"ii", 2}, {"latency", 9}}));
   EXPECT_EQ(j["stamp"], json({8, 2}));
@@ -124,7 +126,7 @@ TEST(GpuConfig, RoundTrip) {
 
   // Equality sees every field.
   GpuConfig d = c;
-  d.fifo_depths["depth_to_rop"] = 4;
+  d.fifo_depths["interpolator_to_rop"] = 4;
   EXPECT_NE(d, c);
   d = c;
   d.stages["rop"].latency += 1;
@@ -135,9 +137,12 @@ TEST(GpuConfig, RoundTrip) {
   d = c;
   d.stamp = {2, 8};
   EXPECT_NE(d, c);
+  d = c;
+  d.tile_cache_entries = 1;
+  EXPECT_NE(d, c);
   // An override equal to the default depth is the same resolved config.
   d = c;
-  d.fifo_depths["depth_to_rop"] = 3;
+  d.fifo_depths["interpolator_to_rop"] = 3;
   EXPECT_EQ(d, c);
 }
 
@@ -192,8 +197,8 @@ TEST(GpuConfig, OutOfRangeValues) {
   EXPECT_EQ(error_of(json{{"stamp", {4, 3}}}), "gpu.json: stamp[1]: 3 is not a power of two");
   EXPECT_EQ(error_of(json{{"stamp", {0, 4}}}), "gpu.json: stamp[0]: 0 is out of range 1..256");
   EXPECT_EQ(error_of(json{{"fifo_depth", 0}}), "gpu.json: fifo_depth: 0 is out of range 1..65536");
-  EXPECT_EQ(error_of(json::parse(R"({"fifo_depths": {"depth_to_rop": 0}})")),
-            "gpu.json: fifo_depths.depth_to_rop: 0 is out of range 1..65536");
+  EXPECT_EQ(error_of(json::parse(R"({"fifo_depths": {"interpolator_to_rop": 0}})")),
+            "gpu.json: fifo_depths.interpolator_to_rop: 0 is out of range 1..65536");
   EXPECT_EQ(error_of(json::parse(R"({"stages": {"rasterizer": {"ii": 0}}})")),
             "gpu.json: stages.rasterizer.ii: 0 is out of range 1..1000000");
   EXPECT_EQ(error_of(json::parse(R"({"stages": {"rasterizer": {"latency": -1}}})")),
@@ -204,17 +209,23 @@ TEST(GpuConfig, OutOfRangeValues) {
             "gpu.json: watchdog_cycles: 0 is out of range 1..1000000000000");
   EXPECT_EQ(error_of(json{{"vertex_cache_entries", 70000}}),
             "gpu.json: vertex_cache_entries: 70000 is out of range 0..65536");
+  EXPECT_EQ(error_of(json{{"tile_cache_entries", 0}}),
+            "gpu.json: tile_cache_entries: 0 is out of range 1..1024");
+  EXPECT_EQ(error_of(json{{"tile_cache_entries", 1025}}),
+            "gpu.json: tile_cache_entries: 1025 is out of range 1..1024");
 
   // Limits themselves are accepted.
   const GpuConfig c = gpu_config_from_json(
       json::parse(R"({"units": 64, "tile_size": 256, "stamp": [256, 1], "fifo_depth": 1,
                       "stages": {"rop": {"ii": 1, "latency": 0}},
                       "memory": {"latency": 0, "bytes_per_cycle": 1},
-                      "vertex_cache_entries": 0, "watchdog_cycles": 1})"),
+                      "vertex_cache_entries": 0, "tile_cache_entries": 1024,
+                      "watchdog_cycles": 1})"),
       "gpu.json");
   EXPECT_EQ(c.units, 64u);
   EXPECT_EQ(c.stamp[0], 256u);
   EXPECT_EQ(c.vertex_cache_entries, 0u);
+  EXPECT_EQ(c.tile_cache_entries, 1024u);
 }
 
 TEST(GpuConfig, MalformedJsonGivesLineAndColumn) {

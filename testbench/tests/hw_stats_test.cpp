@@ -65,7 +65,7 @@ TEST(StatRegistry, DumpsEveryGroupAndCallback) {
   StatRegistry reg;
   reg.add(setup);
   reg.add(rop);
-  reg.add("fifo.depth_to_rop", [] { return json{{"max_occupancy", 3}, {"nested", {{"x", 1}}}}; });
+  reg.add("fifo.interpolator_to_rop", [] { return json{{"max_occupancy", 3}, {"nested", {{"x", 1}}}}; });
   EXPECT_THROW(reg.add(rop), std::invalid_argument);
   EXPECT_THROW(reg.add("setup", [] { return json(); }), std::invalid_argument);
 
@@ -76,7 +76,7 @@ TEST(StatRegistry, DumpsEveryGroupAndCallback) {
   EXPECT_EQ(j, json::parse(R"({
     "setup": {"triangles": 8, "culled": 2, "cull_ratio": 0.25},
     "rop": {"writes": 1234},
-    "fifo.depth_to_rop": {"max_occupancy": 3, "nested": {"x": 1}}
+    "fifo.interpolator_to_rop": {"max_occupancy": 3, "nested": {"x": 1}}
   })"));
 
   std::ostringstream text;
@@ -86,8 +86,8 @@ TEST(StatRegistry, DumpsEveryGroupAndCallback) {
             "setup.culled 2 # back-facing triangles dropped\n"
             "setup.cull_ratio 0.25 # culled / triangles\n"
             "rop.writes 1234 # pixels written\n"
-            "fifo.depth_to_rop.max_occupancy 3\n"
-            "fifo.depth_to_rop.nested.x 1\n");
+            "fifo.interpolator_to_rop.max_occupancy 3\n"
+            "fifo.interpolator_to_rop.nested.x 1\n");
 
   // The registry reads live values at each dump.
   ++writes;

@@ -1,0 +1,168 @@
+#include "hw/tile_cache.h"
+
+#include <algorithm>
+#include <cstring>
+#include <string>
+
+namespace gpusim {
+
+TileCache::TileCache(MemoryPort& mem, StatGroup& stats, unsigned entries)
+    : m_mem(mem),
+      m_entries(std::max(entries, 1u)),
+      m_hits(stats.counter("cache_hits", "tile lookups that found the tile cached")),
+      m_misses(stats.counter("cache_misses", "tile lookups that read the tile from memory")),
+      m_clear_fills(stats.counter("cache_clear_fills",
+                                  "tile lookups filled from the fast-clear value, no read")),
+      m_writebacks(stats.counter("cache_writebacks", "tiles written back to memory")),
+      m_bytes_read(stats.counter("bytes_read", "bytes read from memory")),
+      m_bytes_written(stats.counter("bytes_written", "bytes written to memory")) {}
+
+void TileCache::configure(const Layout& layout) {
+  m_layout = layout;
+  const int t = static_cast<int>(layout.tile_size);
+  m_tiles_x = (layout.width + t - 1) / t;
+  m_tiles_y = (layout.height + t - 1) / t;
+  for (Entry& e : m_entries) {
+    e.valid = false;
+    e.dirty = false;
+  }
+  m_entry_of_tile.assign(static_cast<size_t>(m_tiles_x) * m_tiles_y, -1);
+  m_cleared.assign(m_entry_of_tile.size(), 0);
+  m_clear_value.assign(layout.bytes_per_pixel, 0);
+}
+
+unsigned TileCache::lookup(int tx, int ty, sc_core::sc_time& t) {
+  const int tile = ty * m_tiles_x + tx;
+  const int32_t hit = m_entry_of_tile[static_cast<size_t>(tile)];
+  if (hit >= 0) {
+    ++m_hits;
+    m_entries[static_cast<size_t>(hit)].last_use = ++m_tick;
+    return static_cast<unsigned>(hit);
+  }
+  if (tx < 0 || ty < 0 || tx >= m_tiles_x || ty >= m_tiles_y || !owned(tx, ty)) {
+    SC_REPORT_ERROR(
+        "gpusim/tile_cache",
+        ("tile (" + std::to_string(tx) + ", " + std::to_string(ty) +
+         ") is outside the framebuffer or not owned by unit " + std::to_string(m_layout.unit))
+            .c_str());
+  }
+
+  const unsigned index = choose_victim();
+  Entry& e = m_entries[index];
+  if (e.valid) {
+    if (e.dirty) {
+      // Posted: the stage does not wait, but the rows take the bus before
+      // the read below.
+      m_writes_done = std::max(m_writes_done,
+                               sc_core::sc_time_stamp() + transfer(true, e.tile, e.data.data(), t));
+      ++m_writebacks;
+    }
+    m_entry_of_tile[static_cast<size_t>(e.tile)] = -1;
+  }
+  const size_t tile_bytes =
+      static_cast<size_t>(m_layout.tile_size) * m_layout.tile_size * m_layout.bytes_per_pixel;
+  if (e.data.size() != tile_bytes) e.data.assign(tile_bytes, 0);
+  e.valid = true;
+  e.tile = tile;
+  e.x0 = tx * static_cast<int>(m_layout.tile_size);
+  e.y0 = ty * static_cast<int>(m_layout.tile_size);
+  e.last_use = ++m_tick;
+  if (m_cleared[static_cast<size_t>(tile)]) {
+    m_cleared[static_cast<size_t>(tile)] = 0;
+    fill_clear(e);
+    e.dirty = true;
+    ++m_clear_fills;
+  } else {
+    t = transfer(false, tile, e.data.data(), t);
+    e.dirty = false;
+    ++m_misses;
+  }
+  m_entry_of_tile[static_cast<size_t>(tile)] = static_cast<int32_t>(index);
+  return index;
+}
+
+void TileCache::clear(const uint8_t* value) {
+  std::memcpy(m_clear_value.data(), value, m_layout.bytes_per_pixel);
+  for (Entry& e : m_entries) {
+    if (e.valid) m_entry_of_tile[static_cast<size_t>(e.tile)] = -1;
+    e.valid = false;
+    e.dirty = false;
+  }
+  for (int ty = 0; ty < m_tiles_y; ++ty) {
+    for (int tx = 0; tx < m_tiles_x; ++tx) {
+      if (owned(tx, ty)) m_cleared[static_cast<size_t>(ty) * m_tiles_x + tx] = 1;
+    }
+  }
+}
+
+void TileCache::flush(sc_core::sc_time& t) {
+  const sc_core::sc_time issue = t;
+  const sc_core::sc_time now = sc_core::sc_time_stamp();
+  sc_core::sc_time done =
+      std::max(issue, m_writes_done > now ? m_writes_done - now : sc_core::SC_ZERO_TIME);
+  for (Entry& e : m_entries) {
+    if (!e.valid || !e.dirty) continue;
+    done = std::max(done, transfer(true, e.tile, e.data.data(), issue));
+    e.dirty = false;
+    ++m_writebacks;
+  }
+  // Tiles never touched since the clear: written from one scratch tile.
+  std::vector<uint8_t> scratch;
+  for (size_t tile = 0; tile < m_cleared.size(); ++tile) {
+    if (!m_cleared[tile]) continue;
+    if (scratch.empty()) {
+      Entry tmp;
+      tmp.data.resize(static_cast<size_t>(m_layout.tile_size) * m_layout.tile_size *
+                      m_layout.bytes_per_pixel);
+      fill_clear(tmp);
+      scratch.swap(tmp.data);
+    }
+    done = std::max(done, transfer(true, static_cast<int>(tile), scratch.data(), issue));
+    m_cleared[tile] = 0;
+    ++m_writebacks;
+  }
+  m_writes_done = std::max(m_writes_done, now + done);
+  t = done;
+}
+
+sc_core::sc_time TileCache::transfer(bool write, int tile, uint8_t* data, sc_core::sc_time t) {
+  const int size = static_cast<int>(m_layout.tile_size);
+  const int x0 = (tile % m_tiles_x) * size;
+  const int y0 = (tile / m_tiles_x) * size;
+  const int w = std::min(size, m_layout.width - x0);
+  const int h = std::min(size, m_layout.height - y0);
+  const uint64_t bpp = m_layout.bytes_per_pixel;
+  const uint64_t len = static_cast<uint64_t>(w) * bpp;
+  const size_t stride = static_cast<size_t>(size) * bpp;
+  sc_core::sc_time done = t;
+  for (int r = 0; r < h; ++r) {
+    const uint64_t addr =
+        m_layout.base + (static_cast<uint64_t>(y0 + r) * static_cast<uint64_t>(m_layout.width) +
+                         static_cast<uint64_t>(x0)) *
+                            bpp;
+    uint8_t* row = data + static_cast<size_t>(r) * stride;
+    const sc_core::sc_time d =
+        write ? m_mem.write(addr, row, len, t) : m_mem.read(addr, row, len, t);
+    done = std::max(done, d);
+  }
+  (write ? m_bytes_written : m_bytes_read) += len * static_cast<uint64_t>(h);
+  return done;
+}
+
+void TileCache::fill_clear(Entry& e) {
+  const size_t bpp = m_layout.bytes_per_pixel;
+  for (size_t p = 0; p + bpp <= e.data.size(); p += bpp) {
+    std::memcpy(e.data.data() + p, m_clear_value.data(), bpp);
+  }
+}
+
+unsigned TileCache::choose_victim() const {
+  unsigned best = 0;
+  for (unsigned i = 0; i < m_entries.size(); ++i) {
+    if (!m_entries[i].valid) return i;
+    if (m_entries[i].last_use < m_entries[best].last_use) best = i;
+  }
+  return best;
+}
+
+}  // namespace gpusim

@@ -1,0 +1,128 @@
+// A raster unit's cache of framebuffer tiles, holding their data: the depth
+// test keeps depth tiles in one, the ROP colour tiles in another. A unit owns
+// its screen tiles exclusively (tile_owner()), so no other cache ever holds
+// the same bytes and the caches need no coherence protocol.
+//
+// Organisation: `entries` tiles, fully associative, least recently used
+// replaced (an invalid entry first), write-back. The tag lookup is modelled by
+// a table from screen tile to entry, which is what a CAM over the entries'
+// tags answers in one cycle. A tile's data is tile_size x tile_size pixels;
+// tiles on the framebuffer's right and top edges use only the part inside it.
+//
+// Memory traffic: a tile moves as one request per pixel row (the buffer is
+// row-major, row 0 at the bottom, so a tile row is contiguous), every row of
+// a transfer issued at the same local time offset: the bus streams them back
+// to back and the memory latency is paid once per tile.
+//   - Miss: the victim's rows are written back if it is dirty (posted: the
+//     stage does not wait for them, but they take the bus first), then the
+//     new tile's rows are read; the caller waits for the last read.
+//   - Fast clear: clear() drops every entry without writing it back and marks
+//     every owned tile "cleared" (one flag per tile, as a fast-clear table in
+//     hardware). The first access to a cleared tile fills an entry with the
+//     clear value instead of reading memory; the entry is dirty, since memory
+//     does not hold the cleared data yet.
+//   - flush(): writes back every dirty entry (which stays cached, now clean)
+//     and every owned tile still marked cleared, so that memory holds the
+//     whole buffer; the caller waits for the last write, and for every write
+//     posted earlier.
+//
+// Counters (added to the owner's StatGroup): cache_hits, cache_misses (tiles
+// read from memory), cache_clear_fills (tiles filled from the clear value);
+// every lookup is exactly one of the three. cache_writebacks (tiles written
+// back on eviction or flush, cleared tiles included), bytes_read,
+// bytes_written.
+#pragma once
+
+#include <cstdint>
+#include <systemc>
+#include <vector>
+
+#include "hw/memory.h"
+#include "hw/stats.h"
+
+namespace gpusim {
+
+class TileCache {
+ public:
+  // Where the buffer lives and which tiles this cache serves.
+  struct Layout {
+    uint64_t base = 0;  // address of pixel (0, 0)
+    int width = 0, height = 0;
+    unsigned bytes_per_pixel = 4;
+    unsigned tile_size = 16;
+    unsigned units = 1;  // tiles with tile_owner(tx, ty, units) == unit
+    unsigned unit = 0;
+  };
+
+  // Counters are registered in `stats`; `mem` and `stats` must outlive the
+  // cache. Nothing is allocated until configure().
+  TileCache(MemoryPort& mem, StatGroup& stats, unsigned entries);
+
+  // Sets the buffer and drops every entry and clear flag (without writing
+  // anything back). Tile data is allocated lazily, per entry on first use.
+  void configure(const Layout& layout);
+  const Layout& layout() const { return m_layout; }
+
+  // The entry holding tile (tx, ty), loading it on a miss. `t` is the caller's
+  // local time offset from now: requests are issued at t, and on a miss t
+  // advances to when the tile's data has arrived. A tile this unit does not
+  // own is a model bug (SC_REPORT_ERROR).
+  unsigned lookup(int tx, int ty, sc_core::sc_time& t);
+
+  // Pixel (x, y) of the tile held by `entry` (x, y are framebuffer pixels
+  // inside that tile): bytes_per_pixel bytes, little endian.
+  uint8_t* pixel(unsigned entry, int x, int y) {
+    Entry& e = m_entries[entry];
+    return e.data.data() +
+           (static_cast<size_t>(y - e.y0) * m_layout.tile_size + static_cast<size_t>(x - e.x0)) *
+               m_layout.bytes_per_pixel;
+  }
+  void mark_dirty(unsigned entry) { m_entries[entry].dirty = true; }
+
+  // Fast clear of every owned tile to `value` (bytes_per_pixel bytes); no
+  // memory traffic until the tiles are touched or flushed.
+  void clear(const uint8_t* value);
+
+  // Writes back every dirty entry and every tile still marked cleared,
+  // issuing the writes at local offset `t`; t advances to when the last of
+  // them, and of every write posted before, has completed.
+  void flush(sc_core::sc_time& t);
+
+ private:
+  struct Entry {
+    bool valid = false;
+    bool dirty = false;
+    int tile = -1;       // screen tile index ty * tiles_x + tx
+    int x0 = 0, y0 = 0;  // the tile's lower-left pixel
+    uint64_t last_use = 0;
+    std::vector<uint8_t> data;  // tile_size^2 pixels, rows bottom-up
+  };
+
+  // Issues one request per row of the tile's part inside the framebuffer, at
+  // local offset t; returns the completion of the last one.
+  sc_core::sc_time transfer(bool write, int tile, uint8_t* data, sc_core::sc_time t);
+  void fill_clear(Entry& e);
+  unsigned choose_victim() const;
+  bool owned(int tx, int ty) const {
+    return static_cast<unsigned>(tx + ty) % m_layout.units == m_layout.unit;
+  }
+
+  MemoryPort& m_mem;
+  Layout m_layout;
+  int m_tiles_x = 0, m_tiles_y = 0;
+  std::vector<Entry> m_entries;
+  std::vector<int32_t> m_entry_of_tile;  // per screen tile: entry index or -1
+  std::vector<uint8_t> m_cleared;        // per screen tile: holds the clear value, not in memory
+  std::vector<uint8_t> m_clear_value;    // one pixel
+  uint64_t m_tick = 0;
+  sc_core::sc_time m_writes_done;  // absolute completion time of the last posted write
+
+  uint64_t& m_hits;
+  uint64_t& m_misses;
+  uint64_t& m_clear_fills;
+  uint64_t& m_writebacks;
+  uint64_t& m_bytes_read;
+  uint64_t& m_bytes_written;
+};
+
+}  // namespace gpusim

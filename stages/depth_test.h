@@ -1,0 +1,92 @@
+// Depth test, one per unit (docs/pipeline-spec.md, sections 9 to 11): early
+// depth, since no shader can discard a fragment here. For every covered pixel
+// of a stamp it rebuilds the three edge values by stepping from the stamp
+// origin's (pixel (i, j): e_k + i * a_k * 256 + j * b_k * 256, exact int64),
+// interpolates z = (f0 z0 + f1 z1 + f2 z2) / float(area2) with f_k =
+// float(E_k), adds the triangle's polygon offset, encodes z in the buffer's
+// format and compares it with the stored value; a passing value is stored
+// when depth_write is on. Failing pixels leave the stamp's mask, empty stamps
+// leave the batch, and an empty batch is not forwarded. The forwarded batch's
+// `depth` vector stays empty: nothing after this stage needs z.
+// depth_test off: every pixel passes, nothing is read or written. The depth
+// buffer is not touched either when no stored value can matter (func never,
+// or always without depth_write).
+//
+// Depth buffer access goes through this unit's TileCache (hw/tile_cache.h,
+// config.tile_cache_entries tiles of frame.depth_address,
+// depth_bytes_per_pixel(format) bytes per pixel), looked up once per stamp
+// (a stamp lies inside one tile: the rasterizer aligns stamps to tiles).
+// clear: a fast clear of every tile this unit owns to
+// encode_depth(clear_depth); cleared tiles reach memory when first evicted or
+// at end_of_frame.
+//
+// Cost model, per token read at time t:
+//   work:  busy = ii * stamps (at least ii) + the memory stall: the misses of
+//          the batch are served one after another (a blocking cache), each
+//          request issued when the previous miss completed, starting at t;
+//          the stall is the completion of the last one, rounded up to whole
+//          cycles. The batch is written at t + busy, readable `latency`
+//          cycles later.
+//   clear: busy = ii; forwarded like a batch.
+//   end_of_frame: the write-back of every dirty or still-cleared tile is
+//          issued at t + latency (when the pipeline has drained); busy lasts
+//          until the last write completes, at least ii; the token is then
+//          forwarded, readable at once.
+// ii and latency are config.stage("depth_test").
+#pragma once
+
+#include <array>
+#include <systemc>
+
+#include "hw/draw_state.h"
+#include "hw/fifo.h"
+#include "hw/gpu_config.h"
+#include "hw/memory.h"
+#include "hw/packets.h"
+#include "hw/stats.h"
+#include "hw/tile_cache.h"
+
+namespace gpusim {
+
+class DepthTest : public sc_core::sc_module {
+ public:
+  FifoInPort<StampBatch> in;
+  FifoOutPort<StampBatch> out;
+  MemoryPort mem;
+
+  DepthTest(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame,
+            unsigned unit);
+
+  const StatGroup& stats() const { return m_stats; }
+
+ private:
+  void run();
+  // Tests the batch's pixels, compacting its stamps in place; returns the
+  // memory stall (local offset) through `t`.
+  void test(StampBatch& batch, sc_core::sc_time& t);
+  uint64_t stall_cycles(const sc_core::sc_time& t) const;
+
+  const GpuConfig& m_config;
+  const FrameState& m_frame;
+  const unsigned m_unit;
+  const StageCost m_cost;
+
+  StatGroup m_stats{name()};
+  uint64_t& m_busy_cycles =
+      m_stats.counter("busy_cycles", "cycles spent on tokens, memory stalls included");
+  uint64_t& m_tokens_in = m_stats.counter("tokens_in", "stamp batches and control tokens read");
+  uint64_t& m_tokens_out =
+      m_stats.counter("tokens_out", "stamp batches and control tokens forwarded");
+  uint64_t& m_stamps = m_stats.counter("stamps", "stamps tested");
+  uint64_t& m_stamps_passed = m_stats.counter("stamps_passed", "stamps with a pixel left");
+  uint64_t& m_fragments_in = m_stats.counter("fragments_in", "covered pixels tested");
+  uint64_t& m_fragments_passed =
+      m_stats.counter("fragments_passed", "pixels passing the depth test (all when it is off)");
+  uint64_t& m_memory_stall_cycles = m_stats.counter(
+      "memory_stall_cycles",
+      "cycles of busy_cycles beyond ii per stamp or token: tile reads, or at end_of_frame "
+      "the drain and write-back");
+  TileCache m_cache;
+};
+
+}  // namespace gpusim

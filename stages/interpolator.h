@@ -1,0 +1,60 @@
+// Interpolator, one per unit (docs/pipeline-spec.md, section 9): a colour for
+// every pixel that survived the depth test. Gouraud shading is
+// perspective-correct: with f_k = float(E_k), the edge values rebuilt by
+// stepping from the stamp origin's (pixel (i, j): e_k + i * a_k * 256 +
+// j * b_k * 256, exact int64),
+//   den  = f0 q0 + f1 q1 + f2 q2                     (q = 1/w)
+//   c[k] = clamp01((f0 cw0[k] + f1 cw1[k] + f2 cw2[k]) / den)   (cw = colour/w)
+// evaluated in float in exactly that order. Flat shading gives every pixel the
+// triangle's flat_color (the provoking vertex's colour).
+//
+// Output: the batch's stamps unchanged and one colour per covered pixel,
+// stamp order, then mask bit order.
+//
+// Cost model, per token read at time t: busy = ii * stamps (at least ii for
+// any token, control tokens included); the result is written at t + busy,
+// readable `latency` cycles later. ii and latency are
+// config.stage("interpolator"). No memory traffic.
+#pragma once
+
+#include <systemc>
+
+#include "hw/draw_state.h"
+#include "hw/fifo.h"
+#include "hw/gpu_config.h"
+#include "hw/packets.h"
+#include "hw/stats.h"
+
+namespace gpusim {
+
+class Interpolator : public sc_core::sc_module {
+ public:
+  FifoInPort<StampBatch> in;
+  FifoOutPort<ShadedStampBatch> out;
+
+  Interpolator(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame,
+               unsigned unit);
+
+  const StatGroup& stats() const { return m_stats; }
+
+ private:
+  void run();
+  void shade(const StampBatch& batch, ShadedStampBatch& result);
+
+  const GpuConfig& m_config;
+  const FrameState& m_frame;
+  const unsigned m_unit;
+  const StageCost m_cost;
+
+  StatGroup m_stats{name()};
+  uint64_t& m_busy_cycles = m_stats.counter("busy_cycles", "cycles spent on tokens");
+  uint64_t& m_tokens_in = m_stats.counter("tokens_in", "stamp batches and control tokens read");
+  uint64_t& m_tokens_out =
+      m_stats.counter("tokens_out", "shaded batches and control tokens written");
+  uint64_t& m_stamps = m_stats.counter("stamps", "stamps interpolated");
+  uint64_t& m_fragments = m_stats.counter("fragments", "pixels given a colour");
+  uint64_t& m_flat_fragments =
+      m_stats.counter("flat_fragments", "pixels of flat-shaded triangles (no interpolation)");
+};
+
+}  // namespace gpusim

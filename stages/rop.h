@@ -1,0 +1,98 @@
+// Raster operations, one per unit (docs/pipeline-spec.md, section 12): the
+// last stage, writing the colour buffer. A draw whose color_mask is all false
+// changes nothing (and touches no memory). Otherwise, per pixel, with source
+// s (the interpolated colour) and destination d (the stored colour decoded:
+// v / 255 for rgba8, half -> float for rgba16f), for each enabled channel k:
+//   out[k] = s[k] F_src(k) + d[k] F_dst(k)   add (subtract, reverse_subtract
+//                                             likewise), or s[k] unblended,
+// stored as nearbyint(clamp01(out) * 255) for rgba8 and half(out), unclamped,
+// for rgba16f. Disabled channels keep their value. Every pixel reaching the
+// ROP passed the depth test, so fragments_written counts the pixels of draws
+// with at least one channel enabled (the golden model's definition).
+//
+// The colour buffer (frame.color_address, color_bytes_per_pixel(format)
+// bytes per pixel, little endian: rgba8 bytes r, g, b, a; rgba16f four half
+// bit patterns) is accessed through this unit's TileCache (hw/tile_cache.h,
+// config.tile_cache_entries tiles), looked up once per stamp; the tile is
+// read on a miss even when no pixel needs the old colour (no partial-tile
+// tracking). clear: a fast clear of every owned tile to the encoded
+// clear_color.
+//
+// Cost model, per token read at time t:
+//   work:  busy = ii * stamps (at least ii) + the memory stall of the misses,
+//          served one after another from t (a blocking cache), rounded up to
+//          whole cycles.
+//   clear: busy = ii.
+//   end_of_frame: the last stamp's colour reaches the cache `latency` cycles
+//          after it was accepted, so the write-back of every dirty or
+//          still-cleared tile is issued at t + latency; the ROP is busy until
+//          the last write completes (at least ii), then sets frame_done() and
+//          notifies frame_done_event().
+// ii and latency are config.stage("rop").
+#pragma once
+
+#include <cstdint>
+#include <systemc>
+#include <vector>
+
+#include "hw/draw_state.h"
+#include "hw/fifo.h"
+#include "hw/gpu_config.h"
+#include "hw/memory.h"
+#include "hw/packets.h"
+#include "hw/stats.h"
+#include "hw/tile_cache.h"
+
+namespace gpusim {
+
+class Rop : public sc_core::sc_module {
+ public:
+  FifoInPort<ShadedStampBatch> in;
+  MemoryPort mem;
+
+  Rop(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame,
+      unsigned unit);
+
+  const StatGroup& stats() const { return m_stats; }
+
+  // True once an end_of_frame has been flushed to memory, until the next
+  // token arrives; the event is notified (delta) when it becomes true.
+  const sc_core::sc_event& frame_done_event() const { return m_frame_done_event; }
+  bool frame_done() const { return m_frame_done; }
+
+  // Testbench instrumentation, not hardware: when set, the primitive id of
+  // every colour write is recorded at index y * width + x.
+  void set_last_writer(std::vector<int64_t>* per_pixel) { m_last_writer = per_pixel; }
+
+ private:
+  void run();
+  void blend(const ShadedStampBatch& batch, sc_core::sc_time& t);
+
+  const GpuConfig& m_config;
+  const FrameState& m_frame;
+  const unsigned m_unit;
+  const StageCost m_cost;
+  bool m_frame_done = false;
+  sc_core::sc_event m_frame_done_event;
+  std::vector<int64_t>* m_last_writer = nullptr;
+
+  StatGroup m_stats{name()};
+  uint64_t& m_busy_cycles =
+      m_stats.counter("busy_cycles", "cycles spent on tokens, memory stalls included");
+  uint64_t& m_tokens_in = m_stats.counter("tokens_in", "shaded batches and control tokens read");
+  uint64_t& m_tokens_out =
+      m_stats.counter("tokens_out", "tokens retired (their writes done or posted)");
+  uint64_t& m_stamps = m_stats.counter("stamps", "stamps received");
+  uint64_t& m_fragments_in = m_stats.counter("fragments_in", "pixels received");
+  uint64_t& m_fragments_written = m_stats.counter(
+      "fragments_written", "pixels written: passed depth, at least one channel enabled");
+  uint64_t& m_fragments_blended = m_stats.counter("fragments_blended", "written with blending");
+  uint64_t& m_memory_stall_cycles = m_stats.counter(
+      "memory_stall_cycles",
+      "cycles of busy_cycles beyond ii per stamp or token: tile reads, or at end_of_frame "
+      "the drain and write-back");
+  uint64_t& m_frames = m_stats.counter("frames", "end_of_frame tokens flushed");
+  TileCache m_cache;
+};
+
+}  // namespace gpusim

@@ -1,0 +1,54 @@
+// Tile distributor: sends each set-up triangle to the raster units that own
+// at least one screen tile its pixel bounding box touches (tile_owner() in
+// hw/packets.h), once per unit, in increasing unit order; control tokens go
+// to every unit, so each unit sees the same order of clears, triangles and
+// ends of frame.
+//
+// Cost model: a triangle read at time t occupies the stage for
+// ii(tile_distributor) x (units it is sent to) cycles (one handoff per unit
+// per cycle at ii 1; a triangle sent nowhere still takes ii); a control token
+// takes ii once (one broadcast). Outputs are written at t + busy and readable
+// latency(tile_distributor) cycles later. A full unit FIFO blocks the
+// distributor (head of line). No memory traffic.
+#pragma once
+
+#include <systemc>
+#include <vector>
+
+#include "hw/draw_state.h"
+#include "hw/fifo.h"
+#include "hw/gpu_config.h"
+#include "hw/packets.h"
+#include "hw/stats.h"
+
+namespace gpusim {
+
+class TileDistributor : public sc_core::sc_module {
+ public:
+  FifoInPort<SetupPacket> in;
+  sc_core::sc_vector<FifoOutPort<SetupPacket>> out;  // one per unit
+
+  TileDistributor(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame);
+
+  const StatGroup& stats() const { return m_stats; }
+
+ private:
+  void run();
+  // targets[u]: unit u owns a tile of the triangle's box; returns how many do.
+  unsigned target_units(const RasterTriangle& t, std::vector<bool>& targets) const;
+
+  const GpuConfig& m_config;
+  const FrameState& m_frame;
+  const StageCost m_cost;
+  std::vector<bool> m_targets;
+
+  StatGroup m_stats{name()};
+  uint64_t& m_busy_cycles = m_stats.counter("busy_cycles", "cycles spent on input tokens");
+  uint64_t& m_tokens_in = m_stats.counter("tokens_in", "setup packets read");
+  uint64_t& m_tokens_out = m_stats.counter("tokens_out", "packets written, summed over units");
+  uint64_t& m_triangles_sent =
+      m_stats.counter("triangles_sent", "(triangle, unit) pairs sent, summed over units");
+  std::vector<uint64_t*> m_unit_triangles;  // triangles_sent_unit<u>
+};
+
+}  // namespace gpusim

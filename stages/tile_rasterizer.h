@@ -1,0 +1,116 @@
+// Tile rasterizer, one per unit: walks the unit's own screen tiles inside a
+// triangle's pixel bounding box and emits the covered pixels as stamps
+// (docs/pipeline-spec.md, section 8; Mesa llvmpipe's hierarchical scheme).
+//
+// Walk: tiles of config.tile_size in rows bottom-up, left to right, only
+// those with tile_owner(tx, ty, units) == unit. Per tile, one test of the
+// three edges at the tile's extreme pixel centres (chosen by the signs of a
+// and b):
+//   - reject: some edge's maximum over the tile's pixel centres is below its
+//     bias: nothing covered, next tile;
+//   - accept: every edge's minimum is >= its bias: every pixel centre of the
+//     tile is covered, so its stamps inside the box are emitted without
+//     per-pixel tests;
+//   - otherwise the stamps (config.stamp = [w, h], aligned to the tile) that
+//     intersect the box are evaluated, one stamp per cycle: the edge-function
+//     core tests all w x h pixels against all three edges in parallel, from
+//     the edge values at the stamp origin plus per-pixel offsets
+//     i * a * 256 + j * b * 256 precomputed once per triangle.
+// Edge values at stamp origins come by incremental stepping: E at the tile's
+// origin pixel centre from the triangle's equation once per tile, then
+// + a * (w * 256) per stamp to the right and + b * (h * 256) per stamp row
+// (a tile cut by the box starts at its first stamp column and row inside the
+// box: + i0 * a * (w * 256) + j0 * b * (h * 256)).
+// Pixels outside the box (hence outside the framebuffer) are masked off.
+// One StampBatch per (triangle, tile) holds the tile's non-empty stamps in
+// walk order (rows bottom-up, left to right) with the raw edge values (no
+// bias) at each stamp's origin pixel centre; tiles without coverage emit
+// nothing.
+//
+// Bit widths: the box lies in the framebuffer (side <= 8192 pixels), so every
+// tile and stamp the walk touches lies in [0, 8192 + 256) pixels: pixel
+// centres are < 2^22 subpixels. Every value the stepping produces (tile
+// origins, tile corners, stamp origins, pixels) is the exact equation
+// a * px + b * py + c at such a point: |a|, |b| < 2^25 give products < 2^47,
+// |c| < 2^50, so |E| < 2^51, and int64 holds it with 12 bits to spare. The
+// steps themselves are < 2^25 * 2^16 = 2^41.
+//
+// Cost model (cycles), per triangle: 1 per tile visited (the tile test),
+// plus ii(rasterizer) per stamp evaluated in a partial tile and per stamp
+// emitted from an accepted tile; stamps outside the box are never visited,
+// rejected tiles cost only their test. busy_cycles = tiles_visited +
+// ii * (stamps_evaluated + stamps_accepted) + ii * control tokens.
+// Timing: the unit waits the cycles of the tiles walked since its last
+// output, then writes that tile's batch, readable latency(rasterizer) cycles
+// later; cycles of trailing tiles without coverage are waited at the end of
+// the triangle. So a triangle read at t whose last tile has coverage has its
+// last batch readable at t + (its cycles) + latency when the output FIFO has
+// room, and big triangles stream tile by tile.
+// A control token costs ii(rasterizer) and is forwarded with the latency.
+// No memory traffic.
+#pragma once
+
+#include <array>
+#include <systemc>
+
+#include "hw/draw_state.h"
+#include "hw/fifo.h"
+#include "hw/gpu_config.h"
+#include "hw/packets.h"
+#include "hw/stats.h"
+
+namespace gpusim {
+
+class TileRasterizer : public sc_core::sc_module {
+ public:
+  FifoInPort<SetupPacket> in;
+  FifoOutPort<StampBatch> out;
+
+  // Throws std::invalid_argument when a stamp holds more than 64 pixels (the
+  // width of Stamp::mask) or the tile is not a multiple of the stamp.
+  TileRasterizer(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame,
+                 unsigned unit);
+
+  const StatGroup& stats() const { return m_stats; }
+
+ private:
+  static constexpr int kMaxStampPixels = 64;
+
+  void run();
+  void rasterize(const std::shared_ptr<const RasterTriangle>& tri);
+  // Waits the cycles walked since the last output, then writes m_batch.
+  void emit_batch();
+
+  const GpuConfig& m_config;
+  const FrameState& m_frame;
+  const unsigned m_unit;
+  const StageCost m_cost;
+  const int m_tile;                // tile side, pixels
+  const int m_stamp_w, m_stamp_h;  // stamp, pixels
+  const int m_stamp_pixels;
+  const uint64_t m_full_mask;
+
+  // Per-triangle edge-core constants: offset of pixel p = j * w + i from the
+  // stamp origin, i * a * 256 + j * b * 256, per edge.
+  std::array<std::array<EdgeValue, kMaxStampPixels>, 3> m_offset{};
+  uint64_t m_pending_cycles = 0;  // walked but not yet waited
+  StampBatch m_batch;             // reused: keeps its capacity
+
+  StatGroup m_stats{name()};
+  uint64_t& m_busy_cycles = m_stats.counter("busy_cycles", "cycles of tile tests and stamps");
+  uint64_t& m_tokens_in = m_stats.counter("tokens_in", "setup packets read");
+  uint64_t& m_tokens_out =
+      m_stats.counter("tokens_out", "stamp batches and control tokens written");
+  uint64_t& m_triangles = m_stats.counter("triangles", "triangles walked");
+  uint64_t& m_tiles_visited = m_stats.counter("tiles_visited", "own tiles in a triangle's box");
+  uint64_t& m_tiles_rejected = m_stats.counter("tiles_rejected", "tiles trivially rejected");
+  uint64_t& m_tiles_accepted = m_stats.counter("tiles_accepted", "tiles trivially accepted");
+  uint64_t& m_stamps_evaluated =
+      m_stats.counter("stamps_evaluated", "stamps tested per pixel in partial tiles");
+  uint64_t& m_stamps_accepted =
+      m_stats.counter("stamps_accepted", "stamps emitted from accepted tiles without tests");
+  uint64_t& m_stamps_emitted = m_stats.counter("stamps_emitted", "non-empty stamps written");
+  uint64_t& m_fragments = m_stats.counter("fragments", "covered pixels");
+};
+
+}  // namespace gpusim

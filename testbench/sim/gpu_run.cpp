@@ -1,0 +1,181 @@
+#include "testbench/sim/gpu_run.h"
+
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <systemc>
+
+#include "stages/gpu.h"
+
+namespace gpusim {
+namespace {
+
+constexpr uint64_t kAlignment = 64;
+
+uint64_t align(uint64_t v) { return (v + kAlignment - 1) / kAlignment * kAlignment; }
+
+// Appends bytes at an aligned address and returns that address.
+template <typename T>
+uint64_t append(std::vector<uint8_t>& memory, const T* data, size_t count) {
+  const uint64_t addr = align(memory.size());
+  memory.resize(addr + count * sizeof(T));
+  if (count) std::memcpy(memory.data() + addr, data, count * sizeof(T));
+  return addr;
+}
+
+// Host: streams the frame's commands and notes when every unit is done.
+class Host : public sc_core::sc_module {
+ public:
+  SC_HAS_PROCESS(Host);
+  Host(sc_core::sc_module_name name, Gpu& gpu, size_t draws, bool progress,
+       sc_core::sc_time cycle)
+      : sc_core::sc_module(name),
+        m_gpu(gpu),
+        m_draws(draws),
+        m_cycle(cycle),
+        m_interval(cycle * 100000.0) {
+    SC_THREAD(stream);
+    if (progress) SC_THREAD(report_progress);
+  }
+  bool done = false;
+  sc_core::sc_time finished;
+
+ private:
+  void stream() {
+    Fifo<Command>& q = m_gpu.command_queue();
+    q.write(Command{PacketKind::clear, 0});
+    for (size_t i = 0; i < m_draws; ++i) q.write(Command{PacketKind::work, static_cast<uint32_t>(i)});
+    q.write(Command{PacketKind::end_of_frame, 0});
+    while (!m_gpu.frame_done()) sc_core::wait(m_gpu.unit_done_events());
+    finished = sc_core::sc_time_stamp();
+    done = true;
+    m_stop.notify();
+  }
+
+  // Wakes every 100k simulated cycles (a negligible cost) and redraws one
+  // line on the terminal once the run has taken a second.
+  void report_progress() {
+    const auto start = std::chrono::steady_clock::now();
+    bool shown = false;
+    while (!done) {
+      sc_core::wait(m_interval, m_stop);
+      const double wall =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      if (wall < 1.0 || done) continue;
+      const double cycles = sc_core::sc_time_stamp() / m_cycle;
+      std::fprintf(stderr, "\r  %llu triangles assembled, %.3g cycles, %.3g cycles/s   ",
+                   static_cast<unsigned long long>(m_gpu.triangles_assembled()), cycles,
+                   cycles / wall);
+      shown = true;
+    }
+    if (shown) std::fprintf(stderr, "\n");
+  }
+
+  Gpu& m_gpu;
+  size_t m_draws;
+  sc_core::sc_time m_cycle;
+  sc_core::sc_time m_interval;
+  sc_core::sc_event m_stop;
+};
+
+Framebuffer read_framebuffer(Memory& memory, const FrameState& frame) {
+  const FramebufferDesc& d = frame.framebuffer;
+  Framebuffer fb(d.width, d.height, d.color_format, d.depth_format);
+  const size_t pixels = static_cast<size_t>(d.width) * d.height;
+  const uint8_t* c = memory.data(frame.color_address, pixels * color_bytes_per_pixel(d.color_format));
+  const uint8_t* z = memory.data(frame.depth_address, pixels * depth_bytes_per_pixel(d.depth_format));
+  for (size_t p = 0; p < pixels; ++p) {
+    for (int k = 0; k < 4; ++k) {
+      if (d.color_format == ColorFormat::rgba8) {
+        fb.color[p * 4 + k] = c[p * 4 + k];
+      } else {
+        uint16_t h;
+        std::memcpy(&h, c + p * 8 + k * 2, 2);
+        fb.color[p * 4 + k] = h;
+      }
+    }
+    if (d.depth_format == DepthFormat::unorm16) {
+      uint16_t v;
+      std::memcpy(&v, z + p * 2, 2);
+      fb.depth[p] = v;
+    } else {
+      uint32_t v;
+      std::memcpy(&v, z + p * 4, 4);
+      fb.depth[p] = v;
+    }
+  }
+  return fb;
+}
+
+}  // namespace
+
+uint64_t triangle_count(PrimitiveType type, uint64_t slots) {
+  if (slots < 3) return 0;
+  return type == PrimitiveType::triangles ? slots / 3 : slots - 2;
+}
+
+LoadedFrame load_frame(const Scene& scene) {
+  LoadedFrame out;
+  FrameState& f = out.frame;
+  f.framebuffer = scene.framebuffer;
+  f.global_ambient = scene.global_ambient;
+  f.lights = scene.lights;
+  const uint64_t pixels = static_cast<uint64_t>(scene.framebuffer.width) * scene.framebuffer.height;
+  f.color_address = 0;
+  f.depth_address = align(pixels * color_bytes_per_pixel(scene.framebuffer.color_format));
+  out.memory.resize(f.depth_address + pixels * depth_bytes_per_pixel(scene.framebuffer.depth_format));
+
+  int64_t next_primitive = 0;
+  for (const Draw& d : scene.draws) {
+    DrawState s;
+    s.primitive = d.primitive;
+    s.lighting = d.lighting && !d.normals.empty();
+    s.material = d.material;
+    s.model_view = d.model_view;
+    s.mvp = d.mvp;
+    s.normal_matrix = d.normal_matrix;
+    s.state = d.state;
+    s.first_primitive_id = next_primitive;
+    DrawBuffers& b = s.buffers;
+    b.vertex_count = static_cast<uint32_t>(d.positions.size());
+    b.slot_count = static_cast<uint32_t>(d.vertex_count());
+    b.positions = append(out.memory, d.positions.data(), d.positions.size());
+    if (s.lighting) b.normals = append(out.memory, d.normals.data(), d.normals.size());
+    if (!d.colors.empty()) b.colors = append(out.memory, d.colors.data(), d.colors.size());
+    if (!d.indices.empty()) b.indices = append(out.memory, d.indices.data(), d.indices.size());
+    next_primitive += static_cast<int64_t>(triangle_count(d.primitive, b.slot_count));
+    f.draws.push_back(s);
+  }
+  out.memory.resize(align(out.memory.size()));
+  return out;
+}
+
+GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOptions& options) {
+  static_assert(sizeof(glm::vec4) == 16 && sizeof(glm::vec3) == 12, "packed attributes");
+  const LoadedFrame loaded = load_frame(scene);
+  Gpu gpu("gpu", config, loaded.frame, loaded.memory.size());
+  std::memcpy(gpu.memory().data(0, loaded.memory.size()), loaded.memory.data(),
+              loaded.memory.size());
+  GpuRunResult result;
+  if (options.record_last_writer) {
+    result.last_writer.assign(
+        static_cast<size_t>(scene.framebuffer.width) * scene.framebuffer.height, -1);
+    gpu.set_last_writer(&result.last_writer);
+  }
+  Host host("host", gpu, scene.draws.size(), options.progress, config.cycle());
+
+  const auto start = std::chrono::steady_clock::now();
+  sc_core::sc_start();
+  result.wall_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  result.completed = host.done;
+  result.cycles = static_cast<uint64_t>((host.done ? host.finished : sc_core::sc_time_stamp()) /
+                                        config.cycle());
+  result.framebuffer = read_framebuffer(gpu.memory(), loaded.frame);
+  result.counts = gpu.pipeline_counts();
+  result.timing = gpu.stats_json(result.cycles);
+  return result;
+}
+
+}  // namespace gpusim

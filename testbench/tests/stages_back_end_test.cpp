@@ -1,0 +1,1061 @@
+// The back end of a raster unit: DepthTest -> Interpolator -> Rop, with
+// their tile caches, on a memory shared by every unit.
+//
+// Frames: the test plays front end. It sets triangles up and cuts them into
+// per-unit stamp batches with the golden model's own functions (clip,
+// to_window, edge_function, the fill rule), runs several units' back ends and
+// compares the colour and depth buffers it then finds in memory, bit for bit,
+// with golden::render() of the same scene, together with the last writer of
+// every pixel and the fragment counts. Scenes cover every depth format and
+// compare function, depth writes and tests off, polygon offset, every blend
+// factor and equation, colour masks, both colour formats, flat and Gouraud,
+// clear values, and configurations from 1 to 16 units, tiles 8 to 64, stamps
+// 1x1 to 8x8, FIFOs of depth 1 to 16, 1 to 1024 cache entries, with and
+// without random FIFO stalls.
+//
+// Cache counters and timing are checked against hand-computed values for
+// simple patterns. One sc_start per TEST (ctest runs each in its own process);
+// a TEST may hold many independent benches.
+#define SC_INCLUDE_DYNAMIC_PROCESSES
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <iterator>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "hw/draw_state.h"
+#include "hw/fifo.h"
+#include "hw/gpu_config.h"
+#include "hw/memory.h"
+#include "hw/packets.h"
+#include "hw/pixel_formats.h"
+#include "stages/depth_test.h"
+#include "stages/interpolator.h"
+#include "stages/rop.h"
+#include "testbench/golden/golden_model.h"
+
+namespace gpusim {
+namespace {
+
+using golden::WindowVertex;
+using sc_core::sc_time;
+
+constexpr uint8_t kFill = 0xA5;   // memory content before the frame
+constexpr uint64_t kGuard = 256;  // bytes around each buffer that must stay untouched
+
+// ---------------------------------------------------------------------------
+// Front end, from the golden model's functions.
+
+// The spec's polygon offset (section 10), on the counter-clockwise vertices.
+float polygon_offset(const std::array<WindowVertex, 3>& v, EdgeValue area2, const RenderState& st,
+                     DepthFormat fmt) {
+  const float s = 1.0f / 256.0f;
+  const float dx1 = static_cast<float>(v[1].x - v[0].x) * s;
+  const float dy1 = static_cast<float>(v[1].y - v[0].y) * s;
+  const float dx2 = static_cast<float>(v[2].x - v[0].x) * s;
+  const float dy2 = static_cast<float>(v[2].y - v[0].y) * s;
+  const float dz1 = v[1].z - v[0].z;
+  const float dz2 = v[2].z - v[0].z;
+  const float a = static_cast<float>(area2) * (s * s);
+  const float dzdx = (dz1 * dy2 - dz2 * dy1) / a;
+  const float dzdy = (dz2 * dx1 - dz1 * dx2) / a;
+  const float m = std::max(std::fabs(dzdx), std::fabs(dzdy));
+  const float max_z = std::max({std::fabs(v[0].z), std::fabs(v[1].z), std::fabs(v[2].z)});
+  return st.offset_factor * m + st.offset_units * min_resolvable_depth(fmt, max_z);
+}
+
+// Triangle setup of three window vertices; nullptr when degenerate or culled.
+std::shared_ptr<RasterTriangle> setup(std::array<WindowVertex, 3> v, const RenderState& st,
+                                      uint32_t draw_id, int64_t id, const glm::vec4& flat,
+                                      const FramebufferDesc& fb) {
+  EdgeValue area2 = golden::signed_area2(v[0], v[1], v[2]);
+  if (area2 == 0) return nullptr;
+  const bool ccw = area2 > 0;
+  const bool front = (st.front_face == FrontFace::ccw) == ccw;
+  if ((st.cull == CullMode::back && !front) || (st.cull == CullMode::front && front)) {
+    return nullptr;
+  }
+  if (!ccw) {
+    std::swap(v[1], v[2]);
+    area2 = -area2;
+  }
+  auto t = std::make_shared<RasterTriangle>();
+  t->draw_id = draw_id;
+  t->primitive_id = id;
+  t->area2 = area2;
+  for (int k = 0; k < 3; ++k) {
+    t->x[k] = v[k].x;
+    t->y[k] = v[k].y;
+    t->z[k] = v[k].z;
+    t->inv_w[k] = v[k].inv_w;
+    t->color_over_w[k] = v[k].color_over_w;
+    const WindowVertex& a = v[(k + 1) % 3];
+    const WindowVertex& b = v[(k + 2) % 3];
+    EdgeEquation& e = t->edge[k];
+    e.a = -(EdgeValue{b.y} - a.y);
+    e.b = EdgeValue{b.x} - a.x;
+    e.c = (EdgeValue{b.y} - a.y) * a.x - (EdgeValue{b.x} - a.x) * a.y;
+    e.bias = golden::edge_owns_boundary(a, b) ? 0 : 1;
+  }
+  t->flat_color = flat;
+  if (st.offset_factor != 0.0f || st.offset_units != 0.0f) {
+    t->has_depth_offset = true;
+    t->depth_offset = polygon_offset(v, area2, st, fb.depth_format);
+  }
+  const Subpixel min_x = std::min({v[0].x, v[1].x, v[2].x});
+  const Subpixel max_x = std::max({v[0].x, v[1].x, v[2].x});
+  const Subpixel min_y = std::min({v[0].y, v[1].y, v[2].y});
+  const Subpixel max_y = std::max({v[0].y, v[1].y, v[2].y});
+  t->x0 = std::max(0, -floor_div_subpixel(-(int64_t{min_x} - kSubpixelHalf)));
+  t->x1 = std::min(fb.width - 1, floor_div_subpixel(int64_t{max_x} - kSubpixelHalf));
+  t->y0 = std::max(0, -floor_div_subpixel(-(int64_t{min_y} - kSubpixelHalf)));
+  t->y1 = std::min(fb.height - 1, floor_div_subpixel(int64_t{max_y} - kSubpixelHalf));
+  return t;
+}
+
+std::array<WindowVertex, 3> window_vertices(const RasterTriangle& t) {
+  std::array<WindowVertex, 3> v;
+  for (int k = 0; k < 3; ++k) {
+    v[k].x = t.x[k];
+    v[k].y = t.y[k];
+    v[k].z = t.z[k];
+    v[k].inv_w = t.inv_w[k];
+    v[k].color_over_w = t.color_over_w[k];
+  }
+  return v;
+}
+
+// The stamp with origin (sx, sy): golden coverage of its pixels inside the
+// framebuffer, raw edge values at the origin's centre.
+Stamp make_stamp(const RasterTriangle& t, int sx, int sy, const GpuConfig& cfg,
+                 const FramebufferDesc& fb) {
+  const auto v = window_vertices(t);
+  Stamp s;
+  s.x = sx;
+  s.y = sy;
+  for (int k = 0; k < 3; ++k) {
+    s.e[k] =
+        golden::edge_function(v[(k + 1) % 3], v[(k + 2) % 3], pixel_center(sx), pixel_center(sy));
+  }
+  for (unsigned j = 0; j < cfg.stamp[1]; ++j) {
+    for (unsigned i = 0; i < cfg.stamp[0]; ++i) {
+      const int x = sx + static_cast<int>(i), y = sy + static_cast<int>(j);
+      if (x >= fb.width || y >= fb.height) continue;
+      bool covered = true;
+      for (int k = 0; k < 3; ++k) {
+        const EdgeValue e =
+            golden::edge_function(v[(k + 1) % 3], v[(k + 2) % 3], pixel_center(x), pixel_center(y));
+        covered = covered && e - t.edge[k].bias >= 0;
+      }
+      if (covered) s.mask |= uint64_t{1} << (j * cfg.stamp[0] + i);
+    }
+  }
+  return s;
+}
+
+using UnitTokens = std::vector<std::vector<StampBatch>>;
+
+// Per unit, one batch per (triangle, owned tile) with its covered stamps.
+void rasterize(const std::shared_ptr<RasterTriangle>& t, const GpuConfig& cfg,
+               const FramebufferDesc& fb, UnitTokens& out) {
+  if (t->x0 > t->x1 || t->y0 > t->y1) return;
+  const int ts = static_cast<int>(cfg.tile_size);
+  for (int ty = t->y0 / ts; ty <= t->y1 / ts; ++ty) {
+    for (int tx = t->x0 / ts; tx <= t->x1 / ts; ++tx) {
+      StampBatch b;
+      b.triangle = t;
+      for (int sy = ty * ts; sy < (ty + 1) * ts && sy < fb.height; sy += cfg.stamp[1]) {
+        for (int sx = tx * ts; sx < (tx + 1) * ts && sx < fb.width; sx += cfg.stamp[0]) {
+          const Stamp s = make_stamp(*t, sx, sy, cfg, fb);
+          if (s.mask) b.stamps.push_back(s);
+        }
+      }
+      if (!b.stamps.empty()) out[tile_owner(tx, ty, cfg.units)].push_back(std::move(b));
+    }
+  }
+}
+
+// The scene's work for every unit, framed by clear and end_of_frame.
+UnitTokens front_end(const Scene& scene, const GpuConfig& cfg) {
+  UnitTokens out(cfg.units);
+  for (auto& u : out) u.push_back(StampBatch{PacketKind::clear, nullptr, {}, {}});
+  const FramebufferDesc& fb = scene.framebuffer;
+  const golden::GuardBand gb = golden::guard_band_for(fb.width, fb.height);
+  int64_t id = 0;
+  for (uint32_t d = 0; d < scene.draws.size(); ++d) {
+    const Draw& draw = scene.draws[d];
+    for (const auto& slots : golden::assemble_triangles(draw.primitive, draw.vertex_count())) {
+      const int64_t prim = id++;
+      std::array<golden::ShadedVertex, 3> tri;
+      for (int k = 0; k < 3; ++k) tri[k] = golden::shade_vertex(scene, draw, slots[k]);
+      const auto poly = golden::clip_triangle(tri, gb);
+      if (poly.size() < 3) continue;
+      std::vector<WindowVertex> win;
+      for (const auto& p : poly) win.push_back(golden::to_window(p, fb.width, fb.height));
+      for (size_t i = 1; i + 1 < win.size(); ++i) {
+        auto t = setup({win[0], win[i], win[i + 1]}, draw.state, d, prim, tri[2].color, fb);
+        if (t) rasterize(t, cfg, fb, out);
+      }
+    }
+  }
+  for (auto& u : out) u.push_back(StampBatch{PacketKind::end_of_frame, nullptr, {}, {}});
+  return out;
+}
+
+// ---------------------------------------------------------------------------
+// Scenes.
+
+class Rng {
+ public:
+  explicit Rng(uint32_t seed) : m_gen(seed) {}
+  float uniform(float lo, float hi) { return std::uniform_real_distribution<float>(lo, hi)(m_gen); }
+  int below(int n) { return std::uniform_int_distribution<int>(0, n - 1)(m_gen); }
+  bool chance(double p) { return std::bernoulli_distribution(p)(m_gen); }
+
+ private:
+  std::mt19937 m_gen;
+};
+
+// Triangles in clip space: varied sizes, perspective (w in [0.5, 2]), some
+// off screen or crossing the near and far planes; with probability `repeat`
+// a triangle repeats an earlier one's positions (equal depths).
+std::vector<glm::vec4> random_positions(Rng& rng, int triangles, double repeat,
+                                        std::vector<glm::vec4>* history) {
+  std::vector<glm::vec4> p;
+  for (int t = 0; t < triangles; ++t) {
+    if (history && history->size() >= 3 && rng.chance(repeat)) {
+      const int n = static_cast<int>(history->size() / 3);
+      const int k = rng.below(n);
+      for (int i = 0; i < 3; ++i) p.push_back((*history)[3 * k + i]);
+      continue;
+    }
+    const float cx = rng.uniform(-1.1f, 1.1f), cy = rng.uniform(-1.1f, 1.1f);
+    const float size = rng.chance(0.3) ? rng.uniform(0.02f, 0.2f) : rng.uniform(0.2f, 1.6f);
+    for (int i = 0; i < 3; ++i) {
+      const float w = rng.uniform(0.5f, 2.0f);
+      const float x = cx + size * rng.uniform(-1.0f, 1.0f);
+      const float y = cy + size * rng.uniform(-1.0f, 1.0f);
+      const float z = rng.uniform(-1.1f, 1.1f);
+      p.emplace_back(x * w, y * w, z * w, w);
+    }
+  }
+  if (history) history->insert(history->end(), p.begin(), p.end());
+  return p;
+}
+
+std::vector<glm::vec4> random_colors(Rng& rng, size_t n) {
+  std::vector<glm::vec4> c(n);
+  for (auto& v : c)
+    v = {rng.uniform(0, 1), rng.uniform(0, 1), rng.uniform(0, 1), rng.uniform(0, 1)};
+  return c;
+}
+
+Draw make_draw(std::vector<glm::vec4> positions, std::vector<glm::vec4> colors,
+               const RenderState& st) {
+  Draw d;
+  d.positions = std::move(positions);
+  d.colors = std::move(colors);
+  d.state = st;
+  return d;
+}
+
+Scene make_scene(int w, int h, ColorFormat cf, DepthFormat df) {
+  Scene s;
+  s.framebuffer.width = w;
+  s.framebuffer.height = h;
+  s.framebuffer.color_format = cf;
+  s.framebuffer.depth_format = df;
+  s.framebuffer.clear_color = {0.25f, 0.5f, 0.75f, 0.4f};
+  s.framebuffer.clear_depth = 0.75f;
+  return s;
+}
+
+void add_random_draw(Scene& s, Rng& rng, int triangles, const RenderState& st, double repeat,
+                     std::vector<glm::vec4>* history) {
+  auto p = random_positions(rng, triangles, repeat, history);
+  auto c = random_colors(rng, p.size());
+  s.draws.push_back(make_draw(std::move(p), std::move(c), st));
+}
+
+RenderState random_state(Rng& rng) {
+  RenderState st;
+  st.cull = static_cast<CullMode>(rng.below(3));
+  st.front_face = static_cast<FrontFace>(rng.below(2));
+  st.depth_test = rng.chance(0.8);
+  st.depth_func = static_cast<CompareFunc>(rng.below(8));
+  st.depth_write = rng.chance(0.7);
+  if (rng.chance(0.3)) {
+    st.offset_factor = rng.uniform(-2.0f, 2.0f);
+    st.offset_units = rng.uniform(-8.0f, 8.0f);
+  }
+  st.blend = rng.chance(0.5);
+  st.blend_src = static_cast<BlendFactor>(rng.below(11));
+  st.blend_dst = static_cast<BlendFactor>(rng.below(11));
+  st.blend_equation = static_cast<BlendEquation>(rng.below(3));
+  for (bool& m : st.color_mask) m = rng.chance(0.85);
+  st.shading = static_cast<Shading>(rng.below(2));
+  return st;
+}
+
+// A bit of everything: random states, repeated geometry.
+Scene mixed_scene(uint32_t seed, int w, int h, ColorFormat cf, DepthFormat df) {
+  Rng rng(seed);
+  Scene s = make_scene(w, h, cf, df);
+  std::vector<glm::vec4> history;
+  RenderState first;
+  first.depth_func = CompareFunc::lequal;
+  add_random_draw(s, rng, 12, first, 0.0, &history);
+  for (int d = 0; d < 24; ++d) add_random_draw(s, rng, 5, random_state(rng), 0.3, &history);
+  return s;
+}
+
+// ---------------------------------------------------------------------------
+// The bench: per unit a source -> DepthTest -> Interpolator -> Rop, one memory.
+
+FrameState frame_state(const Scene& scene) {
+  FrameState f;
+  f.framebuffer = scene.framebuffer;
+  int64_t first = 0;
+  for (const Draw& d : scene.draws) {
+    DrawState ds;
+    ds.primitive = d.primitive;
+    ds.state = d.state;
+    ds.first_primitive_id = first;
+    first += static_cast<int64_t>(golden::assemble_triangles(d.primitive, d.vertex_count()).size());
+    f.draws.push_back(ds);
+  }
+  const FramebufferDesc& fb = scene.framebuffer;
+  const uint64_t pixels = static_cast<uint64_t>(fb.width) * fb.height;
+  f.color_address = kGuard;
+  f.depth_address = f.color_address + pixels * color_bytes_per_pixel(fb.color_format) + kGuard;
+  return f;
+}
+
+uint64_t memory_size(const FrameState& f) {
+  const FramebufferDesc& fb = f.framebuffer;
+  const uint64_t pixels = static_cast<uint64_t>(fb.width) * fb.height;
+  return f.depth_address + pixels * depth_bytes_per_pixel(fb.depth_format) + kGuard;
+}
+
+class BackEnd : public sc_core::sc_module {
+ public:
+  // `config` and `frame` must outlive the bench; tokens[u] feeds unit u.
+  BackEnd(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame,
+          UnitTokens tokens, bool stalls = false, uint64_t seed = 1)
+      : sc_core::sc_module(name),
+        m_config(config),
+        m_frame(frame),
+        m_tokens(std::move(tokens)),
+        memory("memory", memory_size(frame), config.memory.latency, config.memory.bytes_per_cycle,
+               config.cycle()) {
+    std::memset(memory.data(0, memory.size()), kFill, memory.size());
+    last_writer.assign(static_cast<size_t>(frame.framebuffer.width) * frame.framebuffer.height, -1);
+    for (unsigned u = 0; u < config.units; ++u) {
+      const std::string n = std::to_string(u);
+      Unit unit;
+      unit.in = std::make_unique<Fifo<StampBatch>>(("in_" + n).c_str(), config.fifo_depth);
+      unit.depth = std::make_unique<DepthTest>(("depth_test_" + n).c_str(), config, frame, u);
+      unit.visible =
+          std::make_unique<Fifo<StampBatch>>(("visible_" + n).c_str(), config.fifo_depth);
+      unit.interpolator =
+          std::make_unique<Interpolator>(("interpolator_" + n).c_str(), config, frame, u);
+      unit.shaded =
+          std::make_unique<Fifo<ShadedStampBatch>>(("shaded_" + n).c_str(), config.fifo_depth);
+      unit.rop = std::make_unique<Rop>(("rop_" + n).c_str(), config, frame, u);
+      unit.depth->in(*unit.in);
+      unit.depth->out(*unit.visible);
+      unit.depth->mem.bind(memory);
+      unit.interpolator->in(*unit.visible);
+      unit.interpolator->out(*unit.shaded);
+      unit.rop->in(*unit.shaded);
+      unit.rop->mem.bind(memory);
+      unit.rop->set_last_writer(&last_writer);
+      if (stalls) {
+        const uint64_t s = seed * 1000 + 3 * u;
+        unit.in->inject_random_stalls(s, 0.3, 7, config.cycle());
+        unit.visible->inject_random_stalls(s + 1, 0.3, 7, config.cycle());
+        unit.shaded->inject_random_stalls(s + 2, 0.3, 7, config.cycle());
+      }
+      units.push_back(std::move(unit));
+      sc_core::sc_spawn(
+          [this, u] {
+            for (const StampBatch& b : m_tokens[u]) units[u].in->write(b);
+          },
+          ("source_" + n).c_str());
+    }
+  }
+
+  struct Unit {
+    std::unique_ptr<Fifo<StampBatch>> in;
+    std::unique_ptr<DepthTest> depth;
+    std::unique_ptr<Fifo<StampBatch>> visible;
+    std::unique_ptr<Interpolator> interpolator;
+    std::unique_ptr<Fifo<ShadedStampBatch>> shaded;
+    std::unique_ptr<Rop> rop;
+  };
+
+  uint64_t counter(const char* stage, const char* name) const {
+    uint64_t sum = 0;
+    for (const Unit& u : units) {
+      const StatGroup& g = std::string(stage) == "depth_test"     ? u.depth->stats()
+                           : std::string(stage) == "interpolator" ? u.interpolator->stats()
+                                                                  : u.rop->stats();
+      sum += g.to_json().at(name).get<uint64_t>();
+    }
+    return sum;
+  }
+
+  // The buffers as the golden model stores them, read through the backdoor.
+  Framebuffer framebuffer() const {
+    const FramebufferDesc& d = m_frame.framebuffer;
+    Framebuffer fb(d.width, d.height, d.color_format, d.depth_format);
+    const unsigned cb = color_bytes_per_pixel(d.color_format);
+    const unsigned db = depth_bytes_per_pixel(d.depth_format);
+    for (size_t p = 0; p < fb.depth.size(); ++p) {
+      uint8_t c[8], z[4] = {0, 0, 0, 0};
+      memory.debug_read(m_frame.color_address + p * cb, c, cb);
+      memory.debug_read(m_frame.depth_address + p * db, z, db);
+      for (int k = 0; k < 4; ++k) {
+        fb.color[p * 4 + k] =
+            cb == 4 ? c[k] : static_cast<ColorChannel>(c[2 * k] | c[2 * k + 1] << 8);
+      }
+      fb.depth[p] = DepthValue{z[0]} | DepthValue{z[1]} << 8 | DepthValue{z[2]} << 16 |
+                    DepthValue{z[3]} << 24;
+    }
+    return fb;
+  }
+
+  // Bytes outside both buffers still hold the fill pattern.
+  bool guards_intact() const {
+    const FramebufferDesc& d = m_frame.framebuffer;
+    const uint64_t pixels = static_cast<uint64_t>(d.width) * d.height;
+    const uint64_t color_end =
+        m_frame.color_address + pixels * color_bytes_per_pixel(d.color_format);
+    const uint64_t depth_end =
+        m_frame.depth_address + pixels * depth_bytes_per_pixel(d.depth_format);
+    for (uint64_t a = 0; a < memory.size(); ++a) {
+      const bool inside = (a >= m_frame.color_address && a < color_end) ||
+                          (a >= m_frame.depth_address && a < depth_end);
+      uint8_t b;
+      memory.debug_read(a, &b, 1);
+      if (!inside && b != kFill) return false;
+    }
+    return true;
+  }
+
+  bool all_frames_done() const {
+    for (const Unit& u : units) {
+      if (!u.rop->frame_done()) return false;
+    }
+    return true;
+  }
+
+  const GpuConfig& m_config;
+  const FrameState& m_frame;
+  UnitTokens m_tokens;
+  Memory memory;
+  std::vector<Unit> units;
+  std::vector<int64_t> last_writer;
+};
+
+// Where two framebuffers first differ, for a readable failure.
+std::string first_difference(const Framebuffer& got, const Framebuffer& want) {
+  for (int y = 0; y < want.height; ++y) {
+    for (int x = 0; x < want.width; ++x) {
+      const size_t p = want.pixel_index(x, y);
+      if (got.depth[p] != want.depth[p]) {
+        return "depth at (" + std::to_string(x) + ", " + std::to_string(y) + "): got " +
+               std::to_string(got.depth[p]) + ", want " + std::to_string(want.depth[p]);
+      }
+      for (int k = 0; k < 4; ++k) {
+        if (got.color[p * 4 + k] != want.color[p * 4 + k]) {
+          return "colour channel " + std::to_string(k) + " at (" + std::to_string(x) + ", " +
+                 std::to_string(y) + "): got " + std::to_string(got.color[p * 4 + k]) + ", want " +
+                 std::to_string(want.color[p * 4 + k]);
+        }
+      }
+    }
+  }
+  return "none";
+}
+
+// A scene, its frame registers, the bench and the golden result, to check
+// after sc_start.
+struct Case {
+  std::string label;
+  Scene scene;
+  GpuConfig config;
+  FrameState frame;
+  std::unique_ptr<BackEnd> bench;
+  golden::Result expected;
+
+  Case(const std::string& name, Scene s, const GpuConfig& c, bool stalls = false, uint64_t seed = 1)
+      : label(name), scene(std::move(s)), config(c), frame(frame_state(scene)) {
+    bench = std::make_unique<BackEnd>(name.c_str(), config, frame, front_end(scene, config), stalls,
+                                      seed);
+    expected = golden::render(scene);
+  }
+
+  void check() const {
+    SCOPED_TRACE(label);
+    EXPECT_TRUE(bench->all_frames_done());
+    const Framebuffer got = bench->framebuffer();
+    EXPECT_TRUE(got == expected.framebuffer)
+        << "first difference: " << first_difference(got, expected.framebuffer);
+    EXPECT_TRUE(bench->last_writer == expected.last_writer);
+    EXPECT_TRUE(bench->guards_intact());
+    const golden::Stats& s = expected.stats;
+    EXPECT_EQ(bench->counter("depth_test", "fragments_in"), s.fragments_generated);
+    EXPECT_EQ(bench->counter("depth_test", "fragments_passed"), s.fragments_passed_depth);
+    EXPECT_EQ(bench->counter("interpolator", "fragments"), s.fragments_passed_depth);
+    EXPECT_EQ(bench->counter("rop", "fragments_written"), s.fragments_written);
+    // Every lookup is a hit, a miss or a fill from the clear value.
+    for (const char* stage : {"depth_test", "rop"}) {
+      EXPECT_LE(bench->counter(stage, "cache_hits") + bench->counter(stage, "cache_misses") +
+                    bench->counter(stage, "cache_clear_fills"),
+                bench->counter(stage, "stamps"));
+    }
+  }
+};
+
+GpuConfig config(unsigned units, unsigned tile, unsigned sw, unsigned sh, unsigned fifo,
+                 unsigned entries) {
+  GpuConfig c;
+  c.units = units;
+  c.tile_size = tile;
+  c.stamp = {sw, sh};
+  c.fifo_depth = fifo;
+  c.tile_cache_entries = entries;
+  return c;
+}
+
+// ---------------------------------------------------------------------------
+// Frames against the golden model.
+
+TEST(BackEnd, EveryDepthFormatAndFunction) {
+  std::vector<std::unique_ptr<Case>> cases;
+  const GpuConfig configs[] = {config(1, 16, 4, 4, 16, 4), config(3, 8, 2, 2, 2, 2),
+                               config(4, 16, 4, 4, 16, 1), config(16, 8, 8, 8, 1, 3)};
+  int n = 0;
+  for (DepthFormat df : {DepthFormat::unorm16, DepthFormat::unorm24, DepthFormat::float32}) {
+    for (int f = 0; f < 8; ++f) {
+      const auto func = static_cast<CompareFunc>(f);
+      // write on, write off, test off
+      for (int variant = 0; variant < 3; ++variant) {
+        Rng rng(100 + n);
+        Scene s = make_scene(61, 47, ColorFormat::rgba8, df);
+        s.framebuffer.clear_depth = variant == 1 ? 0.5f : 0.75f;
+        std::vector<glm::vec4> history;
+        RenderState base;
+        base.depth_func = CompareFunc::lequal;
+        add_random_draw(s, rng, 20, base, 0.0, &history);
+        RenderState st;
+        st.depth_func = func;
+        st.depth_write = variant != 1;
+        st.depth_test = variant != 2;
+        add_random_draw(s, rng, 30, st, 0.4, &history);
+        add_random_draw(s, rng, 10, base, 0.3, &history);
+        const std::string label = std::string("d_") + std::string(to_string(df)) + "_" +
+                                  std::string(to_string(func)) + "_" + std::to_string(variant);
+        cases.push_back(std::make_unique<Case>(label, std::move(s), configs[n % 4]));
+        ++n;
+      }
+    }
+  }
+  sc_core::sc_start();
+  for (const auto& c : cases) c->check();
+  // Not vacuous: the scenes pass and fail depth tests and write depth.
+  uint64_t passed = 0, generated = 0;
+  for (const auto& c : cases) {
+    passed += c->expected.stats.fragments_passed_depth;
+    generated += c->expected.stats.fragments_generated;
+  }
+  EXPECT_GT(passed, generated / 4);
+  EXPECT_LT(passed, generated);
+}
+
+TEST(BackEnd, PolygonOffset) {
+  std::vector<std::unique_ptr<Case>> cases;
+  int n = 0;
+  for (DepthFormat df : {DepthFormat::unorm16, DepthFormat::unorm24, DepthFormat::float32}) {
+    for (const auto& offset :
+         {std::array<float, 2>{1.5f, 2.0f}, std::array<float, 2>{-1.0f, -4.0f},
+          std::array<float, 2>{0.0f, 3.0f}, std::array<float, 2>{4.0f, 0.0f}}) {
+      Rng rng(200 + n);
+      Scene s = make_scene(50, 50, ColorFormat::rgba8, df);
+      std::vector<glm::vec4> history;
+      RenderState base;
+      add_random_draw(s, rng, 15, base, 0.0, &history);
+      // The same geometry again, offset, so the result hinges on the offset.
+      RenderState st;
+      st.depth_func = offset[0] + offset[1] > 0 ? CompareFunc::greater : CompareFunc::less;
+      st.offset_factor = offset[0];
+      st.offset_units = offset[1];
+      add_random_draw(s, rng, 15, st, 1.0, &history);
+      cases.push_back(std::make_unique<Case>("offset_" + std::to_string(n), std::move(s),
+                                             config(2 + n % 3, 16, 4, 4, 4, 2)));
+      ++n;
+    }
+  }
+  sc_core::sc_start();
+  for (const auto& c : cases) c->check();
+}
+
+TEST(BackEnd, EveryBlendFactorAndEquation) {
+  std::vector<std::unique_ptr<Case>> cases;
+  for (ColorFormat cf : {ColorFormat::rgba8, ColorFormat::rgba16f}) {
+    Rng rng(cf == ColorFormat::rgba8 ? 300 : 301);
+    Scene s = make_scene(40, 36, cf, DepthFormat::unorm24);
+    for (int e = 0; e < 3; ++e) {
+      for (int src = 0; src < 11; ++src) {
+        for (int dst = 0; dst < 11; ++dst) {
+          RenderState st;
+          st.depth_test = false;  // every layer blends over the previous ones
+          st.blend = true;
+          st.blend_src = static_cast<BlendFactor>(src);
+          st.blend_dst = static_cast<BlendFactor>(dst);
+          st.blend_equation = static_cast<BlendEquation>(e);
+          add_random_draw(s, rng, 2, st, 0.0, nullptr);
+          if (rng.chance(0.1)) {
+            RenderState opaque;
+            opaque.depth_test = false;
+            add_random_draw(s, rng, 1, opaque, 0.0, nullptr);
+          }
+        }
+      }
+    }
+    cases.push_back(std::make_unique<Case>(std::string("blend_") + std::string(to_string(cf)),
+                                           std::move(s), config(3, 8, 4, 4, 16, 4)));
+  }
+  sc_core::sc_start();
+  for (const auto& c : cases) c->check();
+}
+
+TEST(BackEnd, ColorMasksShadingAndClearValues) {
+  std::vector<std::unique_ptr<Case>> cases;
+  int n = 0;
+  for (ColorFormat cf : {ColorFormat::rgba8, ColorFormat::rgba16f}) {
+    for (const glm::vec4& clear : {glm::vec4(0.0f), glm::vec4(1.0f, 0.2f, 0.6f, 0.8f)}) {
+      Rng rng(400 + n);
+      Scene s = make_scene(45, 52, cf, DepthFormat::unorm24);
+      s.framebuffer.clear_color = clear;
+      s.framebuffer.clear_depth = n % 2 ? 1.0f : 0.3f;
+      std::vector<glm::vec4> history;
+      for (int m = 0; m < 16; ++m) {
+        for (int shading = 0; shading < 2; ++shading) {
+          RenderState st;
+          for (int k = 0; k < 4; ++k) st.color_mask[k] = (m >> k) & 1;
+          st.shading = static_cast<Shading>(shading);
+          st.blend = m % 3 == 0;
+          st.blend_src = BlendFactor::src_alpha;
+          st.blend_dst = BlendFactor::one_minus_src_alpha;
+          st.depth_func = CompareFunc::lequal;
+          add_random_draw(s, rng, 3, st, 0.2, &history);
+        }
+      }
+      cases.push_back(std::make_unique<Case>("mask_" + std::to_string(n), std::move(s),
+                                             config(2, 16, 2, 4, 2, 3)));
+      ++n;
+    }
+  }
+  sc_core::sc_start();
+  for (const auto& c : cases) c->check();
+}
+
+// Configurations across the whole range, each with and without random stalls
+// on every FIFO: the results must all equal the golden model's.
+TEST(BackEnd, ConfigurationsWithAndWithoutRandomStalls) {
+  struct Setup {
+    GpuConfig config;
+    int w, h;
+    ColorFormat cf;
+    DepthFormat df;
+  };
+  const Setup setups[] = {
+      {config(1, 16, 4, 4, 16, 4), 64, 64, ColorFormat::rgba8, DepthFormat::unorm24},
+      {config(3, 8, 2, 2, 1, 1), 70, 45, ColorFormat::rgba16f, DepthFormat::unorm16},
+      {config(16, 8, 8, 8, 2, 2), 100, 37, ColorFormat::rgba8, DepthFormat::float32},
+      {config(5, 64, 8, 2, 16, 64), 130, 90, ColorFormat::rgba16f, DepthFormat::float32},
+      {config(2, 16, 1, 1, 1, 3), 33, 65, ColorFormat::rgba8, DepthFormat::unorm24},
+      {config(7, 32, 4, 8, 2, 1024), 96, 80, ColorFormat::rgba16f, DepthFormat::unorm24},
+  };
+  std::vector<std::unique_ptr<Case>> cases;
+  for (size_t i = 0; i < std::size(setups); ++i) {
+    const Setup& st = setups[i];
+    for (bool stalls : {false, true}) {
+      cases.push_back(std::make_unique<Case>(
+          "config_" + std::to_string(i) + (stalls ? "_stalls" : ""),
+          mixed_scene(500 + static_cast<uint32_t>(i), st.w, st.h, st.cf, st.df), st.config, stalls,
+          i + 1));
+    }
+  }
+  sc_core::sc_start();
+  for (const auto& c : cases) c->check();
+  // The stalls happened, and changed the timing of the run, not its result.
+  for (size_t i = 0; i + 1 < cases.size(); i += 2) {
+    const BackEnd& plain = *cases[i]->bench;
+    const BackEnd& stalled = *cases[i + 1]->bench;
+    EXPECT_EQ(plain.units[0].in->stats().injected_stalls, 0u);
+    EXPECT_GT(stalled.units[0].in->stats().injected_stalls, 0u);
+    EXPECT_EQ(plain.counter("rop", "fragments_written"),
+              stalled.counter("rop", "fragments_written"));
+  }
+}
+
+// ---------------------------------------------------------------------------
+// The interpolator's colours, per pixel, against the spec's formula evaluated
+// with golden edge functions at each pixel centre (no stepping).
+
+TEST(Interpolator, ColoursEqualTheSpecPerPixel) {
+  GpuConfig cfg = config(1, 16, 4, 2, 4, 4);
+  Scene scene = make_scene(64, 48, ColorFormat::rgba16f, DepthFormat::unorm24);
+  Rng rng(600);
+  for (int d = 0; d < 20; ++d) {
+    RenderState st;
+    st.shading = d % 4 == 0 ? Shading::flat : Shading::gouraud;
+    add_random_draw(scene, rng, 15, st, 0.0, nullptr);
+  }
+  const FrameState frame = frame_state(scene);
+  UnitTokens tokens = front_end(scene, cfg);
+  Fifo<StampBatch> in("in", 4);
+  Fifo<ShadedStampBatch> out("out", 4);
+  Interpolator interpolator("interpolator", cfg, frame, 0);
+  interpolator.in(in);
+  interpolator.out(out);
+  std::vector<ShadedStampBatch> got;
+  sc_core::sc_spawn([&] {
+    for (const StampBatch& b : tokens[0]) in.write(b);
+  });
+  sc_core::sc_spawn([&] {
+    for (;;) got.push_back(out.read());
+  });
+  sc_core::sc_start();
+
+  ASSERT_EQ(got.size(), tokens[0].size());
+  uint64_t pixels = 0, flat = 0;
+  for (size_t n = 0; n < got.size(); ++n) {
+    const StampBatch& b = tokens[0][n];
+    const ShadedStampBatch& s = got[n];
+    ASSERT_EQ(s.kind, b.kind);
+    ASSERT_EQ(s.stamps, b.stamps);
+    if (b.kind != PacketKind::work) continue;
+    const RasterTriangle& t = *b.triangle;
+    const auto v = window_vertices(t);
+    const bool is_flat = scene.draws[t.draw_id].state.shading == Shading::flat;
+    size_t c = 0;
+    for (const Stamp& st : b.stamps) {
+      for (int bit = 0; bit < 64; ++bit) {
+        if (!(st.mask >> bit & 1)) continue;
+        const int x = st.x + bit % 4, y = st.y + bit / 4;
+        glm::vec4 want = t.flat_color;
+        if (!is_flat) {
+          const float f0 = static_cast<float>(
+              golden::edge_function(v[1], v[2], pixel_center(x), pixel_center(y)));
+          const float f1 = static_cast<float>(
+              golden::edge_function(v[2], v[0], pixel_center(x), pixel_center(y)));
+          const float f2 = static_cast<float>(
+              golden::edge_function(v[0], v[1], pixel_center(x), pixel_center(y)));
+          const float den = f0 * v[0].inv_w + f1 * v[1].inv_w + f2 * v[2].inv_w;
+          for (int k = 0; k < 4; ++k) {
+            want[k] = clamp01((f0 * v[0].color_over_w[k] + f1 * v[1].color_over_w[k] +
+                               f2 * v[2].color_over_w[k]) /
+                              den);
+          }
+        }
+        ASSERT_LT(c, s.colors.size());
+        EXPECT_EQ(std::memcmp(&s.colors[c], &want, sizeof want), 0)
+            << "triangle " << t.primitive_id << " pixel (" << x << ", " << y << ")";
+        ++c;
+        ++pixels;
+        flat += is_flat;
+      }
+    }
+    EXPECT_EQ(c, s.colors.size());
+  }
+  EXPECT_GT(pixels, 2000u);
+  EXPECT_GT(flat, 200u);
+  EXPECT_EQ(interpolator.stats().to_json().at("fragments").get<uint64_t>(), pixels);
+  EXPECT_EQ(interpolator.stats().to_json().at("flat_fragments").get<uint64_t>(), flat);
+}
+
+// ---------------------------------------------------------------------------
+// Tile caches, counted by hand. One unit, a 64x64 framebuffer of 16x16 tiles
+// (4 x 4 tiles), 2 cache entries, one full 4x4 stamp per batch, visiting
+// tiles A = (0, 0), B = (1, 0), C = (2, 0) in the order A A B A C B, with
+// depth func always and depth writes on, so every access dirties its tile.
+// LRU with 2 entries:
+//   A miss [A] | A hit | B miss [A B] | A hit | C miss, evicts B (dirty) |
+//   B miss, evicts A (dirty, last used before C)
+// Without a clear: 2 hits, 4 misses, 2 write-backs, then end_of_frame writes
+// back C and B: 4 write-backs. A tile is 16 rows x 16 pixels x 4 bytes = 1 KiB.
+// After a fast clear: A, B, C are filled from the clear value (no read); only
+// the second B is read (it was written back): 2 hits, 1 miss, 3 clear fills;
+// write-backs: B and A on eviction, C and B at end_of_frame, and the 13 tiles
+// never touched, 17 in all.
+
+std::shared_ptr<RasterTriangle> full_screen_triangle(const FramebufferDesc& fb, float z) {
+  std::array<WindowVertex, 3> v;
+  const Subpixel big = 1 << 20;
+  v[0].x = -big, v[0].y = -big;
+  v[1].x = 3 * big, v[1].y = -big;  // hypotenuse x + y = 2 big: beyond any framebuffer
+  v[2].x = -big, v[2].y = 3 * big;
+  for (auto& w : v) {
+    w.z = z;
+    w.inv_w = 1.0f;
+    w.color_over_w = glm::vec4(0.2f, 0.4f, 0.6f, 1.0f);
+  }
+  RenderState st;
+  return setup(v, st, 0, 0, glm::vec4(1.0f), fb);
+}
+
+UnitTokens stamp_pattern(const std::shared_ptr<RasterTriangle>& t, const GpuConfig& cfg,
+                         const FramebufferDesc& fb, const std::vector<std::array<int, 2>>& origins,
+                         bool clear) {
+  UnitTokens tokens(1);
+  if (clear) tokens[0].push_back(StampBatch{PacketKind::clear, nullptr, {}, {}});
+  for (const auto& o : origins) {
+    StampBatch b;
+    b.triangle = t;
+    b.stamps.push_back(make_stamp(*t, o[0], o[1], cfg, fb));
+    tokens[0].push_back(b);
+  }
+  tokens[0].push_back(StampBatch{PacketKind::end_of_frame, nullptr, {}, {}});
+  return tokens;
+}
+
+TEST(TileCache, HitsMissesAndTrafficOfAnLruPattern) {
+  const GpuConfig cfg = config(1, 16, 4, 4, 16, 2);
+  Scene scene = make_scene(64, 64, ColorFormat::rgba8, DepthFormat::unorm24);
+  scene.draws.push_back(Draw{});
+  scene.draws[0].state.depth_func = CompareFunc::always;
+  const FrameState frame = frame_state(scene);
+  const auto tri = full_screen_triangle(frame.framebuffer, 0.5f);
+  // A at (0, 0), B at (16, 0), C at (32, 0); the second A and B use other stamps.
+  const std::vector<std::array<int, 2>> origins = {{0, 0}, {4, 0},  {16, 0},
+                                                   {0, 8}, {32, 0}, {20, 12}};
+  BackEnd plain("plain", cfg, frame, stamp_pattern(tri, cfg, frame.framebuffer, origins, false));
+  BackEnd cleared("cleared", cfg, frame, stamp_pattern(tri, cfg, frame.framebuffer, origins, true));
+  sc_core::sc_start();
+
+  for (const char* stage : {"depth_test", "rop"}) {
+    SCOPED_TRACE(stage);
+    EXPECT_EQ(plain.counter(stage, "stamps"), 6u);
+    EXPECT_EQ(plain.counter(stage, "cache_hits"), 2u);
+    EXPECT_EQ(plain.counter(stage, "cache_misses"), 4u);
+    EXPECT_EQ(plain.counter(stage, "cache_clear_fills"), 0u);
+    EXPECT_EQ(plain.counter(stage, "cache_writebacks"), 4u);
+    EXPECT_EQ(plain.counter(stage, "bytes_read"), 4u * 1024);
+    EXPECT_EQ(plain.counter(stage, "bytes_written"), 4u * 1024);
+
+    EXPECT_EQ(cleared.counter(stage, "cache_hits"), 2u);
+    EXPECT_EQ(cleared.counter(stage, "cache_misses"), 1u);
+    EXPECT_EQ(cleared.counter(stage, "cache_clear_fills"), 3u);
+    EXPECT_EQ(cleared.counter(stage, "cache_writebacks"), 17u);
+    EXPECT_EQ(cleared.counter(stage, "bytes_read"), 1u * 1024);
+    EXPECT_EQ(cleared.counter(stage, "bytes_written"), 17u * 1024);
+  }
+  EXPECT_EQ(plain.counter("rop", "fragments_written"), 6u * 16);
+
+  // Memory: the 96 written pixels hold the fragment's values; without a clear
+  // every other pixel keeps what memory held (the fill pattern), after a
+  // clear the clear values.
+  const Framebuffer p = plain.framebuffer();
+  const Framebuffer c = cleared.framebuffer();
+  const DepthValue z = encode_depth(DepthFormat::unorm24, 0.5f);
+  const DepthValue clear_z = encode_depth(DepthFormat::unorm24, scene.framebuffer.clear_depth);
+  const ColorChannel fill = kFill;
+  int written = 0;
+  for (int y = 0; y < 64; ++y) {
+    for (int x = 0; x < 64; ++x) {
+      bool in_stamp = false;
+      for (const auto& o : origins) {
+        in_stamp = in_stamp || (x >= o[0] && x < o[0] + 4 && y >= o[1] && y < o[1] + 4);
+      }
+      written += in_stamp;
+      const size_t i = p.pixel_index(x, y);
+      EXPECT_EQ(p.depth[i], in_stamp ? z : 0xA5A5A5A5u) << x << ", " << y;
+      EXPECT_EQ(c.depth[i], in_stamp ? z : clear_z) << x << ", " << y;
+      const ColorChannel r = encode_unorm8(0.2f);
+      EXPECT_EQ(p.color[4 * i], in_stamp ? r : fill) << x << ", " << y;
+      EXPECT_EQ(c.color[4 * i], in_stamp ? r : encode_unorm8(scene.framebuffer.clear_color.x))
+          << x << ", " << y;
+    }
+  }
+  EXPECT_EQ(written, 96);
+}
+
+// ---------------------------------------------------------------------------
+// Timing, computed by hand. Clock 1 ns; memory: 32 bytes per cycle, latency
+// 20; tiles 16x16. A tile of unorm24 depth or rgba8 colour is 16 rows of 64
+// bytes (2 bus cycles each): on an idle bus its 16 rows, issued together,
+// complete after 32 + 20 = 52 cycles. rgba16f rows are 128 bytes: 64 + 20 = 84.
+
+struct Recorder {
+  std::vector<double> times;  // cycles at which the sink took each token
+};
+
+TEST(BackEndTiming, StagesAloneMatchTheCostModel) {
+  GpuConfig cfg = config(1, 16, 4, 4, 16, 4);
+  cfg.stages["depth_test"] = {1, 2};
+  cfg.stages["interpolator"] = {2, 6};
+  cfg.stages["rop"] = {1, 4};
+  const sc_time cycle = cfg.cycle();
+
+  Scene depth_scene = make_scene(64, 64, ColorFormat::rgba8, DepthFormat::unorm24);
+  depth_scene.draws.push_back(Draw{});
+  depth_scene.draws[0].state.depth_func = CompareFunc::always;
+  const FrameState depth_frame = frame_state(depth_scene);
+  const auto tri = full_screen_triangle(depth_frame.framebuffer, 0.5f);
+  auto batch = [&](std::vector<std::array<int, 2>> origins) {
+    StampBatch b;
+    b.triangle = tri;
+    for (const auto& o : origins)
+      b.stamps.push_back(make_stamp(*tri, o[0], o[1], cfg, depth_frame.framebuffer));
+    return b;
+  };
+  const StampBatch eof{PacketKind::end_of_frame, nullptr, {}, {}};
+  const StampBatch clear{PacketKind::clear, nullptr, {}, {}};
+
+  // (a) Depth test, no clear: a batch of 3 stamps misses, one of 2 hits.
+  //   batch 1 read at 0: 3 + 52 = 55 busy, readable at 55 + 2 = 57
+  //   batch 2 read at 55: 2 busy, readable at 59
+  //   end_of_frame read at 57: the dirty tile's rows are written from
+  //     57 + 2 = 59, the bus frees at 91, done at 111: forwarded at 111.
+  Memory mem_a("mem_a", memory_size(depth_frame), 20, 32, cycle);
+  Fifo<StampBatch> in_a("in_a", 16), out_a("out_a", 16);
+  DepthTest depth_a("depth_a", cfg, depth_frame, 0);
+  depth_a.in(in_a);
+  depth_a.out(out_a);
+  depth_a.mem.bind(mem_a);
+  Recorder rec_a;
+  const std::vector<StampBatch> tokens_a = {batch({{0, 0}, {4, 0}, {8, 4}}),
+                                            batch({{0, 12}, {12, 12}}), eof};
+
+  // (b) Depth test after a fast clear, framebuffer 32x16 (two tiles, both
+  //   owned): no read at all.
+  //   clear read at 0: 1 busy, readable at 3
+  //   batch (3 stamps) read at 1: fills tile 0 from the clear value, 3
+  //     busy, readable at 6
+  //   end_of_frame read at 4: writes tile 0 (dirty) and tile 1 (cleared)
+  //     from 6: 64 bus cycles, free at 70, done at 90.
+  Scene small_scene = depth_scene;
+  small_scene.framebuffer.width = 32;
+  small_scene.framebuffer.height = 16;
+  const FrameState small_frame = frame_state(small_scene);
+  Memory mem_b("mem_b", memory_size(small_frame), 20, 32, cycle);
+  Fifo<StampBatch> in_b("in_b", 16), out_b("out_b", 16);
+  DepthTest depth_b("depth_b", cfg, small_frame, 0);
+  depth_b.in(in_b);
+  depth_b.out(out_b);
+  depth_b.mem.bind(mem_b);
+  Recorder rec_b;
+  const std::vector<StampBatch> tokens_b = {clear, batch({{0, 0}, {4, 0}, {8, 4}}), eof};
+
+  // (c) Interpolator, ii 2, latency 6: 3 stamps read at 0, readable at
+  //   6 + 6 = 12; end_of_frame read at 6, readable at 8 + 6 = 14.
+  Fifo<StampBatch> in_c("in_c", 16);
+  Fifo<ShadedStampBatch> out_c("out_c", 16);
+  Interpolator interp_c("interp_c", cfg, depth_frame, 0);
+  interp_c.in(in_c);
+  interp_c.out(out_c);
+  Recorder rec_c;
+  const std::vector<StampBatch> tokens_c = {batch({{0, 0}, {4, 0}, {8, 4}}), eof};
+
+  // (d) ROP, rgba16f, no clear: 2 stamps read at 0 miss: 2 + 84 = 86 busy.
+  //   end_of_frame read at 86: the dirty tile's rows are written from
+  //   86 + 4 = 90, the bus frees at 154, done at 174: frame_done at 174.
+  Scene color_scene = make_scene(64, 64, ColorFormat::rgba16f, DepthFormat::unorm24);
+  color_scene.draws.push_back(Draw{});
+  const FrameState color_frame = frame_state(color_scene);
+  Memory mem_d("mem_d", memory_size(color_frame), 20, 32, cycle);
+  Fifo<ShadedStampBatch> in_d("in_d", 16);
+  Rop rop_d("rop_d", cfg, color_frame, 0);
+  rop_d.in(in_d);
+  rop_d.mem.bind(mem_d);
+  ShadedStampBatch shaded;
+  shaded.triangle = tri;
+  shaded.stamps = batch({{0, 0}, {4, 4}}).stamps;
+  shaded.colors.assign(32, glm::vec4(0.5f));
+  double frame_done_at = -1;
+  bool done_before = true;
+
+  auto at = [&] { return sc_core::sc_time_stamp() / cycle; };
+  sc_core::sc_spawn([&] {
+    for (const auto& t : tokens_a) in_a.write(t);
+  });
+  sc_core::sc_spawn([&] {
+    for (;;) {
+      out_a.read();
+      rec_a.times.push_back(at());
+    }
+  });
+  sc_core::sc_spawn([&] {
+    for (const auto& t : tokens_b) in_b.write(t);
+  });
+  sc_core::sc_spawn([&] {
+    for (;;) {
+      out_b.read();
+      rec_b.times.push_back(at());
+    }
+  });
+  sc_core::sc_spawn([&] {
+    for (const auto& t : tokens_c) in_c.write(t);
+  });
+  sc_core::sc_spawn([&] {
+    for (;;) {
+      out_c.read();
+      rec_c.times.push_back(at());
+    }
+  });
+  sc_core::sc_spawn([&] {
+    in_d.write(shaded);
+    in_d.write(ShadedStampBatch{PacketKind::end_of_frame, nullptr, {}, {}});
+  });
+  sc_core::sc_spawn([&] {
+    sc_core::wait(rop_d.frame_done_event());
+    frame_done_at = at();
+  });
+  sc_core::sc_spawn([&] {
+    sc_core::wait(173, sc_core::SC_NS);
+    done_before = rop_d.frame_done();
+  });
+  sc_core::sc_start();
+
+  auto count = [](const StatGroup& g, const char* name) {
+    return g.to_json().at(name).get<uint64_t>();
+  };
+  EXPECT_EQ(rec_a.times, (std::vector<double>{57, 59, 111}));
+  EXPECT_EQ(count(depth_a.stats(), "busy_cycles"), 55u + 2 + 54);
+  EXPECT_EQ(count(depth_a.stats(), "memory_stall_cycles"), 52u + 0 + 53);
+  EXPECT_EQ(count(depth_a.stats(), "cache_misses"), 1u);
+  EXPECT_EQ(count(depth_a.stats(), "cache_hits"), 4u);  // one lookup per stamp
+  EXPECT_EQ(count(depth_a.stats(), "bytes_read"), 1024u);
+  EXPECT_EQ(count(depth_a.stats(), "bytes_written"), 1024u);
+  EXPECT_EQ(count(depth_a.stats(), "fragments_passed"), 5u * 16);
+
+  EXPECT_EQ(rec_b.times, (std::vector<double>{3, 6, 90}));
+  EXPECT_EQ(count(depth_b.stats(), "busy_cycles"), 1u + 3 + 86);
+  EXPECT_EQ(count(depth_b.stats(), "bytes_read"), 0u);
+  EXPECT_EQ(count(depth_b.stats(), "bytes_written"), 2048u);
+  EXPECT_EQ(count(depth_b.stats(), "cache_clear_fills"), 1u);
+
+  EXPECT_EQ(rec_c.times, (std::vector<double>{12, 14}));
+  EXPECT_EQ(count(interp_c.stats(), "busy_cycles"), 8u);
+
+  EXPECT_FALSE(done_before);
+  EXPECT_TRUE(rop_d.frame_done());
+  EXPECT_EQ(frame_done_at, 174);
+  EXPECT_EQ(count(rop_d.stats(), "busy_cycles"), 86u + 88);
+  EXPECT_EQ(count(rop_d.stats(), "fragments_written"), 32u);
+  EXPECT_EQ(count(rop_d.stats(), "bytes_read"), 2048u);
+  EXPECT_EQ(count(rop_d.stats(), "bytes_written"), 2048u);
+}
+
+}  // namespace
+}  // namespace gpusim
