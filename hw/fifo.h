@@ -48,8 +48,9 @@ template <typename T>
 class FifoOutIf : public virtual sc_core::sc_interface {
  public:
   virtual void write(const T& item) = 0;
-  // Write now, but the reader sees the item only from `ready_at` on: a
-  // stage's pipeline latency. The item holds its slot from now.
+  // Write, but the reader sees the item only from `ready_at` on: a stage's
+  // pipeline latency. The item holds its slot from when it enters; if the
+  // write had to wait for a slot, `ready_at` moves later by that wait.
   virtual void write(const T& item, const sc_core::sc_time& ready_at) = 0;
   virtual bool nb_write(const T& item) = 0;
   virtual size_t num_free() const = 0;
@@ -130,6 +131,7 @@ class Fifo : public sc_core::sc_prim_channel, public FifoInIf<T>, public FifoOut
   void write(const T& item) override { write(item, sc_core::SC_ZERO_TIME); }
 
   void write(const T& item, const sc_core::sc_time& ready_at) override {
+    const sc_core::sc_time called = sc_core::sc_time_stamp();
     maybe_stall(m_write_rng);
     if (num_free() == 0) {
       begin_blocked(m_blocked_writers);
@@ -138,7 +140,9 @@ class Fifo : public sc_core::sc_prim_channel, public FifoInIf<T>, public FifoOut
       } while (num_free() == 0);
       end_blocked(m_blocked_writers);
     }
-    push(item, ready_at);
+    // The latency runs from when the item enters the FIFO: a result waiting
+    // for a free slot has not started down the output's register chain.
+    push(item, ready_at + (sc_core::sc_time_stamp() - called));
   }
 
   // Blocking; SC_THREAD only. Waits while no item is readable.

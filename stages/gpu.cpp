@@ -99,6 +99,26 @@ void Gpu::set_last_writer(std::vector<int64_t>* per_pixel) {
   for (Unit& u : m_units) u.rop->set_last_writer(per_pixel);
 }
 
+void Gpu::inject_random_stalls(uint64_t seed, double probability, unsigned max_cycles) {
+  const sc_core::sc_time cycle = m_config.cycle();
+  uint64_t n = 0;
+  const auto stall = [&](auto& fifo) {
+    fifo.inject_random_stalls(seed + 0x9E3779B97F4A7C15ull * ++n, probability, max_cycles, cycle);
+  };
+  stall(m_commands);
+  stall(m_command_to_fetch);
+  stall(m_fetch_to_shader);
+  stall(m_shader_to_clipper);
+  stall(m_clipper_to_setup);
+  stall(m_setup_to_distributor);
+  for (Unit& u : m_units) {
+    stall(*u.jobs);
+    stall(*u.stamps);
+    stall(*u.visible);
+    stall(*u.shaded);
+  }
+}
+
 uint64_t Gpu::triangles_assembled() const {
   return counter(m_clipper.stats(), "triangles_in");
 }

@@ -51,6 +51,10 @@ class Gpu : public sc_core::sc_module {
   // Testbench instrumentation: primitive id of the last colour write per pixel.
   void set_last_writer(std::vector<int64_t>* per_pixel);
 
+  // Random stalls at every FIFO boundary (Fifo::inject_random_stalls), for
+  // latency-insensitivity tests: results must not change.
+  void inject_random_stalls(uint64_t seed, double probability, unsigned max_cycles);
+
   // Assembled triangles the clipper has taken in so far (for progress lines).
   uint64_t triangles_assembled() const;
 

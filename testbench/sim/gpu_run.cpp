@@ -150,8 +150,21 @@ LoadedFrame load_frame(const Scene& scene) {
   return out;
 }
 
+// SystemC elaborates one model per simulation context and cannot restart a
+// finished one; a run after the first gets a fresh context (the old one is
+// left behind: SystemC cannot delete a context safely).
+void fresh_simulation_context() {
+  static bool used = false;
+  if (used) {
+    sc_core::sc_curr_simcontext = new sc_core::sc_simcontext;
+    sc_core::sc_default_global_context = sc_core::sc_curr_simcontext;
+  }
+  used = true;
+}
+
 GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOptions& options) {
   static_assert(sizeof(glm::vec4) == 16 && sizeof(glm::vec3) == 12, "packed attributes");
+  fresh_simulation_context();
   const LoadedFrame loaded = load_frame(scene);
   Gpu gpu("gpu", config, loaded.frame, loaded.memory.size());
   std::memcpy(gpu.memory().data(0, loaded.memory.size()), loaded.memory.data(),
@@ -161,6 +174,10 @@ GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOp
     result.last_writer.assign(
         static_cast<size_t>(scene.framebuffer.width) * scene.framebuffer.height, -1);
     gpu.set_last_writer(&result.last_writer);
+  }
+  if (options.stall_probability > 0.0) {
+    gpu.inject_random_stalls(options.stall_seed, options.stall_probability,
+                             options.stall_max_cycles);
   }
   Host host("host", gpu, scene.draws.size(), options.progress, config.cycle());
 

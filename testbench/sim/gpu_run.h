@@ -1,8 +1,8 @@
 // The testbench driver: lays a scene out in GPU memory (vertex and index
 // buffers, framebuffer), programs the per-draw state, streams commands
 // (clear, draws, end of frame) into the GPU and runs the simulation to
-// completion. A SystemC model elaborates once per process, so run_gpu() can
-// be called once per process.
+// completion. Each run_gpu() gets a fresh SystemC simulation context, so a
+// process can run several frames one after the other.
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -30,6 +30,10 @@ uint64_t triangle_count(PrimitiveType type, uint64_t slots);
 struct GpuRunOptions {
   bool record_last_writer = false;  // per-pixel primitive id, for --check
   bool progress = false;            // a progress line on stderr
+  // Random stalls at every FIFO boundary when stall_probability > 0.
+  double stall_probability = 0.0;
+  unsigned stall_max_cycles = 8;
+  uint64_t stall_seed = 1;
 };
 
 struct GpuRunResult {

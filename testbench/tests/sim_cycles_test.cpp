@@ -1,0 +1,223 @@
+// Cycle counts of whole frames against answers derived by hand from the
+// documented costs (docs/architecture.md). Where a whole-frame figure would
+// depend on fill and drain constants, the tests compare two runs that differ
+// in one thing, so the constants cancel and the difference is exact.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "testbench/golden/golden_model.h"
+#include "testbench/sim/gpu_run.h"
+
+namespace gpusim {
+namespace {
+
+// A 256x256 scene in clip space (no camera), colour rgba8, depth unorm24.
+Scene clip_space_scene(int width = 256, int height = 256) {
+  Scene s;
+  s.path = "cycles_test";
+  s.framebuffer.width = width;
+  s.framebuffer.height = height;
+  return s;
+}
+
+Draw triangles(std::vector<glm::vec4> positions, bool depth_test = false) {
+  Draw d;
+  d.name = "test";
+  d.primitive = PrimitiveType::triangles;
+  d.positions = std::move(positions);
+  d.state.depth_test = depth_test;
+  return d;
+}
+
+// One triangle whose interior holds the whole 256x256 screen: (-1,-1),
+// (3,-1), (-1,3) in NDC reach window (0,0), (512,0), (0,512), within the
+// guard band. Every tile is trivially accepted.
+Draw giant_triangle(bool depth_test = false) {
+  return triangles({{-1, -1, 0.5f, 1}, {3, -1, 0.5f, 1}, {-1, 3, 0.5f, 1}}, depth_test);
+}
+
+// A fill-bound configuration: a memory that never holds anything up during
+// the frame (64 KiB per cycle, no latency) and tile caches that hold every
+// tile, so the only memory traffic is the final write-back.
+GpuConfig fill_bound(unsigned units) {
+  GpuConfig c;
+  c.units = units;
+  c.tile_size = 16;
+  c.stamp = {4, 4};
+  c.memory = {0, 65536};
+  c.tile_cache_entries = 1024;
+  return c;
+}
+
+GpuRunResult run(const Scene& scene, const GpuConfig& config) {
+  GpuRunResult r = run_gpu(scene, config, {});
+  EXPECT_TRUE(r.completed);
+  EXPECT_EQ(r.framebuffer, golden::render(scene).framebuffer);
+  return r;
+}
+
+uint64_t stage_counter(const GpuRunResult& r, const std::string& stage, const char* name) {
+  return r.timing.at("stages").at(stage).at(name).get<uint64_t>();
+}
+
+int64_t cycles(const GpuRunResult& r) { return static_cast<int64_t>(r.cycles); }
+
+TEST(Cycles, FullScreenQuadOnOneUnit) {
+  // Two triangles splitting the 256x256 screen along its diagonal. With 16x16
+  // tiles and 4x4 stamps: 256 tiles; each triangle trivially accepts the 120
+  // tiles wholly on its side (16 stamps each), rejects the 120 on the other
+  // side, and evaluates the 16 diagonal tiles stamp by stamp (16 each). So
+  // each triangle costs 256 tile tests + (120 + 16) * 16 stamp cycles =
+  // 2432; both 4864, plus 1 cycle for each of the two control tokens (clear,
+  // end of frame). The diagonal runs through pixel centres, so the 64
+  // stamps it crosses are emitted by both triangles: 4096 + 64 stamps, and
+  // every one of the 65536 pixels exactly once.
+  Scene s = clip_space_scene();
+  s.draws.push_back(triangles({{-1, -1, 0, 1}, {1, -1, 0, 1}, {1, 1, 0, 1},
+                               {-1, -1, 0, 1}, {1, 1, 0, 1}, {-1, 1, 0, 1}}));
+  const GpuRunResult r = run(s, fill_bound(1));
+  EXPECT_EQ(stage_counter(r, "tile_rasterizer_0", "busy_cycles"), 4864u + 2u);
+  EXPECT_EQ(stage_counter(r, "tile_rasterizer_0", "stamps_emitted"), 4096u + 64u);
+  EXPECT_EQ(stage_counter(r, "tile_rasterizer_0", "fragments"), 65536u);
+  // The frame takes the rasterizer's cycles plus the pipeline's fill and
+  // drain and the final write-back of 256 tiles x 16 rows at one bus cycle
+  // per row.
+  EXPECT_GT(cycles(r), 4864 + 4096);
+}
+
+TEST(Cycles, UnitsDivideTheRasterizerCycles) {
+  // The giant triangle: 256 accepted tiles x (1 test + 16 stamps) = 4352
+  // cycles on one unit. Tile (tx, ty) belongs to unit (tx + ty) mod N, so on
+  // a 16x16 tile grid each of N in {2, 4, 8, 16} units owns 256 / N tiles:
+  // 4352 / N cycles each (+2 for the control tokens).
+  //
+  // The whole frame: the distributor spends ii = 1 cycle per unit it sends
+  // the triangle to (N), the units rasterize in parallel (4352 / N), and the
+  // fill and drain do not depend on N. The final write-back is bus-serial:
+  // 4096 depth rows (the cleared depth buffer) then 4096 colour rows, one
+  // cycle each. The depth test issues its rows at end of frame and forwards
+  // the token when they are done; the ROP issues its rows ii(interpolator) +
+  // latency(interpolator) + latency(rop) = 1 + 6 + 4 = 11 cycles after that.
+  // With one unit the bus idles for those 11 cycles; with N >= 2 the other
+  // units' depth rows still occupy it, so it never idles. So
+  // frame(1) - frame(N) = (1 + 4352) - (N + 4352 / N) + 11.
+  Scene s = clip_space_scene();
+  s.draws.push_back(giant_triangle());
+  const GpuRunResult one = run(s, fill_bound(1));
+  EXPECT_EQ(stage_counter(one, "tile_rasterizer_0", "busy_cycles"), 4352u + 2u);
+  for (const unsigned n : {2u, 4u, 8u, 16u}) {
+    const GpuRunResult r = run(s, fill_bound(n));
+    for (unsigned u = 0; u < n; ++u) {
+      EXPECT_EQ(stage_counter(r, "tile_rasterizer_" + std::to_string(u), "busy_cycles"),
+                4352u / n + 2u)
+          << n << " units, unit " << u;
+    }
+    const GpuConfig& c = fill_bound(n);
+    const int64_t gap = c.stage("interpolator").ii + c.stage("interpolator").latency +
+                        c.stage("rop").latency;
+    ASSERT_EQ(gap, 11);
+    EXPECT_EQ(cycles(one) - cycles(r), (1 + 4352) - static_cast<int64_t>(n + 4352 / n) + gap)
+        << n << " units";
+  }
+}
+
+// `count` copies of a triangle inside pixel (8, 8) of a 256x256 screen.
+Scene tiny_triangles(int count) {
+  Scene s = clip_space_scene();
+  std::vector<glm::vec4> p;
+  const auto clip = [](float wx, float wy) {
+    return glm::vec4(wx / 128.0f - 1.0f, wy / 128.0f - 1.0f, 0.5f, 1.0f);
+  };
+  for (int i = 0; i < count; ++i) {
+    p.push_back(clip(8.2f, 8.2f));
+    p.push_back(clip(8.9f, 8.3f));
+    p.push_back(clip(8.4f, 8.9f));
+  }
+  s.draws.push_back(triangles(p));
+  return s;
+}
+
+// Every stage but triangle setup (ii 4 per triangle) keeps up with one tiny
+// triangle per 4 cycles: fetch 3 slots x 1, the shader (set to ii 1 here)
+// 3 vertices x 1, the clipper 2, the distributor 1, the rasterizer 1 tile
+// test + 1 stamp, the back end 1 stamp each; 3 vertices of fetch traffic are
+// 48 bytes, 2 bus cycles at 32 bytes per cycle.
+GpuConfig setup_bound(unsigned fifo_depth) {
+  GpuConfig c;
+  c.units = 1;
+  c.fifo_depth = fifo_depth;
+  c.stages["vertex_shader"] = {1, 24};
+  return c;
+}
+
+TEST(Cycles, TinyTrianglesRunAtSetupInitiationInterval) {
+  // 320 and 960 triangles: slots are multiples of the 32-slot fetch batch.
+  // Setup always has a backlog, so each extra triangle adds exactly its ii.
+  const GpuConfig c = setup_bound(16);
+  const int64_t ii = c.stage("triangle_setup").ii;
+  const GpuRunResult a = run(tiny_triangles(320), c);
+  const GpuRunResult b = run(tiny_triangles(960), c);
+  EXPECT_EQ(cycles(b) - cycles(a), 640 * ii);
+  EXPECT_EQ(stage_counter(b, "triangle_setup", "busy_cycles") -
+                stage_counter(a, "triangle_setup", "busy_cycles"),
+            static_cast<uint64_t>(640 * ii));
+}
+
+TEST(Cycles, FifoDepthOneExposesSetupLatency) {
+  // With one-entry FIFOs, setup's result holds the FIFO slot from its write
+  // until the distributor can read it, latency(setup) = 16 cycles later; the
+  // next result cannot be written before then. So each triangle costs
+  // max(ii, latency) = 16 cycles instead of ii = 4 with deep FIFOs (depth
+  // 16 holds the 16 / 4 results in flight).
+  const GpuConfig c = setup_bound(1);
+  const int64_t latency = c.stage("triangle_setup").latency;
+  ASSERT_GT(latency, c.stage("triangle_setup").ii);
+  const GpuRunResult a = run(tiny_triangles(320), c);
+  const GpuRunResult b = run(tiny_triangles(960), c);
+  EXPECT_EQ(cycles(b) - cycles(a), 640 * latency);
+}
+
+TEST(Cycles, MemoryBandwidthCapSlowsTheWriteBackAsPredicted) {
+  // The giant triangle with the depth test on: fast clears mean no memory
+  // reads, and the tile caches hold every tile, so the frame's memory traffic
+  // is the 3 vertices (48 bytes) and the final write-back of 256 tiles x 16
+  // rows x 2 buffers (colour rgba8 and depth unorm24: 64 bytes a row), which
+  // keeps the shared bus busy without a gap from the first write-back to the
+  // last. A row takes ceil(64 / bytes_per_cycle) bus cycles: 1 at 64 bytes
+  // per cycle, 4 at 16. The vertex fetch takes ceil(48 / 64) = 1 or
+  // ceil(48 / 16) = 3 cycles, shifting the whole frame by 2.
+  Scene s = clip_space_scene();
+  s.draws.push_back(giant_triangle(true));
+  GpuConfig wide = fill_bound(1);
+  wide.memory = {20, 64};
+  GpuConfig narrow = wide;
+  narrow.memory = {20, 16};
+  const GpuRunResult a = run(s, wide);
+  const GpuRunResult b = run(s, narrow);
+  EXPECT_EQ(cycles(b) - cycles(a), 8192 * (4 - 1) + 2);
+}
+
+TEST(Cycles, RandomStallsAtEveryFifoLeaveTheFrameUnchanged) {
+  for (const char* name : {"default", "states", "clipping", "shared_edges"}) {
+    const Scene s =
+        load_scene(std::string(GPUSIM_SOURCE_DIR) + "/testbench/scenes/" + name + ".json");
+    GpuConfig c;
+    c.units = 3;
+    c.fifo_depth = 2;
+    GpuRunOptions stalled;
+    stalled.stall_probability = 0.3;
+    stalled.stall_max_cycles = 7;
+    stalled.stall_seed = 42;
+    const GpuRunResult calm = run_gpu(s, c, {});
+    const GpuRunResult r = run_gpu(s, c, stalled);
+    ASSERT_TRUE(r.completed) << name;
+    EXPECT_GT(r.cycles, calm.cycles) << name << ": the stalls must cost time";
+    EXPECT_EQ(r.framebuffer, golden::render(s).framebuffer) << name;
+    EXPECT_EQ(r.counts, calm.counts) << name;
+  }
+}
+
+}  // namespace
+}  // namespace gpusim
