@@ -186,6 +186,11 @@ GpuConfig gpu_config_from_json(const nlohmann::json& j, const std::string& sourc
       }
       c.stamp[i] = v;
     }
+    // A stamp's coverage is one 64-bit mask (hw/packets.h).
+    if (c.stamp[0] * c.stamp[1] > 64) {
+      r.fail("stamp", std::to_string(c.stamp[0]) + "x" + std::to_string(c.stamp[1]) +
+                          " has more than 64 pixels");
+    }
   }
   if (j.contains("fifo_depth")) {
     c.fifo_depth = r.get_unsigned(j["fifo_depth"], "fifo_depth", 1, kMaxFifoDepth);

@@ -195,6 +195,7 @@ TEST(GpuConfig, OutOfRangeValues) {
   EXPECT_EQ(error_of(json{{"tile_size", 8}, {"stamp", {4, 16}}}),
             "gpu.json: stamp[1]: 16 exceeds tile_size 8");
   EXPECT_EQ(error_of(json{{"stamp", {4, 3}}}), "gpu.json: stamp[1]: 3 is not a power of two");
+  EXPECT_EQ(error_of(json{{"stamp", {16, 8}}}), "gpu.json: stamp: 16x8 has more than 64 pixels");
   EXPECT_EQ(error_of(json{{"stamp", {0, 4}}}), "gpu.json: stamp[0]: 0 is out of range 1..256");
   EXPECT_EQ(error_of(json{{"fifo_depth", 0}}), "gpu.json: fifo_depth: 0 is out of range 1..65536");
   EXPECT_EQ(error_of(json::parse(R"({"fifo_depths": {"interpolator_to_rop": 0}})")),
