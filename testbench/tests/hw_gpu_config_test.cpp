@@ -217,14 +217,14 @@ TEST(GpuConfig, OutOfRangeValues) {
 
   // Limits themselves are accepted.
   const GpuConfig c = gpu_config_from_json(
-      json::parse(R"({"units": 64, "tile_size": 256, "stamp": [256, 1], "fifo_depth": 1,
+      json::parse(R"({"units": 64, "tile_size": 256, "stamp": [64, 1], "fifo_depth": 1,
                       "stages": {"rop": {"ii": 1, "latency": 0}},
                       "memory": {"latency": 0, "bytes_per_cycle": 1},
                       "vertex_cache_entries": 0, "tile_cache_entries": 1024,
                       "watchdog_cycles": 1})"),
       "gpu.json");
   EXPECT_EQ(c.units, 64u);
-  EXPECT_EQ(c.stamp[0], 256u);
+  EXPECT_EQ(c.stamp[0], 64u);
   EXPECT_EQ(c.vertex_cache_entries, 0u);
   EXPECT_EQ(c.tile_cache_entries, 1024u);
 }
