@@ -57,17 +57,17 @@ Gpu::Gpu(sc_core::sc_module_name name, const GpuConfig& config, const FrameState
   m_units.resize(config.units);
   for (unsigned u = 0; u < config.units; ++u) {
     Unit& unit = m_units[u];
-    unit.jobs = std::make_unique<Fifo<SetupPacket>>(
-        unit_name("distributor_to_rasterizer", u).c_str(),
-        config.fifo_depth_of("distributor_to_rasterizer"));
-    unit.rasterizer = std::make_unique<TileRasterizer>(unit_name("tile_rasterizer", u).c_str(),
-                                                       config, frame, u);
+    unit.jobs =
+        std::make_unique<Fifo<SetupPacket>>(unit_name("distributor_to_rasterizer", u).c_str(),
+                                            config.fifo_depth_of("distributor_to_rasterizer"));
+    unit.rasterizer =
+        std::make_unique<TileRasterizer>(unit_name("tile_rasterizer", u).c_str(), config, frame, u);
     unit.stamps = std::make_unique<Fifo<StampBatch>>(unit_name("rasterizer_to_depth", u).c_str(),
                                                      config.fifo_depth_of("rasterizer_to_depth"));
     unit.depth = std::make_unique<DepthTest>(unit_name("depth_test", u).c_str(), config, frame, u);
-    unit.visible = std::make_unique<Fifo<StampBatch>>(
-        unit_name("depth_to_interpolator", u).c_str(),
-        config.fifo_depth_of("depth_to_interpolator"));
+    unit.visible =
+        std::make_unique<Fifo<StampBatch>>(unit_name("depth_to_interpolator", u).c_str(),
+                                           config.fifo_depth_of("depth_to_interpolator"));
     unit.interpolator =
         std::make_unique<Interpolator>(unit_name("interpolator", u).c_str(), config, frame, u);
     unit.shaded = std::make_unique<Fifo<ShadedStampBatch>>(
@@ -186,8 +186,9 @@ nlohmann::json Gpu::stats_json(uint64_t cycles) const {
   for (unsigned i = 0; i < m_units.size(); ++i) {
     const Unit& u = m_units[i];
     const std::string n = std::to_string(i);
-    stages["tile_rasterizer_" + n] = stage(u.rasterizer->stats(), blocked_cycles(*u.stamps, true, cycle),
-                                           blocked_cycles(*u.jobs, false, cycle));
+    stages["tile_rasterizer_" + n] =
+        stage(u.rasterizer->stats(), blocked_cycles(*u.stamps, true, cycle),
+              blocked_cycles(*u.jobs, false, cycle));
     stages["depth_test_" + n] = stage(u.depth->stats(), blocked_cycles(*u.visible, true, cycle),
                                       blocked_cycles(*u.stamps, false, cycle));
     stages["interpolator_" + n] =

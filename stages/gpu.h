@@ -9,10 +9,9 @@
 //   VertexFetch, every DepthTest and Rop -> Memory (TLM-2.0)
 #pragma once
 
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <systemc>
-
-#include <memory>
 #include <vector>
 
 #include "hw/draw_state.h"

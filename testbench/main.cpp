@@ -1,6 +1,8 @@
 // gpusim: the command line. Subcommands render a scene with a model, or compare
 // frames. Bad input ends in one line on stderr naming the file and the problem
 // and exit status 2; outputs are written all together or not at all.
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <cstdio>
@@ -8,17 +10,16 @@
 #include <iostream>
 #include <map>
 #include <string>
-#include <unistd.h>
 #include <systemc>
 
-#include "testbench/golden/golden_model.h"
+#include "hw/gpu_config.h"
 #include "hw/input_error.h"
+#include "testbench/golden/golden_model.h"
 #include "testbench/io/image_compare.h"
 #include "testbench/io/image_files.h"
 #include "testbench/io/output_file.h"
 #include "testbench/scene/scene.h"
 #include "testbench/sim/gpu_run.h"
-#include "hw/gpu_config.h"
 
 namespace gpusim {
 namespace {
@@ -72,7 +73,8 @@ int run_golden(const std::string& scene_path, const std::string& out_dir) {
 struct RunArgs {
   std::string scene;
   std::string config;
-  unsigned units = 0;  // 0: the configuration's
+  unsigned units = 0;
+  bool units_given = false;  // --units overrides the configuration's
   std::string out_dir = "out";
   bool check = false;
 };
@@ -101,10 +103,10 @@ bool check_against_golden(const Scene& scene, const GpuRunResult& gpu) {
         continue;
       }
       std::printf("check: FAIL: first differing pixel x=%d y=%d\n", x, y);
-      std::printf("  cycle model: %s, last written by primitive %lld\n", pixel_text(a, x, y).c_str(),
-                  static_cast<long long>(gpu.last_writer[p]));
-      std::printf("  golden:      %s, last written by primitive %lld\n", pixel_text(b, x, y).c_str(),
-                  static_cast<long long>(ref.last_writer[p]));
+      std::printf("  cycle model: %s, last written by primitive %lld\n",
+                  pixel_text(a, x, y).c_str(), static_cast<long long>(gpu.last_writer[p]));
+      std::printf("  golden:      %s, last written by primitive %lld\n",
+                  pixel_text(b, x, y).c_str(), static_cast<long long>(ref.last_writer[p]));
       ok = false;
       break;
     }
@@ -128,7 +130,7 @@ bool check_against_golden(const Scene& scene, const GpuRunResult& gpu) {
 int run_cycle_model(const RunArgs& args) {
   const Scene scene = load_scene(args.scene);
   GpuConfig config = args.config.empty() ? GpuConfig{} : load_gpu_config(args.config);
-  if (args.units != 0) {
+  if (args.units_given) {
     nlohmann::json j = to_json(config);
     j["units"] = args.units;
     config = gpu_config_from_json(j, "--units");
@@ -138,26 +140,24 @@ int run_cycle_model(const RunArgs& args) {
   options.progress = isatty(STDERR_FILENO);
   const GpuRunResult result = run_gpu(scene, config, options);
   if (!result.completed) {
-    std::fprintf(stderr, "gpusim: %s: the simulation stopped at cycle %llu before the frame completed\n",
+    std::fprintf(stderr,
+                 "gpusim: %s: the simulation stopped at cycle %llu before the frame completed\n",
                  args.scene.c_str(), static_cast<unsigned long long>(result.cycles));
     return 3;
   }
   // No wall-clock figures in stats.json: the same input gives the same bytes.
   const nlohmann::json stats = {
-      {"model", "cycle"},
-      {"scene", args.scene},
-      {"settings", scene.resolved},
-      {"config", to_json(config)},
-      {"stats", result.counts},
-      {"timing", result.timing},
+      {"model", "cycle"},          {"scene", args.scene},    {"settings", scene.resolved},
+      {"config", to_json(config)}, {"stats", result.counts}, {"timing", result.timing},
   };
   write_frame_outputs(args.out_dir, result.framebuffer, stats);
 
   const double mhz = config.clock_mhz;
-  std::printf("run: %s on %u units: %llu cycles (%.3f ms at %g MHz), simulated in %.3f s (%.3g cycles/s)\n",
-              args.scene.c_str(), config.units, static_cast<unsigned long long>(result.cycles),
-              static_cast<double>(result.cycles) / (mhz * 1e3), mhz, result.wall_seconds,
-              static_cast<double>(result.cycles) / std::max(result.wall_seconds, 1e-9));
+  std::printf(
+      "run: %s on %u units: %llu cycles (%.3f ms at %g MHz), simulated in %.3f s (%.3g cycles/s)\n",
+      args.scene.c_str(), config.units, static_cast<unsigned long long>(result.cycles),
+      static_cast<double>(result.cycles) / (mhz * 1e3), mhz, result.wall_seconds,
+      static_cast<double>(result.cycles) / std::max(result.wall_seconds, 1e-9));
   const nlohmann::json& c = result.counts;
   std::printf("  triangles: %s in, %s culled, %s clipped, %s rasterized\n",
               c["triangles_in"].dump().c_str(), c["triangles_culled"].dump().c_str(),
@@ -221,11 +221,13 @@ int main_with_errors(int argc, char** argv) {
   CLI::App* run_cmd = app.add_subcommand("run", "Simulate the cycle-modeled GPU on a scene");
   run_cmd->add_option("scene", run.scene, "Scene file (JSON, docs/scene-format.md)")->required();
   run_cmd->add_option("--config", run.config, "GPU configuration (JSON, docs/gpu-config.md)");
-  run_cmd->add_option("--units", run.units, "Tile rasterizer units (overrides the configuration)");
+  CLI::Option* units_option = run_cmd->add_option(
+      "--units", run.units, "Tile rasterizer units (overrides the configuration)");
   run_cmd->add_option("--out", run.out_dir, "Output directory for frame.exr, frame.png, stats.json")
       ->capture_default_str();
-  run_cmd->add_flag("--check", run.check,
-                    "Also render with the golden model and compare bit for bit (exit 1 on a difference)");
+  run_cmd->add_flag(
+      "--check", run.check,
+      "Also render with the golden model and compare bit for bit (exit 1 on a difference)");
 
   CompareArgs cmp;
   CLI::App* compare = app.add_subcommand(
@@ -256,7 +258,10 @@ int main_with_errors(int argc, char** argv) {
   }
 
   if (golden->parsed()) return run_golden(scene_path, out_dir);
-  if (run_cmd->parsed()) return run_cycle_model(run);
+  if (run_cmd->parsed()) {
+    run.units_given = units_option->count() > 0;
+    return run_cycle_model(run);
+  }
   if (compare->parsed()) return run_compare(cmp);
   return kExitError;
 }

@@ -12,7 +12,9 @@ namespace {
 
 constexpr uint64_t kAlignment = 64;
 
-uint64_t align(uint64_t v) { return (v + kAlignment - 1) / kAlignment * kAlignment; }
+uint64_t align(uint64_t v) {
+  return (v + kAlignment - 1) / kAlignment * kAlignment;
+}
 
 // Appends bytes at an aligned address and returns that address.
 template <typename T>
@@ -27,11 +29,12 @@ uint64_t append(std::vector<uint8_t>& memory, const T* data, size_t count) {
 class Host : public sc_core::sc_module {
  public:
   SC_HAS_PROCESS(Host);
-  Host(sc_core::sc_module_name name, Gpu& gpu, size_t draws, bool progress,
+  Host(sc_core::sc_module_name name, Gpu& gpu, size_t draws, uint64_t triangles, bool progress,
        sc_core::sc_time cycle)
       : sc_core::sc_module(name),
         m_gpu(gpu),
         m_draws(draws),
+        m_triangles(triangles),
         m_cycle(cycle),
         m_interval(cycle * 100000.0) {
     SC_THREAD(stream);
@@ -44,7 +47,8 @@ class Host : public sc_core::sc_module {
   void stream() {
     Fifo<Command>& q = m_gpu.command_queue();
     q.write(Command{PacketKind::clear, 0});
-    for (size_t i = 0; i < m_draws; ++i) q.write(Command{PacketKind::work, static_cast<uint32_t>(i)});
+    for (size_t i = 0; i < m_draws; ++i)
+      q.write(Command{PacketKind::work, static_cast<uint32_t>(i)});
     q.write(Command{PacketKind::end_of_frame, 0});
     while (!m_gpu.frame_done()) sc_core::wait(m_gpu.unit_done_events());
     finished = sc_core::sc_time_stamp();
@@ -53,19 +57,22 @@ class Host : public sc_core::sc_module {
   }
 
   // Wakes every 100k simulated cycles (a negligible cost) and redraws one
-  // line on the terminal once the run has taken a second.
+  // line on the terminal, at most 5 times a second, once the run has taken a
+  // second.
   void report_progress() {
     const auto start = std::chrono::steady_clock::now();
+    double last = 0.0;
     bool shown = false;
     while (!done) {
       sc_core::wait(m_interval, m_stop);
       const double wall =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      if (wall < 1.0 || done) continue;
+      if (wall < 1.0 || wall - last < 0.2 || done) continue;
+      last = wall;
       const double cycles = sc_core::sc_time_stamp() / m_cycle;
-      std::fprintf(stderr, "\r  %llu triangles assembled, %.3g cycles, %.3g cycles/s   ",
-                   static_cast<unsigned long long>(m_gpu.triangles_assembled()), cycles,
-                   cycles / wall);
+      std::fprintf(stderr, "\r  %llu of %llu triangles assembled, %.3g cycles, %.3g cycles/s   ",
+                   static_cast<unsigned long long>(m_gpu.triangles_assembled()),
+                   static_cast<unsigned long long>(m_triangles), cycles, cycles / wall);
       shown = true;
     }
     if (shown) std::fprintf(stderr, "\n");
@@ -73,6 +80,7 @@ class Host : public sc_core::sc_module {
 
   Gpu& m_gpu;
   size_t m_draws;
+  uint64_t m_triangles;  // assembled triangles in the frame
   sc_core::sc_time m_cycle;
   sc_core::sc_time m_interval;
   sc_core::sc_event m_stop;
@@ -82,8 +90,10 @@ Framebuffer read_framebuffer(Memory& memory, const FrameState& frame) {
   const FramebufferDesc& d = frame.framebuffer;
   Framebuffer fb(d.width, d.height, d.color_format, d.depth_format);
   const size_t pixels = static_cast<size_t>(d.width) * d.height;
-  const uint8_t* c = memory.data(frame.color_address, pixels * color_bytes_per_pixel(d.color_format));
-  const uint8_t* z = memory.data(frame.depth_address, pixels * depth_bytes_per_pixel(d.depth_format));
+  const uint8_t* c =
+      memory.data(frame.color_address, pixels * color_bytes_per_pixel(d.color_format));
+  const uint8_t* z =
+      memory.data(frame.depth_address, pixels * depth_bytes_per_pixel(d.depth_format));
   for (size_t p = 0; p < pixels; ++p) {
     for (int k = 0; k < 4; ++k) {
       if (d.color_format == ColorFormat::rgba8) {
@@ -123,7 +133,8 @@ LoadedFrame load_frame(const Scene& scene) {
   const uint64_t pixels = static_cast<uint64_t>(scene.framebuffer.width) * scene.framebuffer.height;
   f.color_address = 0;
   f.depth_address = align(pixels * color_bytes_per_pixel(scene.framebuffer.color_format));
-  out.memory.resize(f.depth_address + pixels * depth_bytes_per_pixel(scene.framebuffer.depth_format));
+  out.memory.resize(f.depth_address +
+                    pixels * depth_bytes_per_pixel(scene.framebuffer.depth_format));
 
   int64_t next_primitive = 0;
   for (const Draw& d : scene.draws) {
@@ -179,7 +190,9 @@ GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOp
     gpu.inject_random_stalls(options.stall_seed, options.stall_probability,
                              options.stall_max_cycles);
   }
-  Host host("host", gpu, scene.draws.size(), options.progress, config.cycle());
+  uint64_t triangles = 0;
+  for (const Draw& d : scene.draws) triangles += triangle_count(d.primitive, d.vertex_count());
+  Host host("host", gpu, scene.draws.size(), triangles, options.progress, config.cycle());
 
   const auto start = std::chrono::steady_clock::now();
   sc_core::sc_start();

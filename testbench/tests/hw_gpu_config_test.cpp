@@ -258,7 +258,7 @@ TEST(GpuConfig, FileErrorsAndComments) {
 }
 
 TEST(GpuConfig, DefaultFileHoldsEveryDefault) {
-  const std::string path = std::string(GPUSIM_SOURCE_DIR) + "/configs/default.json";
+  const std::string path = std::string(GPUSIM_SOURCE_DIR) + "/testbench/configs/default.json";
   EXPECT_EQ(load_gpu_config(path), GpuConfig());
   // Not only equal once loaded: the file spells out every value.
   std::ifstream in(path);

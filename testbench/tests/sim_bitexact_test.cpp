@@ -55,15 +55,15 @@ void expect_same_frame(const Framebuffer& got, const Framebuffer& want,
   for (int y = 0; y < got.height; ++y) {
     for (int x = 0; x < got.width; ++x) {
       const size_t p = got.pixel_index(x, y);
-      const bool same = std::equal(got.color_at(x, y), got.color_at(x, y) + 4,
-                                   want.color_at(x, y)) &&
-                        got.depth[p] == want.depth[p];
+      const bool same =
+          std::equal(got.color_at(x, y), got.color_at(x, y) + 4, want.color_at(x, y)) &&
+          got.depth[p] == want.depth[p];
       if (same) continue;
       if (differing++ == 0) {
-        first << "first at x=" << x << " y=" << y << ": cycle model colour " << got.color_at(x, y)[0]
-              << "," << got.color_at(x, y)[1] << "," << got.color_at(x, y)[2] << ","
-              << got.color_at(x, y)[3] << " depth " << got.depth[p] << " (primitive "
-              << got_writer[p] << "), golden " << want.color_at(x, y)[0] << ","
+        first << "first at x=" << x << " y=" << y << ": cycle model colour "
+              << got.color_at(x, y)[0] << "," << got.color_at(x, y)[1] << ","
+              << got.color_at(x, y)[2] << "," << got.color_at(x, y)[3] << " depth " << got.depth[p]
+              << " (primitive " << got_writer[p] << "), golden " << want.color_at(x, y)[0] << ","
               << want.color_at(x, y)[1] << "," << want.color_at(x, y)[2] << ","
               << want.color_at(x, y)[3] << " depth " << want.depth[p] << " (primitive "
               << want_writer[p] << ")";
@@ -87,7 +87,8 @@ TEST(CoveringArray, CoversEveryValueAndEveryPair) {
   const size_t sizes[4] = {kUnits.size(), kFifoDepths.size(), kTileSizes.size(), kStamps.size()};
   int k = 0;
   for (int a = 0; a < 4; ++a) {
-    for (int b = a + 1; b < 4; ++b) EXPECT_EQ(pairs[k++].size(), sizes[a] * sizes[b]) << a << "," << b;
+    for (int b = a + 1; b < 4; ++b)
+      EXPECT_EQ(pairs[k++].size(), sizes[a] * sizes[b]) << a << "," << b;
   }
 }
 
@@ -119,13 +120,12 @@ std::string case_name(const ::testing::TestParamInfo<Case>& info) {
   return os.str();
 }
 
-INSTANTIATE_TEST_SUITE_P(Scenes, BitExact,
-                         ::testing::Combine(::testing::Values("default", "spider",
-                                                              "quad_clipspace", "tiny_triangles",
-                                                              "shared_edges", "clipping",
-                                                              "zfight_offset", "states"),
-                                            ::testing::Range(0, 18)),
-                         case_name);
+INSTANTIATE_TEST_SUITE_P(
+    Scenes, BitExact,
+    ::testing::Combine(::testing::Values("default", "spider", "quad_clipspace", "tiny_triangles",
+                                         "shared_edges", "clipping", "zfight_offset", "states"),
+                       ::testing::Range(0, 18)),
+    case_name);
 
 }  // namespace
 }  // namespace gpusim

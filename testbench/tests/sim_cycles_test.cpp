@@ -62,7 +62,9 @@ uint64_t stage_counter(const GpuRunResult& r, const std::string& stage, const ch
   return r.timing.at("stages").at(stage).at(name).get<uint64_t>();
 }
 
-int64_t cycles(const GpuRunResult& r) { return static_cast<int64_t>(r.cycles); }
+int64_t cycles(const GpuRunResult& r) {
+  return static_cast<int64_t>(r.cycles);
+}
 
 TEST(Cycles, FullScreenQuadOnOneUnit) {
   // Two triangles splitting the 256x256 screen along its diagonal. With 16x16
@@ -75,8 +77,8 @@ TEST(Cycles, FullScreenQuadOnOneUnit) {
   // stamps it crosses are emitted by both triangles: 4096 + 64 stamps, and
   // every one of the 65536 pixels exactly once.
   Scene s = clip_space_scene();
-  s.draws.push_back(triangles({{-1, -1, 0, 1}, {1, -1, 0, 1}, {1, 1, 0, 1},
-                               {-1, -1, 0, 1}, {1, 1, 0, 1}, {-1, 1, 0, 1}}));
+  s.draws.push_back(triangles(
+      {{-1, -1, 0, 1}, {1, -1, 0, 1}, {1, 1, 0, 1}, {-1, -1, 0, 1}, {1, 1, 0, 1}, {-1, 1, 0, 1}}));
   const GpuRunResult r = run(s, fill_bound(1));
   EXPECT_EQ(stage_counter(r, "tile_rasterizer_0", "busy_cycles"), 4864u + 2u);
   EXPECT_EQ(stage_counter(r, "tile_rasterizer_0", "stamps_emitted"), 4096u + 64u);
@@ -115,8 +117,8 @@ TEST(Cycles, UnitsDivideTheRasterizerCycles) {
           << n << " units, unit " << u;
     }
     const GpuConfig& c = fill_bound(n);
-    const int64_t gap = c.stage("interpolator").ii + c.stage("interpolator").latency +
-                        c.stage("rop").latency;
+    const int64_t gap =
+        c.stage("interpolator").ii + c.stage("interpolator").latency + c.stage("rop").latency;
     ASSERT_EQ(gap, 11);
     EXPECT_EQ(cycles(one) - cycles(r), (1 + 4352) - static_cast<int64_t>(n + 4352 / n) + gap)
         << n << " units";
