@@ -1,0 +1,829 @@
+#!/usr/bin/python3
+"""Writes the regression scenes in testbench/scenes/regress/ (deterministic:
+every scene has its own fixed seed, so running it again gives the same
+files). A scene's category, the sections of docs/pipeline-spec.md it
+exercises and its description live here (SCENES), not in the scene file;
+scripts/regress imports them for its report, and --table prints them as the
+Markdown table of docs/validation.md. The reference images
+(testbench/references/) come from scripts/make_references.
+
+usage: scripts/gen/make_regress_scenes.py [--table]
+"""
+import json
+import math
+import os
+import random
+import re
+import sys
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+OUT = os.path.join(ROOT, "testbench", "scenes", "regress")
+MODELS = "/usr/share/assimp/models"
+
+SCENES = []  # (name, category, spec sections, description, scene)
+
+
+def scene(name, category, sections, description):
+    def register(fn):
+        SCENES.append((name, category, sections, description, fn))
+        return fn
+    return register
+
+
+def r(x):
+    """Rounds to 6 decimals, so files stay readable; the loader reads floats."""
+    v = round(x, 6)
+    return 0.0 if v == 0 else v
+
+
+def rcol(rng, alpha=1.0):
+    return [r(rng.random()), r(rng.random()), r(rng.random()), alpha]
+
+
+def clip_x(px, width):
+    """Clip-space x (w = 1) of window x px: exact for multiples of 1/256."""
+    return px / (width / 2.0) - 1.0
+
+
+def quad_strip(x0, y0, x1, y1, z=0.0):
+    return [[x0, y0, z], [x1, y0, z], [x0, y1, z], [x1, y1, z]]
+
+
+# ---------------------------------------------------------------- real meshes
+
+@scene("mesh_wuson_lit", "mesh", "2, 7, 9, 11",
+       "WusonOBJ.obj lit by a directional and an attenuated point light with specular highlights, "
+       "back faces culled, perspective camera, unorm24 depth")
+def mesh_wuson_lit():
+    return {
+        "framebuffer": {"width": 256, "height": 256, "clear_color": [0.1, 0.1, 0.15, 1]},
+        "camera": {"type": "perspective", "fovy": 40, "near": 1, "far": 20,
+                   "eye": [3.2, 2.2, 3.6], "target": [0, 0.7, 0]},
+        "ambient": [0.15, 0.15, 0.15, 1],
+        "lights": [
+            {"type": "directional", "direction": [-0.5, -1, -0.3], "diffuse": [0.8, 0.75, 0.7, 1],
+             "specular": [1, 1, 1, 1]},
+            {"type": "point", "position": [-1.5, 2.0, 2.0], "diffuse": [0.3, 0.4, 0.9, 1],
+             "ambient": [0.05, 0.05, 0.1, 1], "attenuation": [0.5, 0.2, 0.05]},
+        ],
+        "draws": [{"mesh": MODELS + "/OBJ/WusonOBJ.obj",
+                   "material": {"color": [0.8, 0.6, 0.4, 1], "specular": [0.6, 0.6, 0.6, 1],
+                                "shininess": 24},
+                   "state": {"cull": "back"}}],
+    }
+
+
+@scene("mesh_spider_materials", "mesh", "2, 8, 11",
+       "spider.obj with the materials of its .mtl (4 meshes), orthographic camera, no culling, "
+       "non-square 256x192")
+def mesh_spider_materials():
+    return {
+        "framebuffer": {"width": 256, "height": 192, "clear_color": [0.9, 0.9, 0.85, 1]},
+        "camera": {"type": "orthographic", "left": -125, "right": 125, "bottom": -94, "top": 94,
+                   "near": -300, "far": 300, "eye": [1, 1.2, 1.5], "target": [0, 0, 0]},
+        "lights": [{"type": "directional", "direction": [0.3, -1, -0.6]}],
+        "draws": [{"mesh": MODELS + "/OBJ/spider.obj"}],
+    }
+
+
+@scene("mesh_truck_float_depth", "mesh", "2, 9, 11, 12",
+       "CesiumMilkTruck (glTF 1) lit, float32 depth, rgba16f colour, perspective, 256x160")
+def mesh_truck_float_depth():
+    return {
+        "framebuffer": {"width": 256, "height": 160, "color_format": "rgba16f",
+                        "depth_format": "float32", "clear_color": [0.2, 0.3, 0.4, 1]},
+        "camera": {"type": "perspective", "fovy": 35, "near": 2, "far": 30,
+                   "eye": [5.5, 3.5, 6.5], "target": [0, 1, 0]},
+        "lights": [{"type": "directional", "direction": [-1, -1.5, -0.5], "specular": [0.5, 0.5, 0.5, 1]},
+                   {"type": "point", "position": [0, 5, 3], "diffuse": [0.6, 0.6, 0.5, 1],
+                    "attenuation": [1, 0.05, 0.01]}],
+        "draws": [{"mesh": MODELS + "/glTF/CesiumMilkTruck/CesiumMilkTruck.gltf",
+                   "state": {"cull": "back"}}],
+    }
+
+
+@scene("mesh_engine_dense", "mesh", "6, 7, 8, 11",
+       "2CylinderEngine.glb: 121k triangles in 34 meshes at 256x256, most of them pixel-sized or "
+       "smaller (snapping, degenerate triangles, sub-pixel coverage), unorm16 depth")
+def mesh_engine_dense():
+    return {
+        "framebuffer": {"width": 256, "height": 256, "depth_format": "unorm16",
+                        "clear_color": [0, 0, 0, 1]},
+        "camera": {"type": "perspective", "fovy": 45, "near": 200, "far": 2000,
+                   "eye": [500, 350, 700], "target": [0, -40, 0]},
+        "lights": [{"type": "directional", "direction": [-0.4, -1, -0.7]},
+                   {"type": "directional", "direction": [1, 0.2, 0.3], "diffuse": [0.3, 0.3, 0.5, 1]}],
+        "draws": [{"mesh": MODELS + "/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb"}],
+    }
+
+
+@scene("mesh_duck_cull_front", "mesh", "7, 11",
+       "duck.dae (Collada) with cull front and front_face cw: the mesh's clockwise faces are "
+       "the front ones, so its back faces go; point light; 200x200")
+def mesh_duck_cull_front():
+    return {
+        "framebuffer": {"width": 200, "height": 200, "clear_color": [0.05, 0.1, 0.05, 1]},
+        "camera": {"type": "perspective", "fovy": 50, "near": 0.5, "far": 10,
+                   "eye": [1.6, 1.6, 2.2], "target": [0.1, 0.8, 0]},
+        "lights": [{"type": "point", "position": [1, 3, 2], "attenuation": [1, 0.1, 0.0]}],
+        "draws": [{"mesh": MODELS + "/Collada/duck.dae",
+                   "material": {"color": [0.9, 0.8, 0.2, 1], "specular": [0.4, 0.4, 0.4, 1],
+                                "shininess": 10},
+                   "state": {"cull": "front", "front_face": "cw"}}],
+    }
+
+
+@scene("mesh_terrain_flat", "mesh", "2, 3, 9",
+       "fels.3ds terrain, flat shading (provoking = last vertex) with lighting, odd size 255x201")
+def mesh_terrain_flat():
+    return {
+        "framebuffer": {"width": 255, "height": 201, "clear_color": [0.5, 0.6, 0.9, 1]},
+        "camera": {"type": "perspective", "fovy": 55, "near": 0.5, "far": 20,
+                   "eye": [-0.5, -5.5, 4.5], "target": [-0.4, 0, 0.8], "up": [0, 0, 1]},
+        "lights": [{"type": "directional", "direction": [0.5, 0.8, -1]}],
+        "draws": [{"mesh": MODELS + "/3DS/fels.3ds",
+                   "material": {"color": [0.6, 0.55, 0.45, 1]},
+                   "state": {"shading": "flat"}}],
+    }
+
+
+@scene("mesh_sphere_translucent", "mesh", "2, 11, 12",
+       "sphereWithHole.stl twice: opaque, then translucent (src_alpha, one_minus_src_alpha, depth "
+       "writes off) and scaled so it intersects; rgba8")
+def mesh_sphere_translucent():
+    return {
+        "framebuffer": {"width": 192, "height": 192, "clear_color": [0, 0, 0, 1]},
+        "camera": {"type": "perspective", "fovy": 45, "near": 1, "far": 20,
+                   "eye": [5, 4, 6], "target": [1.5, 1.5, 1.5]},
+        "lights": [{"type": "directional", "direction": [-1, -1, -1], "specular": [1, 1, 1, 1]}],
+        "draws": [
+            {"mesh": MODELS + "/STL/sphereWithHole.stl",
+             "material": {"color": [0.2, 0.5, 0.9, 1], "specular": [0.8, 0.8, 0.8, 1], "shininess": 40}},
+            {"mesh": MODELS + "/STL/sphereWithHole.stl",
+             "transform": {"translate": [0.8, 0.6, 0.3], "scale": 0.8},
+             "material": {"color": [0.9, 0.3, 0.2, 0.45]},
+             "state": {"depth_write": False, "cull": "back",
+                       "blend": {"src": "src_alpha", "dst": "one_minus_src_alpha"}}},
+        ],
+    }
+
+
+# ------------------------------------------------------ rasterization stress
+
+@scene("fan_pinwheel", "fill rule", "3, 8",
+       "fans of 8 to 96 thin triangles around centres on and off pixel centres, additively blended "
+       "(one, one) onto black: a pixel covered twice or a gap shows; 251x199")
+def fan_pinwheel():
+    rng = random.Random(11)
+    w, h = 251, 199
+    draws = []
+    centres = [(125.5, 99.5), (40.0, 40.0), (200.25, 150.75), (60.5, 160.0), (190.0, 45.5)]
+    for k, (cx, cy) in enumerate(centres):
+        n = [96, 8, 33, 17, 64][k]
+        radius = [90, 35, 45, 30, 40][k]
+        pos = [[r(clip_x(cx, w)), r(clip_x(cy, h)), 0, 1]]
+        for i in range(n + 1):
+            a = 2 * math.pi * (i % n) / n + 0.1 * k
+            rad = radius * (1 if i % 2 else rng.uniform(0.7, 1))
+            pos.append([r(clip_x(cx + rad * math.cos(a), w)), r(clip_x(cy + rad * math.sin(a), h)), 0, 1])
+        draws.append({"primitive": "triangle_fan", "positions": pos,
+                      "colors": [[0.25, 0.125, 0.0625, 0.25]] * len(pos),
+                      "state": {"depth_test": "off", "blend": {"src": "one", "dst": "one"}}})
+    return {"framebuffer": {"width": w, "height": h, "clear_color": [0, 0, 0, 0]}, "draws": draws}
+
+
+@scene("slivers_needles", "fill rule", "6, 7, 8",
+       "600 random slivers (one vertex almost on the opposite edge) and needles (long, under a "
+       "pixel wide) in every direction, Gouraud colours, depth lequal, unorm24")
+def slivers_needles():
+    rng = random.Random(21)
+    w = h = 160
+    pos, col = [], []
+    for i in range(600):
+        cx, cy = rng.uniform(0, w), rng.uniform(0, h)
+        length = rng.uniform(4, 120)
+        a = rng.uniform(0, 2 * math.pi)
+        dx, dy = math.cos(a) * length / 2, math.sin(a) * length / 2
+        width = rng.uniform(0.01, 1.2) if i % 2 else rng.uniform(0.0005, 0.05)
+        t = rng.uniform(0.1, 0.9)
+        ox, oy = -math.sin(a) * width, math.cos(a) * width
+        pts = [(cx - dx, cy - dy), (cx + dx, cy + dy),
+               (cx - dx + 2 * t * dx + ox, cy - dy + 2 * t * dy + oy)]
+        for (x, y) in pts:
+            pos.append([r(clip_x(x, w)), r(clip_x(y, h)), r(rng.uniform(-0.9, 0.9)), 1])
+            col.append(rcol(rng))
+    return {"framebuffer": {"width": w, "height": h, "clear_color": [0, 0, 0, 1]},
+            "draws": [{"primitive": "triangles", "positions": pos, "colors": col,
+                       "state": {"depth_test": "lequal"}}]}
+
+
+@scene("tiny_subpixel", "fill rule", "6, 7, 8",
+       "1-pixel and sub-pixel triangles: random ones of 1/16 to 2 pixels, and small triangles "
+       "placed exactly on pixel centres and 1/256 either side, both windings; degenerate ones "
+       "(zero area after snapping)")
+def tiny_subpixel():
+    rng = random.Random(31)
+    w, h = 128, 128
+    pos, col = [], []
+
+    def add(pts, z=0.0, exact=False):
+        # exact: on the subpixel grid, written unrounded (the values are
+        # multiples of 2^-14, exact in float, and clip -> window is exact at 128x128).
+        for (x, y) in pts:
+            if exact:
+                pos.append([clip_x(x, w), clip_x(y, h), z, 1])
+            else:
+                pos.append([r(clip_x(x, w)), r(clip_x(y, h)), z, 1])
+            col.append(rcol(rng))
+
+    for _ in range(800):
+        cx, cy = rng.uniform(0, w), rng.uniform(0, h)
+        s = 2.0 ** rng.uniform(-4, 1)
+        add([(cx + s * rng.uniform(-1, 1), cy + s * rng.uniform(-1, 1)) for _ in range(3)],
+            r(rng.uniform(-0.5, 0.5)))
+    # On the subpixel grid around pixel centres: offsets of -1, 0, +1 subpixel.
+    step = 1 / 256
+    for j in range(16):
+        for i in range(16):
+            px, py = 4 + i * 7 + 0.5, 4 + j * 7 + 0.5
+            ox = ((i % 3) - 1) * step
+            oy = ((j % 3) - 1) * step
+            size = [0.5, 1.0, 0.25, 2.0][(i + j) % 4]
+            tri = [(px + ox, py + oy), (px + ox + size, py + oy), (px + ox, py + oy + size)]
+            if (i + j) % 2:
+                tri = [tri[0], tri[2], tri[1]]  # clockwise
+            if (i * j) % 5 == 4:
+                tri = [(px + ox - size, py + oy), (px + ox, py + oy), (px + ox, py + oy - size)]
+            add(tri, exact=True)
+    # Degenerate after snapping: three points within one subpixel cell.
+    for k in range(20):
+        x, y = 10 + k * 5.3, 50.2
+        add([(x, y), (x + 0.001, y), (x, y + 0.001)], exact=True)
+    return {"framebuffer": {"width": w, "height": h, "depth_format": "unorm16",
+                            "clear_color": [0, 0, 0, 1]},
+            "draws": [{"primitive": "triangles", "positions": pos, "colors": col,
+                       "state": {"depth_test": "always"}}]}
+
+
+@scene("fullscreen_huge", "clipping", "4, 5, 8",
+       "a full-screen triangle, quads as big as the viewport, a triangle reaching 20000 pixels out "
+       "(inside the guard band: not clipped by the spec) and one far beyond the guard band "
+       "(clipped by the spec), flat and Gouraud")
+def fullscreen_huge():
+    w, h = 200, 150
+    return {
+        "framebuffer": {"width": w, "height": h, "clear_color": [0, 0, 0, 1]},
+        "draws": [
+            {"positions": [[-1, -1, 0.9], [3, -1, 0.9], [-1, 3, 0.9]],
+             "colors": [[1, 0, 0, 1], [0, 1, 0, 1], [0, 0, 1, 1]]},
+            {"positions": [[-150, -0.8, 0.5], [199, -0.7, 0.2], [0.2, 230, -0.3]],
+             "colors": [[0.9, 0.9, 0.2, 1], [0.2, 0.9, 0.9, 1], [0.9, 0.2, 0.9, 1]],
+             "state": {"depth_test": "lequal"}},
+            {"positions": [[-2000, -900, 0.1, 1], [3000, -700, 0.1, 1], [-0.3, 0.6, 0.1, 1]],
+             "colors": [[0.3, 0.3, 0.3, 1], [0.8, 0.5, 0.1, 1], [0.1, 0.6, 0.3, 1]],
+             "state": {"depth_test": "lequal", "shading": "flat"}},
+            {"primitive": "triangle_strip", "positions": quad_strip(-0.5, -1.0, 1.0, 0.25, -0.5),
+             "colors": [[0, 0, 0, 1], [1, 1, 1, 1], [1, 0, 0, 1], [0, 0, 1, 1]],
+             "state": {"depth_test": "lequal", "blend": {"src": "one", "dst": "one"}}},
+        ],
+    }
+
+
+@scene("grid_shared_edges", "fill rule", "7, 8",
+       "a 16x8 grid of jittered quads (indexed triangles sharing every edge) plus exact "
+       "horizontal and vertical edges through pixel centres, additively blended: every pixel "
+       "exactly once")
+def grid_shared_edges():
+    rng = random.Random(41)
+    w, h = 256, 128
+    n, m = 16, 8
+    pos, idx = [], []
+    for j in range(m + 1):
+        for i in range(n + 1):
+            x, y = i * w / n, j * h / m
+            if 0 < i < n and 0 < j < m:
+                x += rng.uniform(-4, 4)
+                y += rng.uniform(-4, 4)
+            pos.append([r(clip_x(x, w)), r(clip_x(y, h)), 0.5, 1])
+    for j in range(m):
+        for i in range(n):
+            a = j * (n + 1) + i
+            if (i + j) % 2:
+                idx += [a, a + 1, a + n + 2, a, a + n + 2, a + n + 1]
+            else:
+                idx += [a, a + 1, a + n + 1, a + 1, a + n + 2, a + n + 1]
+    # Axis-aligned quads whose edges run exactly through pixel centres.
+    axis = []
+    for k in range(8):
+        x0, y0 = 10.5 + 30 * k, 20.5 + 3 * k
+        x1, y1 = x0 + 12 + k, y0 + 80
+        p = lambda x, y: [clip_x(x, w), clip_x(y, h), 0.2, 1]  # exact: 2^-7 multiples
+        axis += [p(x0, y0), p(x1, y0), p(x1, y1), p(x0, y0), p(x1, y1), p(x0, y1)]
+    additive = {"depth_test": "off", "blend": {"src": "one", "dst": "one"}}
+    return {
+        "framebuffer": {"width": w, "height": h, "clear_color": [0, 0, 0, 0]},
+        "draws": [
+            {"positions": pos, "indices": idx, "colors": [[0.25, 0.25, 0.25, 0.25]] * len(pos),
+             "state": additive},
+            {"positions": axis, "colors": [[0.0, 0.3, 0.5, 0.25]] * len(axis), "state": additive},
+        ],
+    }
+
+
+@scene("snapping_ties", "fill rule", "6, 8",
+       "300 triangles whose vertices lie exactly halfway between subpixels (k/256 + 1/512 or "
+       "3/512: ties to even, both directions), at 128x64 so that clip -> window is exact")
+def snapping_ties():
+    rng = random.Random(51)
+    w, h = 128, 64
+    pos, col = [], []
+    for _ in range(300):
+        cx, cy = rng.randrange(2, w - 8), rng.randrange(2, h - 8)
+        pts = []
+        for _ in range(3):
+            sx = cx + rng.randrange(0, 6 * 256) / 256 + (rng.choice([1, 3]) / 512)
+            sy = cy + rng.randrange(0, 6 * 256) / 256 + (rng.choice([1, 3]) / 512)
+            pts.append((sx, sy))
+        for (x, y) in pts:
+            pos.append([clip_x(x, w), clip_x(y, h), 0, 1])
+            col.append(rcol(rng))
+    return {"framebuffer": {"width": w, "height": h, "clear_color": [0, 0, 0, 1]},
+            "draws": [{"positions": pos, "colors": col, "state": {"depth_test": "off"}}]}
+
+
+# ------------------------------------------------------------------- depth
+
+def zfight_planes(depth_format, offset_a, offset_b):
+    quad = quad_strip(-1, -1, 1, 1)
+
+    def plane(color, state, scale=1.0):
+        return {"primitive": "triangle_strip", "positions": quad, "colors": [color] * 4,
+                "transform": {"rotate": [[55, 1, 0, 0], [30, 0, 1, 0]], "translate": [0, 0, -3.2],
+                              "scale": scale},
+                "state": state}
+    return {
+        "framebuffer": {"width": 160, "height": 160, "depth_format": depth_format,
+                        "clear_color": [0, 0, 0, 1]},
+        "camera": {"type": "perspective", "fovy": 60, "near": 1, "far": 20},
+        "draws": [
+            plane([0.8, 0.2, 0.2, 1], {"depth_test": "less"}),
+            plane([0.2, 0.8, 0.2, 1], {"depth_test": "less"}),  # coplanar, loses everywhere
+            # The same triangles again: equal passes everywhere, in any arithmetic.
+            plane([0.9, 0.5, 0.9, 1], {"depth_test": "equal", "depth_write": False,
+                                       "color_mask": [True, False, True, False]}),
+            plane([0.9, 0.9, 0.2, 1], {"depth_test": "less", "polygon_offset": offset_a}, 0.7),
+            plane([0.2, 0.3, 0.9, 1], {"depth_test": "lequal", "polygon_offset": offset_b}, 0.4),
+        ],
+    }
+
+
+@scene("zfight_coplanar", "depth", "9, 11",
+       "coplanar planes without polygon offset: the same triangles again lose with less, win "
+       "with lequal and equal (also submitted as another primitive type); unorm24")
+def zfight_coplanar():
+    quad = quad_strip(-1, -1, 1, 1)
+    tf = {"rotate": [[-50, 1, 0, 0], [20, 0, 0, 1]], "translate": [0, 0, -3]}
+    return {
+        "framebuffer": {"width": 160, "height": 120, "clear_color": [0, 0, 0, 1]},
+        "camera": {"type": "perspective", "fovy": 60, "near": 1, "far": 10},
+        "draws": [
+            {"primitive": "triangle_strip", "positions": quad, "colors": [[0.8, 0.1, 0.1, 1]] * 4,
+             "transform": tf},
+            {"primitive": "triangle_strip", "positions": quad, "colors": [[0.1, 0.8, 0.1, 1]] * 4,
+             "transform": tf, "state": {"depth_test": "less"}},
+            # The strip's second triangle again, as a list: lequal passes all over it.
+            {"primitive": "triangles", "positions": [[-1, 1, 0], [1, -1, 0], [1, 1, 0]],
+             "colors": [[0.1, 0.1, 0.8, 1]] * 3, "transform": tf, "state": {"depth_test": "lequal"}},
+            # The strip's first triangle again with equal and no depth writes.
+            {"primitive": "triangles", "positions": [[-1, -1, 0], [1, -1, 0], [-1, 1, 0]],
+             "colors": [[0.9, 0.9, 0.9, 1], [0.9, 0.2, 0.9, 1], [0.2, 0.9, 0.9, 1]], "transform": tf,
+             "state": {"depth_test": "equal", "depth_write": False}},
+        ],
+    }
+
+
+@scene("zfight_offset_unorm16", "depth", "10, 11",
+       "coplanar planes separated by polygon offset (factor and units, positive and negative), "
+       "unorm16 depth")
+def zfight_offset_unorm16():
+    return zfight_planes("unorm16", [-1, -2], [-1, -8])
+
+
+@scene("zfight_offset_unorm24", "depth", "10, 11",
+       "coplanar planes separated by polygon offset, unorm24 depth")
+def zfight_offset_unorm24():
+    return zfight_planes("unorm24", [-2, -1], [-3, 0])
+
+
+@scene("zfight_offset_float32", "depth", "10, 11",
+       "coplanar planes separated by polygon offset, float32 depth (r from the exponent of the "
+       "largest z)")
+def zfight_offset_float32():
+    return zfight_planes("float32", [-1, -4], [-1, -2000])
+
+
+@scene("depth_funcs", "depth", "11",
+       "every depth function (never .. always, off) and depth_write false on interpenetrating "
+       "tilted quads over a sloped background; clear depth 0.75; unorm24")
+def depth_funcs():
+    rng = random.Random(61)
+    funcs = ["never", "less", "equal", "lequal", "greater", "notequal", "gequal", "always", "off"]
+    draws = [{"primitive": "triangle_strip",
+              "positions": [[-1, -1, -0.6], [1, -1, 0.2], [-1, 1, 0.4], [1, 1, 0.9]],
+              "colors": [[0.3, 0.3, 0.3, 1]] * 4}]
+    for k, f in enumerate(funcs):
+        cx, cy = -0.66 + 0.66 * (k % 3), -0.66 + 0.66 * (k // 3)
+        for layer in range(2):
+            z0, z1 = r(rng.uniform(-0.8, 0.8)), r(rng.uniform(-0.8, 0.8))
+            s = 0.28 - 0.06 * layer
+            draws.append({"primitive": "triangle_strip",
+                          "positions": [[r(cx - s), r(cy - s), z0], [r(cx + s), r(cy - s), z1],
+                                        [r(cx - s), r(cy + s), z1], [r(cx + s), r(cy + s), z0]],
+                          "colors": [rcol(rng) for _ in range(4)],
+                          "state": {"depth_test": f, "depth_write": layer == 0 or k % 2 == 0}})
+    return {"framebuffer": {"width": 150, "height": 150, "clear_color": [0, 0, 0, 1],
+                            "clear_depth": 0.75},
+            "draws": draws}
+
+
+@scene("interpenetrating_unorm16", "depth", "9, 11",
+       "five planes through one another at different angles in unorm16: the intersection "
+       "lines depend on depth interpolation and rounding")
+def interpenetrating_unorm16():
+    rng = random.Random(71)
+    draws = []
+    for k in range(5):
+        a = k * 36
+        draws.append({"primitive": "triangle_strip", "positions": quad_strip(-1.2, -0.6, 1.2, 0.6),
+                      "colors": [rcol(rng) for _ in range(4)],
+                      "transform": {"rotate": [[a, 0, 1, 0], [15 * k - 30, 1, 0, 0]],
+                                    "translate": [0, 0, -3]}})
+    return {"framebuffer": {"width": 192, "height": 128, "depth_format": "unorm16",
+                            "clear_color": [0.1, 0.1, 0.1, 1]},
+            "camera": {"type": "perspective", "fovy": 50, "near": 1, "far": 8},
+            "draws": draws}
+
+
+@scene("clear_only", "depth", "11, 12",
+       "no draws: the clear colour and clear depth (0.3) in unorm16, with colour values that are "
+       "not multiples of 1/255")
+def clear_only():
+    return {"framebuffer": {"width": 64, "height": 48, "depth_format": "unorm16",
+                            "clear_color": [0.3, 0.6, 0.123, 0.77], "clear_depth": 0.3},
+            "draws": []}
+
+
+# ---------------------------------------------------------------- clipping
+
+@scene("near_plane", "clipping", "4, 5, 9",
+       "triangles crossing the near plane at grazing and steep angles, a ground plane through it, "
+       "perspective-correct colours on the cut; float32 depth")
+def near_plane():
+    rng = random.Random(81)
+    tris, col = [], []
+    for _ in range(12):
+        cx, cy = rng.uniform(-1.5, 1.5), rng.uniform(-1, 1)
+        for k in range(3):
+            tris.append([r(cx + rng.uniform(-1.5, 1.5)), r(cy + rng.uniform(-1, 1)),
+                         r(rng.uniform(-6, 0.3))])
+            col.append(rcol(rng))
+    return {
+        "framebuffer": {"width": 160, "height": 120, "depth_format": "float32",
+                        "clear_color": [0.05, 0.05, 0.1, 1]},
+        "camera": {"type": "perspective", "fovy": 70, "near": 0.5, "far": 40},
+        "draws": [
+            {"primitive": "triangle_strip",
+             "positions": [[-30, -1, 5], [30, -1, 5], [-30, -1, -30], [30, -1, -30]],
+             "colors": [[0.9, 0.1, 0.1, 1], [0.1, 0.9, 0.1, 1], [0.1, 0.1, 0.9, 1], [0.9, 0.9, 0.1, 1]]},
+            {"positions": tris, "colors": col, "state": {"depth_test": "lequal"}},
+        ],
+    }
+
+
+@scene("frustum_planes", "clipping", "4, 5",
+       "triangles crossing each frustum plane: left, right, bottom and top are inside the guard "
+       "band (not clipped: coverage exact), far is clipped; orthographic camera")
+def frustum_planes():
+    col = [[1, 0.2, 0.2, 1], [0.2, 1, 0.2, 1], [0.2, 0.2, 1, 1]]
+    draws = []
+    for (pts) in ([[-1.6, -0.2, -1], [-0.5, 0.1, -1], [-1.4, 0.6, -1]],    # left
+                  [[1.7, -0.5, -2], [0.6, -0.3, -2], [1.3, 0.4, -2]],      # right
+                  [[-0.4, -1.5, -3], [0.2, -1.4, -3], [0.0, -0.6, -3]],    # bottom
+                  [[-0.3, 1.6, -4], [0.1, 0.7, -4], [0.5, 1.8, -4]],       # top
+                  [[-0.5, -0.5, -1], [0.5, -0.4, -12], [0.0, 0.5, -6]],    # far
+                  [[-3, -3, -5], [3, -3, -5], [0, 3, -5]]):                # all four
+        draws.append({"positions": pts, "colors": col, "state": {"depth_test": "lequal"}})
+    return {"framebuffer": {"width": 160, "height": 160, "clear_color": [0, 0, 0, 1]},
+            "camera": {"type": "orthographic", "left": -1, "right": 1, "bottom": -1, "top": 1,
+                       "near": 0.5, "far": 8},
+            "draws": draws}
+
+
+@scene("behind_eye", "clipping", "4",
+       "triangles with vertices behind the eye (w < 0), one vertex at w = 0, and one entirely "
+       "behind (clipped away); raw clip coordinates")
+def behind_eye():
+    return {
+        "framebuffer": {"width": 128, "height": 128, "clear_color": [0, 0, 0, 1]},
+        "draws": [
+            {"positions": [[-0.5, -0.5, 0, 1], [0.5, -0.5, 0, -1], [0, 0.5, 0, 1]],
+             "colors": [[1, 0, 0, 1], [0, 1, 0, 1], [0, 0, 1, 1]]},
+            {"positions": [[-0.9, 0.2, 0.5, 1], [0.2, 0.9, 0.5, 0], [-0.9, 0.9, 0.5, 1]],
+             "colors": [[1, 1, 0, 1], [0, 1, 1, 1], [1, 0, 1, 1]], "state": {"depth_test": "lequal"}},
+            {"positions": [[0.3, -0.9, 0.2, 0.5], [0.9, -0.9, 0.2, -2], [0.9, -0.2, -0.4, 2]],
+             "colors": [[1, 1, 1, 1], [0.2, 0.2, 0.2, 1], [1, 0.5, 0, 1]],
+             "state": {"shading": "flat", "depth_test": "lequal"}},
+            {"positions": [[-0.5, -0.5, 0, -1], [0.5, -0.5, 0, -1], [0, 0.5, 0, -1]],
+             "colors": [[1, 1, 1, 1]] * 3},
+        ],
+    }
+
+
+# ----------------------------------------------- assembly, culling, shading
+
+@scene("strips_fans_cull", "assembly", "3, 7, 9",
+       "strips and fans (indexed and not) under every cull mode and front face, flat shading "
+       "with distinct provoking colours, a partial last triangle, out-of-range indices")
+def strips_fans_cull():
+    rng = random.Random(91)
+    draws = []
+    for k in range(12):
+        cx, cy = -0.78 + 0.31 * (k % 6), -0.5 + 1.0 * (k // 6)
+        strip = k % 2 == 0
+        n = 9
+        pos = []
+        for v in range(n):
+            if strip:
+                pos.append([r(cx - 0.12 + 0.03 * v), r(cy + (0.3 if v % 2 else -0.3) * (1 if v < 5 else -1)),
+                            r(rng.uniform(-0.5, 0.5))])
+            else:
+                a = 2 * math.pi * v / (n - 1) * (1 if k % 4 < 2 else -1)
+                pos.append([r(cx + (0 if v == 0 else 0.14 * math.cos(a))),
+                            r(cy + (0 if v == 0 else 0.3 * math.sin(a))), r(rng.uniform(-0.5, 0.5))])
+        d = {"primitive": "triangle_strip" if strip else "triangle_fan", "positions": pos,
+             "colors": [rcol(rng) for _ in pos],
+             "state": {"cull": ["none", "back", "front"][k % 3], "front_face": ["ccw", "cw"][(k // 3) % 2],
+                       "shading": "flat" if k % 4 in (1, 2) else "gouraud"}}
+        if k % 5 == 3:
+            d["indices"] = list(range(n)) + [2, 7, 40]  # the last triangle has an out-of-range index
+        draws.append(d)
+    draws.append({"primitive": "triangles",
+                  "positions": [[-0.9, -0.95, 0], [-0.6, -0.95, 0], [-0.75, -0.8, 0], [0.5, 0.5, 0]],
+                  "colors": [[1, 1, 1, 1]] * 4})  # 4 vertices: the partial triangle is ignored
+    return {"framebuffer": {"width": 224, "height": 128, "clear_color": [0.1, 0.1, 0.1, 1]},
+            "draws": draws}
+
+
+@scene("cull_modes", "assembly", "7",
+       "a grid of triangles of both windings drawn with each of cull none/back/front and front "
+       "face ccw/cw; a mirrored (negative scale) transform flips windings")
+def cull_modes():
+    rng = random.Random(101)
+    draws = []
+    combos = [(c, f) for c in ("none", "back", "front") for f in ("ccw", "cw")]
+    for k, (cull, front) in enumerate(combos):
+        ox, oy = -0.66 + 0.66 * (k % 3), -0.5 + 1.0 * (k // 3)
+        pos, col = [], []
+        for j in range(3):
+            for i in range(3):
+                x, y = ox - 0.25 + 0.17 * i, oy - 0.4 + 0.27 * j
+                tri = [[r(x), r(y), 0], [r(x + 0.15), r(y), 0], [r(x + 0.07), r(y + 0.22), 0]]
+                if (i + j) % 2:
+                    tri = [tri[0], tri[2], tri[1]]
+                pos += tri
+                col += [rcol(rng) for _ in range(3)]
+        draws.append({"positions": pos, "colors": col, "state": {"cull": cull, "front_face": front}})
+    draws.append({"positions": [[0.1, 0.1, 0], [0.3, 0.1, 0], [0.2, 0.3, 0]],
+                  "colors": [[1, 1, 1, 1]] * 3,
+                  "transform": {"scale": [-1, 1, 1], "translate": [0, -0.2, 0]},
+                  "state": {"cull": "back", "depth_test": "always"}})
+    return {"framebuffer": {"width": 192, "height": 160, "clear_color": [0, 0, 0, 1]},
+            "draws": draws}
+
+
+@scene("perspective_gouraud", "shading", "9",
+       "a long receding floor and wall with strongly different vertex colours (perspective-"
+       "correct interpolation), the same in flat shading, and colours outside [0, 1] (clamped)")
+def perspective_gouraud():
+    return {
+        "framebuffer": {"width": 200, "height": 150, "clear_color": [0, 0, 0, 1]},
+        "camera": {"type": "perspective", "fovy": 60, "near": 0.5, "far": 100,
+                   "eye": [0, 1, 0], "target": [0.3, 0.6, -5]},
+        "draws": [
+            {"primitive": "triangle_strip",
+             "positions": [[-3, 0, -1], [3, 0, -1], [-3, 0, -60], [3, 0, -60]],
+             "colors": [[1, 0, 0, 1], [0, 1, 0, 1], [0, 0, 1, 1], [1, 1, 1, 1]]},
+            {"primitive": "triangle_strip",
+             "positions": [[3, 0, -1], [3, 4, -1], [3, 0, -60], [3, 4, -60]],
+             "colors": [[2, -1, 0.5, 1], [0, 0, 0, 1], [-0.5, 1.5, 0, 1], [1, 0, 1, 1]]},
+            {"primitive": "triangle_strip",
+             "positions": [[-3, 0, -1], [-3, 4, -1], [-3, 0, -60], [-3, 4, -60]],
+             "colors": [[0.9, 0.5, 0.1, 1], [0.1, 0.5, 0.9, 1], [0.5, 0.9, 0.1, 1], [0.9, 0.1, 0.5, 1]],
+             "state": {"shading": "flat"}},
+        ],
+    }
+
+
+@scene("camera_matrices", "shading", "1, 2, 7",
+       "a camera given as matrices: a mirrored, oblique projection (windings flip, culling "
+       "follows window space) over a lit WusonOBJ and raw triangles")
+def camera_matrices():
+    return {
+        "framebuffer": {"width": 160, "height": 160, "clear_color": [0.2, 0.2, 0.2, 1]},
+        "camera": {"view": [[1, 0, 0, 0], [0, 1, 0, -1.0], [0, 0, 1, -3.4], [0, 0, 0, 1]],
+                   "projection": [[-1.4, 0.2, 0, 0], [0, 1.4, 0.1, 0], [0, 0, -1.2, -2.2],
+                                  [0, 0, -1, 0]]},
+        "lights": [{"type": "directional", "direction": [0.2, -0.5, -1]}],
+        "draws": [
+            {"mesh": MODELS + "/PLY/Wuson.ply", "transform": {"rotate": [60, 0, 1, 0], "scale": 1.3},
+             "material": {"color": [0.7, 0.5, 0.3, 1]},
+             "state": {"cull": "back", "front_face": "cw"}},  # the mirror makes its front faces cw
+            {"positions": [[-1.5, -1.2, -1], [-0.5, -1.2, -1], [-1, 0, -1]],
+             "colors": [[1, 0, 0, 1], [1, 1, 0, 1], [1, 0, 1, 1]], "state": {"cull": "back"}},
+            {"positions": [[1.5, -1.2, -1], [0.5, -1.2, -1], [1, 0, -1]],
+             "colors": [[0, 1, 0, 1], [0, 1, 1, 1], [0, 0, 1, 1]], "state": {"cull": "back"}},
+        ],
+    }
+
+
+# ---------------------------------------------------------------- blending
+
+BLEND_FACTORS = ["zero", "one", "src_color", "one_minus_src_color", "dst_color", "one_minus_dst_color",
+                 "src_alpha", "one_minus_src_alpha", "dst_alpha", "one_minus_dst_alpha",
+                 "src_alpha_saturate"]
+
+
+def blend_grid(rng, equations):
+    """Every source factor against a destination factor, in a grid over a
+    gradient background, two overlapping quads per cell (order matters)."""
+    draws = [{"primitive": "triangle_strip", "positions": quad_strip(-1, -1, 1, 1, 0.9),
+              "colors": [[0.1, 0.2, 0.9, 0.2], [0.9, 0.2, 0.1, 0.9], [0.1, 0.9, 0.2, 0.6],
+                         [0.8, 0.8, 0.8, 1.0]], "state": {"depth_test": "off"}}]
+    n = len(BLEND_FACTORS)
+    for i, src in enumerate(BLEND_FACTORS):
+        dst = BLEND_FACTORS[(i * 4 + 3) % n]
+        for j, eq in enumerate(equations):
+            x0 = -1 + 2 * i / n
+            y0 = -1 + 2 * j / len(equations)
+            cw, ch = 2 / n, 2 / len(equations)
+            for layer in range(2):
+                a = rng.uniform(0.1, 0.95)
+                pos = quad_strip(r(x0 + cw * (0.1 + 0.25 * layer)), r(y0 + ch * (0.1 + 0.25 * layer)),
+                                 r(x0 + cw * (0.65 + 0.25 * layer)), r(y0 + ch * (0.65 + 0.25 * layer)),
+                                 0)
+                draws.append({"primitive": "triangle_strip", "positions": pos,
+                              "colors": [rcol(rng, r(a)) for _ in range(4)],
+                              "state": {"depth_test": "off",
+                                        "blend": {"src": src if layer == 0 else dst,
+                                                  "dst": dst if layer == 0 else src, "equation": eq}}})
+    return draws
+
+
+@scene("blend_factors_rgba8", "blending", "12",
+       "every blend factor as source and destination with add, subtract and reverse_subtract, "
+       "two overlapping quads per cell over a Gouraud background, rgba8 (clamped)")
+def blend_factors_rgba8():
+    rng = random.Random(111)
+    return {"framebuffer": {"width": 220, "height": 96, "clear_color": [0, 0, 0, 0]},
+            "draws": blend_grid(rng, ["add", "subtract", "reverse_subtract"])}
+
+
+@scene("blend_rgba16f", "blending", "12",
+       "the blend grid in rgba16f: unclamped results, negative values from subtract, HDR sums "
+       "from repeated additive layers")
+def blend_rgba16f():
+    rng = random.Random(121)
+    draws = blend_grid(rng, ["add", "subtract", "reverse_subtract"])
+    for k in range(6):
+        draws.append({"primitive": "triangle_strip",
+                      "positions": quad_strip(r(-0.9 + 0.1 * k), -0.3, r(0.2 + 0.1 * k), 0.4, 0),
+                      "colors": [[0.7, 0.5, 0.3, 0.5]] * 4,
+                      "state": {"depth_test": "off", "blend": {"src": "one", "dst": "one"}}})
+    return {"framebuffer": {"width": 220, "height": 96, "color_format": "rgba16f",
+                            "clear_color": [0.25, -0.5, 2.0, 0.5]},
+            "draws": draws}
+
+
+@scene("blend_order", "blending", "11, 12",
+       "translucent layers in back-to-front and front-to-back order with depth test on and depth "
+       "writes off: the result depends on submission order only")
+def blend_order():
+    rng = random.Random(131)
+    draws = []
+    for side, order in ((-1, range(6)), (1, reversed(range(6)))):
+        for k in order:
+            z = -0.8 + 0.3 * k
+            x0 = 0.5 * side - 0.4 + 0.05 * k
+            y0 = -0.7 + 0.08 * k
+            draws.append({"primitive": "triangle_strip",
+                          "positions": quad_strip(r(x0), r(y0), r(x0 + 0.45), r(y0 + 0.9), r(z)),
+                          "colors": [rcol(rng, 0.5)] * 4,
+                          "state": {"depth_write": False, "depth_test": "lequal",
+                                    "blend": {"src": "src_alpha", "dst": "one_minus_src_alpha"}}})
+    # The opaque bar's depth matches no layer's (a tie would hang on rounding).
+    draws.insert(0, {"primitive": "triangle_strip", "positions": quad_strip(-1, -0.1, 1, 0.05, 0.15),
+                     "colors": [[1, 1, 1, 1]] * 4})
+    return {"framebuffer": {"width": 200, "height": 120, "clear_color": [0, 0, 0, 1]},
+            "draws": draws}
+
+
+@scene("color_mask", "blending", "12",
+       "colour masks (each channel, none, all) with and without blending, over overlapping quads")
+def color_mask():
+    rng = random.Random(141)
+    masks = [[True, False, False, False], [False, True, False, True], [False, False, True, False],
+             [False, False, False, True], [False, False, False, False], [True, True, True, True],
+             [True, False, True, False], [False, True, True, True]]
+    draws = [{"primitive": "triangle_strip", "positions": quad_strip(-1, -1, 1, 1, 0.5),
+              "colors": [[0.5, 0.5, 0.5, 0.5]] * 4}]
+    for k, m in enumerate(masks):
+        x0 = -0.95 + 0.24 * k
+        for layer in range(2):
+            state = {"color_mask": m, "depth_test": "always"}
+            if layer:
+                state["blend"] = {"src": "one", "dst": "one"}
+            draws.append({"primitive": "triangle_strip",
+                          "positions": quad_strip(r(x0), r(-0.8 + 0.7 * layer), r(x0 + 0.2), r(0.0 + 0.7 * layer), 0),
+                          "colors": [rcol(rng, 0.6) for _ in range(4)], "state": state})
+    return {"framebuffer": {"width": 192, "height": 96, "clear_color": [0, 0, 0, 0]},
+            "draws": draws}
+
+
+# ------------------------------------------- known disagreements (reported)
+# Minimal reproductions of the differences found between the golden model and
+# llvmpipe; scripts/regress expects them (KNOWN_DISAGREEMENTS) and reports
+# them as such instead of failing, and warns when they change.
+
+@scene("known_constant_depth", "known disagreement", "9, 11",
+       "a quad of constant depth (z = 0.1 everywhere) drawn with lequal and no depth writes over "
+       "an opaque bar of the same depth: the spec's (f0*z0 + f1*z1 + f2*z2) / A is not exactly "
+       "z for three equal z (float(E_i), the products and the sum all round; here E reaches "
+       "1.6e8 > 2^24), so in 6 pixels the golden model's fragment encodes one unorm24 step "
+       "farther and fails; llvmpipe's plane equation gives exactly z")
+def known_constant_depth():
+    return {
+        "framebuffer": {"width": 200, "height": 120, "clear_color": [0, 0, 0, 1]},
+        "draws": [
+            {"primitive": "triangle_strip", "positions": quad_strip(-1, -0.1, 1, 0.05, 0.1),
+             "colors": [[1, 1, 1, 1]] * 4},
+            {"primitive": "triangle_strip", "positions": quad_strip(-0.75, -0.46, -0.3, 0.44, 0.1),
+             "colors": [[1, 0, 0, 1]] * 4, "state": {"depth_test": "lequal", "depth_write": False}},
+        ],
+    }
+
+
+@scene("known_offset_units", "known disagreement", "10",
+       "one quad at constant window depth 0.75 with polygon_offset [0, 4] in unorm16: the spec "
+       "adds 4 * r with r = 1 / 65535, llvmpipe 4 * 2 / 65535 (its r for unorm buffers is twice "
+       "one step), so its stored depth is 4 steps farther")
+def known_offset_units():
+    return {
+        "framebuffer": {"width": 32, "height": 32, "depth_format": "unorm16"},
+        "draws": [{"primitive": "triangle_strip", "positions": quad_strip(-0.5, -0.5, 0.5, 0.5, 0.5),
+                   "colors": [[0.5, 0.5, 0.5, 1]] * 4,
+                   "state": {"depth_test": "always", "polygon_offset": [0, 4]}}],
+    }
+
+
+@scene("known_half_rounding", "known disagreement", "12",
+       "rgba16f: flat colours 0.1, 0.3, 0.7, 0.9 written and blended (one, one): the spec "
+       "rounds float to half to nearest even (0.3 -> 0.30005), llvmpipe toward zero (0.2998)")
+def known_half_rounding():
+    draws = []
+    for i, v in enumerate((0.1, 0.3, 0.7, 0.9)):
+        x0 = -1 + 0.5 * i
+        draws.append({"primitive": "triangle_strip", "positions": quad_strip(x0, -1, x0 + 0.5, 0, 0),
+                      "colors": [[v, v, v, v]] * 4, "state": {"depth_test": "off"}})
+        draws.append({"primitive": "triangle_strip", "positions": quad_strip(x0, 0, x0 + 0.5, 1, 0),
+                      "colors": [[v, v, v, v]] * 4,
+                      "state": {"depth_test": "off", "blend": {"src": "one", "dst": "one"}}})
+    return {"framebuffer": {"width": 32, "height": 16, "color_format": "rgba16f",
+                            "clear_color": [0.1, 0.3, 0.7, 0.9]},
+            "draws": draws}
+
+
+def dump(value):
+    """JSON with one line per vertex: arrays of numbers (and of booleans) stay on
+    one line, and so do the index lists."""
+    text = json.dumps(value, indent=1)
+    text = re.sub(r"\[\s+([^\[\]{}]*?)\s+\]",
+                  lambda m: "[" + re.sub(r",\s+", ", ", m.group(1)) + "]", text)
+    return text + "\n"
+
+
+def main():
+    if sys.argv[1:] == ["--table"]:
+        print("| scene | category | spec sections | what it exercises |")
+        print("|---|---|---|---|")
+        for name, category, sections, description, _ in SCENES:
+            print(f"| `{name}` | {category} | {sections} | {description} |")
+        return
+    os.makedirs(OUT, exist_ok=True)
+    for name, _, _, _, fn in SCENES:
+        with open(os.path.join(OUT, name + ".json"), "w") as f:
+            f.write(dump(fn()))
+    print(f"wrote {len(SCENES)} scenes to {os.path.relpath(OUT, ROOT)}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,655 @@
+#include "testbench/reference/gl_reference.h"
+
+#include <EGL/egl.h>
+#include <EGL/eglext.h>
+#include <GL/glcorearb.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdio>
+#include <cstdlib>
+#include <vector>
+
+#include "testbench/golden/golden_model.h"
+
+namespace gpusim::reference {
+namespace {
+
+// The OpenGL entry points used, all resolved through eglGetProcAddress
+// (Mesa resolves core functions too: EGL_KHR_get_all_proc_addresses).
+#define GPUSIM_GL_FUNCTIONS(X)                                        \
+  X(PFNGLGETSTRINGPROC, glGetString)                                  \
+  X(PFNGLGETERRORPROC, glGetError)                                    \
+  X(PFNGLGETINTEGERVPROC, glGetIntegerv)                              \
+  X(PFNGLENABLEPROC, glEnable)                                        \
+  X(PFNGLDISABLEPROC, glDisable)                                      \
+  X(PFNGLVIEWPORTPROC, glViewport)                                    \
+  X(PFNGLCLIPCONTROLPROC, glClipControl)                              \
+  X(PFNGLDEPTHRANGEPROC, glDepthRange)                                \
+  X(PFNGLCLEARCOLORPROC, glClearColor)                                \
+  X(PFNGLCLEARDEPTHPROC, glClearDepth)                                \
+  X(PFNGLCLEARPROC, glClear)                                          \
+  X(PFNGLCOLORMASKPROC, glColorMask)                                  \
+  X(PFNGLDEPTHMASKPROC, glDepthMask)                                  \
+  X(PFNGLDEPTHFUNCPROC, glDepthFunc)                                  \
+  X(PFNGLCULLFACEPROC, glCullFace)                                    \
+  X(PFNGLFRONTFACEPROC, glFrontFace)                                  \
+  X(PFNGLPOLYGONOFFSETPROC, glPolygonOffset)                          \
+  X(PFNGLBLENDFUNCPROC, glBlendFunc)                                  \
+  X(PFNGLBLENDEQUATIONPROC, glBlendEquation)                          \
+  X(PFNGLPROVOKINGVERTEXPROC, glProvokingVertex)                      \
+  X(PFNGLPIXELSTOREIPROC, glPixelStorei)                              \
+  X(PFNGLREADPIXELSPROC, glReadPixels)                                \
+  X(PFNGLFINISHPROC, glFinish)                                        \
+  X(PFNGLGENFRAMEBUFFERSPROC, glGenFramebuffers)                      \
+  X(PFNGLDELETEFRAMEBUFFERSPROC, glDeleteFramebuffers)                \
+  X(PFNGLBINDFRAMEBUFFERPROC, glBindFramebuffer)                      \
+  X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, glCheckFramebufferStatus)        \
+  X(PFNGLFRAMEBUFFERRENDERBUFFERPROC, glFramebufferRenderbuffer)      \
+  X(PFNGLGENRENDERBUFFERSPROC, glGenRenderbuffers)                    \
+  X(PFNGLDELETERENDERBUFFERSPROC, glDeleteRenderbuffers)              \
+  X(PFNGLBINDRENDERBUFFERPROC, glBindRenderbuffer)                    \
+  X(PFNGLRENDERBUFFERSTORAGEPROC, glRenderbufferStorage)              \
+  X(PFNGLGENVERTEXARRAYSPROC, glGenVertexArrays)                      \
+  X(PFNGLDELETEVERTEXARRAYSPROC, glDeleteVertexArrays)                \
+  X(PFNGLBINDVERTEXARRAYPROC, glBindVertexArray)                      \
+  X(PFNGLGENBUFFERSPROC, glGenBuffers)                                \
+  X(PFNGLDELETEBUFFERSPROC, glDeleteBuffers)                          \
+  X(PFNGLBINDBUFFERPROC, glBindBuffer)                                \
+  X(PFNGLBUFFERDATAPROC, glBufferData)                                \
+  X(PFNGLVERTEXATTRIBPOINTERPROC, glVertexAttribPointer)              \
+  X(PFNGLENABLEVERTEXATTRIBARRAYPROC, glEnableVertexAttribArray)      \
+  X(PFNGLDRAWARRAYSPROC, glDrawArrays)                                \
+  X(PFNGLDRAWELEMENTSPROC, glDrawElements)                            \
+  X(PFNGLCREATESHADERPROC, glCreateShader)                            \
+  X(PFNGLSHADERSOURCEPROC, glShaderSource)                            \
+  X(PFNGLCOMPILESHADERPROC, glCompileShader)                          \
+  X(PFNGLGETSHADERIVPROC, glGetShaderiv)                              \
+  X(PFNGLGETSHADERINFOLOGPROC, glGetShaderInfoLog)                    \
+  X(PFNGLDELETESHADERPROC, glDeleteShader)                            \
+  X(PFNGLCREATEPROGRAMPROC, glCreateProgram)                          \
+  X(PFNGLATTACHSHADERPROC, glAttachShader)                            \
+  X(PFNGLLINKPROGRAMPROC, glLinkProgram)                              \
+  X(PFNGLGETPROGRAMIVPROC, glGetProgramiv)                            \
+  X(PFNGLGETPROGRAMINFOLOGPROC, glGetProgramInfoLog)                  \
+  X(PFNGLDELETEPROGRAMPROC, glDeleteProgram)                          \
+  X(PFNGLUSEPROGRAMPROC, glUseProgram)                                \
+  X(PFNGLGETUNIFORMLOCATIONPROC, glGetUniformLocation)                \
+  X(PFNGLUNIFORM1IPROC, glUniform1i)
+
+struct Gl {
+#define GPUSIM_GL_MEMBER(type, name) type name = nullptr;
+  GPUSIM_GL_FUNCTIONS(GPUSIM_GL_MEMBER)
+#undef GPUSIM_GL_MEMBER
+
+  void load() {
+#define GPUSIM_GL_LOAD(type, name)                                                   \
+  name = reinterpret_cast<type>(eglGetProcAddress(#name));                           \
+  if (name == nullptr) throw ReferenceError("eglGetProcAddress(\"" #name "\") failed");
+    GPUSIM_GL_FUNCTIONS(GPUSIM_GL_LOAD)
+#undef GPUSIM_GL_LOAD
+  }
+};
+
+// Fragment colour modes (uniform u_mode).
+constexpr int kModeWindowGouraud = 0;  // window-space vertex: colour/w over 1/w, per fragment
+constexpr int kModeClipGouraud = 1;    // clip-space vertex: OpenGL's perspective correction
+constexpr int kModeFlat = 2;           // provoking vertex's colour (GL's last-vertex convention)
+
+const char* const kVertexShader = R"(#version 330 core
+layout(location = 0) in vec4 a_position;
+layout(location = 1) in vec4 a_color;
+layout(location = 2) in vec4 a_color_over_w;
+layout(location = 3) in float a_inv_w;
+smooth out vec4 v_color;
+flat out vec4 v_flat_color;
+noperspective out vec4 v_color_over_w;
+noperspective out float v_inv_w;
+void main() {
+  gl_Position = a_position;
+  v_color = a_color;
+  v_flat_color = a_color;
+  v_color_over_w = a_color_over_w;
+  v_inv_w = a_inv_w;
+}
+)";
+
+const char* const kFragmentShader = R"(#version 330 core
+uniform int u_mode;
+smooth in vec4 v_color;
+flat in vec4 v_flat_color;
+noperspective in vec4 v_color_over_w;
+noperspective in float v_inv_w;
+out vec4 o_color;
+void main() {
+  vec4 c;
+  if (u_mode == 0) {
+    c = v_color_over_w / v_inv_w;
+  } else if (u_mode == 1) {
+    c = v_color;
+  } else {
+    c = v_flat_color;
+  }
+  // The spec's clamp01 (NaN -> 0); a float buffer keeps the clamped value.
+  o_color = vec4(c.r > 0.0 ? min(c.r, 1.0) : 0.0, c.g > 0.0 ? min(c.g, 1.0) : 0.0,
+                 c.b > 0.0 ? min(c.b, 1.0) : 0.0, c.a > 0.0 ? min(c.a, 1.0) : 0.0);
+}
+)";
+
+// One vertex as OpenGL receives it.
+struct GlVertex {
+  float position[4];
+  float color[4];
+  float color_over_w[4];
+  float inv_w;
+};
+
+GLenum gl_primitive(PrimitiveType p) {
+  switch (p) {
+    case PrimitiveType::triangles: return GL_TRIANGLES;
+    case PrimitiveType::triangle_strip: return GL_TRIANGLE_STRIP;
+    case PrimitiveType::triangle_fan: return GL_TRIANGLE_FAN;
+  }
+  return GL_TRIANGLES;
+}
+
+GLenum gl_compare(CompareFunc f) {
+  switch (f) {
+    case CompareFunc::never: return GL_NEVER;
+    case CompareFunc::less: return GL_LESS;
+    case CompareFunc::equal: return GL_EQUAL;
+    case CompareFunc::lequal: return GL_LEQUAL;
+    case CompareFunc::greater: return GL_GREATER;
+    case CompareFunc::notequal: return GL_NOTEQUAL;
+    case CompareFunc::gequal: return GL_GEQUAL;
+    case CompareFunc::always: return GL_ALWAYS;
+  }
+  return GL_LESS;
+}
+
+GLenum gl_blend_factor(BlendFactor f) {
+  switch (f) {
+    case BlendFactor::zero: return GL_ZERO;
+    case BlendFactor::one: return GL_ONE;
+    case BlendFactor::src_color: return GL_SRC_COLOR;
+    case BlendFactor::one_minus_src_color: return GL_ONE_MINUS_SRC_COLOR;
+    case BlendFactor::dst_color: return GL_DST_COLOR;
+    case BlendFactor::one_minus_dst_color: return GL_ONE_MINUS_DST_COLOR;
+    case BlendFactor::src_alpha: return GL_SRC_ALPHA;
+    case BlendFactor::one_minus_src_alpha: return GL_ONE_MINUS_SRC_ALPHA;
+    case BlendFactor::dst_alpha: return GL_DST_ALPHA;
+    case BlendFactor::one_minus_dst_alpha: return GL_ONE_MINUS_DST_ALPHA;
+    case BlendFactor::src_alpha_saturate: return GL_SRC_ALPHA_SATURATE;
+  }
+  return GL_ONE;
+}
+
+GLenum gl_blend_equation(BlendEquation e) {
+  switch (e) {
+    case BlendEquation::add: return GL_FUNC_ADD;
+    case BlendEquation::subtract: return GL_FUNC_SUBTRACT;
+    case BlendEquation::reverse_subtract: return GL_FUNC_REVERSE_SUBTRACT;
+  }
+  return GL_FUNC_ADD;
+}
+
+bool finite4(const glm::vec4& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z) && std::isfinite(v.w);
+}
+
+}  // namespace
+
+struct GlReference::Impl {
+  EGLDisplay display = EGL_NO_DISPLAY;
+  EGLContext context = EGL_NO_CONTEXT;
+  Gl gl;
+  bool gl_loaded = false;  // every entry point resolved
+  GLuint program = 0;
+  GLint mode_location = -1;
+  GLuint vao = 0;
+  GLuint vertex_buffer = 0;
+  GLuint index_buffer = 0;
+  int viewport_side = 0;
+  std::string renderer, version;
+
+  // Per render.
+  int width = 0, height = 0;
+  int tx = 0, ty = 0;  // window position of NDC (0, 0) in the V x V viewport
+  ReferenceStats stats;
+
+  // Separate from the constructor so that ~Impl releases what a failed
+  // init() had already created.
+  void init() {
+    // Mesa's software rasterizer, whatever hardware the machine has.
+    setenv("LIBGL_ALWAYS_SOFTWARE", "1", 1);
+    setenv("GALLIUM_DRIVER", "llvmpipe", 1);
+
+    auto get_platform_display = reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(
+        eglGetProcAddress("eglGetPlatformDisplayEXT"));
+    if (get_platform_display == nullptr) throw ReferenceError("EGL has no eglGetPlatformDisplayEXT");
+    display = get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+    if (display == EGL_NO_DISPLAY) throw ReferenceError("no EGL surfaceless display (Mesa's EGL missing?)");
+    EGLint major = 0, minor = 0;
+    if (!eglInitialize(display, &major, &minor)) {
+      display = EGL_NO_DISPLAY;  // nothing to terminate
+      throw ReferenceError("eglInitialize failed on the surfaceless platform");
+    }
+    if (!eglBindAPI(EGL_OPENGL_API)) throw ReferenceError("eglBindAPI(EGL_OPENGL_API) failed");
+
+    const EGLint config_attribs[] = {EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE,
+                                     EGL_OPENGL_BIT, EGL_NONE};
+    EGLConfig config = nullptr;
+    EGLint configs = 0;
+    if (!eglChooseConfig(display, config_attribs, &config, 1, &configs) || configs < 1) {
+      config = nullptr;  // EGL_NO_CONFIG_KHR: fine for a context used with FBOs only
+    }
+    const EGLint context_attribs[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5,
+                                      EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                                      EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+    context = eglCreateContext(display, config, EGL_NO_CONTEXT, context_attribs);
+    if (context == EGL_NO_CONTEXT) throw ReferenceError("cannot create an OpenGL 4.5 core context");
+    if (!eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, context)) {
+      throw ReferenceError("eglMakeCurrent without a surface failed");
+    }
+    gl.load();
+    gl_loaded = true;
+    renderer = reinterpret_cast<const char*>(gl.glGetString(GL_RENDERER));
+    version = reinterpret_cast<const char*>(gl.glGetString(GL_VERSION));
+    if (renderer.find("llvmpipe") == std::string::npos) {
+      throw ReferenceError("GL_RENDERER is \"" + renderer + "\", not llvmpipe");
+    }
+
+    // The viewport for window-space triangles: the largest power of two the
+    // implementation allows, at most 16384 (so x_ndc * V/2 + tx stays exact).
+    GLint dims[2] = {0, 0};
+    gl.glGetIntegerv(GL_MAX_VIEWPORT_DIMS, dims);
+    GLint bounds[2] = {0, 0};
+    gl.glGetIntegerv(GL_VIEWPORT_BOUNDS_RANGE, bounds);
+    viewport_side = 1;
+    const int limit = std::min({dims[0], dims[1], 16384, std::max(0, -bounds[0]) * 2});
+    while (viewport_side * 2 <= limit) viewport_side *= 2;
+    if (viewport_side < 1024) throw ReferenceError("viewport limits too small for the reference");
+
+    build_program();
+    gl.glGenVertexArrays(1, &vao);
+    gl.glBindVertexArray(vao);
+    gl.glGenBuffers(1, &vertex_buffer);
+    gl.glGenBuffers(1, &index_buffer);
+    gl.glBindBuffer(GL_ARRAY_BUFFER, vertex_buffer);
+    const GLsizei stride = sizeof(GlVertex);
+    gl.glVertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, stride,
+                             reinterpret_cast<const void*>(offsetof(GlVertex, position)));
+    gl.glVertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, stride,
+                             reinterpret_cast<const void*>(offsetof(GlVertex, color)));
+    gl.glVertexAttribPointer(2, 4, GL_FLOAT, GL_FALSE, stride,
+                             reinterpret_cast<const void*>(offsetof(GlVertex, color_over_w)));
+    gl.glVertexAttribPointer(3, 1, GL_FLOAT, GL_FALSE, stride,
+                             reinterpret_cast<const void*>(offsetof(GlVertex, inv_w)));
+    for (GLuint i = 0; i < 4; ++i) gl.glEnableVertexAttribArray(i);
+    gl.glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, index_buffer);
+    check("context set-up");
+  }
+
+  ~Impl() {
+    if (display != EGL_NO_DISPLAY) {
+      if (context != EGL_NO_CONTEXT) {
+        if (gl_loaded) {
+          gl.glDeleteBuffers(1, &vertex_buffer);
+          gl.glDeleteBuffers(1, &index_buffer);
+          gl.glDeleteVertexArrays(1, &vao);
+          gl.glDeleteProgram(program);
+        }
+        eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+        eglDestroyContext(display, context);
+      }
+      eglTerminate(display);
+    }
+  }
+
+  void check(const char* what) {
+    const GLenum e = gl.glGetError();
+    if (e != GL_NO_ERROR) {
+      char buf[96];
+      std::snprintf(buf, sizeof buf, "OpenGL error 0x%04x in %s", static_cast<unsigned>(e), what);
+      throw ReferenceError(buf);
+    }
+  }
+
+  GLuint compile(GLenum type, const char* source) {
+    const GLuint s = gl.glCreateShader(type);
+    gl.glShaderSource(s, 1, &source, nullptr);
+    gl.glCompileShader(s);
+    GLint ok = 0;
+    gl.glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+      char log[2048] = {0};
+      gl.glGetShaderInfoLog(s, sizeof log, nullptr, log);
+      throw ReferenceError(std::string("shader compilation failed: ") + log);
+    }
+    return s;
+  }
+
+  void build_program() {
+    const GLuint vs = compile(GL_VERTEX_SHADER, kVertexShader);
+    const GLuint fs = compile(GL_FRAGMENT_SHADER, kFragmentShader);
+    program = gl.glCreateProgram();
+    gl.glAttachShader(program, vs);
+    gl.glAttachShader(program, fs);
+    gl.glLinkProgram(program);
+    gl.glDeleteShader(vs);
+    gl.glDeleteShader(fs);
+    GLint ok = 0;
+    gl.glGetProgramiv(program, GL_LINK_STATUS, &ok);
+    if (!ok) {
+      char log[2048] = {0};
+      gl.glGetProgramInfoLog(program, sizeof log, nullptr, log);
+      throw ReferenceError(std::string("program link failed: ") + log);
+    }
+    gl.glUseProgram(program);
+    mode_location = gl.glGetUniformLocation(program, "u_mode");
+  }
+
+  // A vertex the spec leaves unclipped, in window space (see the header).
+  GlVertex window_vertex(const golden::ShadedVertex& v) const {
+    const golden::WindowVertex w = golden::to_window(v, width, height);
+    const double half = viewport_side / 2;
+    GlVertex out{};
+    // Exact: X/256 - tx is a multiple of 2^-8 below 2^16 in magnitude, and
+    // dividing by the power of two V/2 only shifts the exponent.
+    out.position[0] = static_cast<float>((w.x / 256.0 - tx) / half);
+    out.position[1] = static_cast<float>((w.y / 256.0 - ty) / half);
+    out.position[2] = w.z;
+    out.position[3] = 1.0f;
+    for (int k = 0; k < 4; ++k) {
+      out.color[k] = v.color[k];
+      out.color_over_w[k] = w.color_over_w[k];
+    }
+    out.inv_w = w.inv_w;
+    return out;
+  }
+
+  // A vertex of a triangle the spec clips, in clip space rescaled so that
+  // OpenGL's divide and V x V viewport give the spec's window coordinates
+  // (up to rounding) and its [0, w] depth range the spec's z_w.
+  GlVertex clip_vertex(const golden::ShadedVertex& v) const {
+    const double half = viewport_side / 2;
+    const double x = v.clip.x, y = v.clip.y, z = v.clip.z, w = v.clip.w;
+    GlVertex out{};
+    out.position[0] = static_cast<float>(x * (width / 2.0) / half + w * (width / 2.0 - tx) / half);
+    out.position[1] = static_cast<float>(y * (height / 2.0) / half + w * (height / 2.0 - ty) / half);
+    out.position[2] = static_cast<float>((z + w) * 0.5);
+    out.position[3] = v.clip.w;
+    for (int k = 0; k < 4; ++k) out.color[k] = v.color[k];
+    out.inv_w = 1.0f;
+    return out;
+  }
+
+  bool beyond_viewport(const GlVertex& v) const {
+    return std::fabs(v.position[0]) > 1.0f || std::fabs(v.position[1]) > 1.0f;
+  }
+
+  void apply_state(const RenderState& st) {
+    if (st.cull == CullMode::none) {
+      gl.glDisable(GL_CULL_FACE);
+    } else {
+      gl.glEnable(GL_CULL_FACE);
+      gl.glCullFace(st.cull == CullMode::back ? GL_BACK : GL_FRONT);
+    }
+    gl.glFrontFace(st.front_face == FrontFace::ccw ? GL_CCW : GL_CW);
+    if (st.depth_test) {
+      gl.glEnable(GL_DEPTH_TEST);
+      gl.glDepthFunc(gl_compare(st.depth_func));
+    } else {
+      gl.glDisable(GL_DEPTH_TEST);  // GL: no test and no depth writes
+    }
+    gl.glDepthMask(st.depth_write ? GL_TRUE : GL_FALSE);
+    if (st.offset_factor != 0.0f || st.offset_units != 0.0f) {
+      gl.glEnable(GL_POLYGON_OFFSET_FILL);
+      gl.glPolygonOffset(st.offset_factor, st.offset_units);
+    } else {
+      gl.glDisable(GL_POLYGON_OFFSET_FILL);
+    }
+    if (st.blend) {
+      gl.glEnable(GL_BLEND);
+      gl.glBlendFunc(gl_blend_factor(st.blend_src), gl_blend_factor(st.blend_dst));
+      gl.glBlendEquation(gl_blend_equation(st.blend_equation));
+    } else {
+      gl.glDisable(GL_BLEND);
+    }
+    gl.glColorMask(st.color_mask[0], st.color_mask[1], st.color_mask[2], st.color_mask[3]);
+    check("render state");
+  }
+
+  void set_mode(bool window_space, Shading shading) {
+    int mode = shading == Shading::flat ? kModeFlat
+                                        : (window_space ? kModeWindowGouraud : kModeClipGouraud);
+    gl.glUniform1i(mode_location, mode);
+    // Window-space triangles are not clipped in z (the spec does not clip
+    // them); clip-space ones are, by OpenGL's near and far planes.
+    if (window_space) {
+      gl.glEnable(GL_DEPTH_CLAMP);
+    } else {
+      gl.glDisable(GL_DEPTH_CLAMP);
+    }
+  }
+
+  void upload(const std::vector<GlVertex>& vertices) {
+    gl.glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vertices.size() * sizeof(GlVertex)),
+                    vertices.data(), GL_STREAM_DRAW);
+  }
+
+  void render_draw(const Scene& scene, const Draw& draw) {
+    std::vector<golden::ShadedVertex> shaded(draw.positions.size());
+    for (uint32_t i = 0; i < shaded.size(); ++i) shaded[i] = golden::shade_vertex(scene, draw, i);
+    const golden::GuardBand gb = golden::guard_band_for(width, height);
+
+    // Classify every assembled triangle: invalid, unclipped by the spec
+    // (window space), or clipped by the spec (clip space).
+    enum class Kind { invalid, window, clip };
+    const auto triangles = golden::assemble_triangles(draw.primitive, draw.vertex_count());
+    std::vector<Kind> kinds(triangles.size());
+    std::vector<std::array<uint32_t, 3>> vertex_ids(triangles.size());
+    bool all_window = true;
+    for (size_t t = 0; t < triangles.size(); ++t) {
+      Kind kind = Kind::window;
+      for (int k = 0; k < 3; ++k) {
+        const uint32_t vi = draw.indices.empty() ? triangles[t][k] : draw.indices[triangles[t][k]];
+        vertex_ids[t][k] = vi;
+        if (vi >= shaded.size() || !finite4(shaded[vi].clip)) {
+          kind = Kind::invalid;
+          break;
+        }
+      }
+      if (kind == Kind::window) {
+        for (int plane = 0; plane < golden::kClipPlaneCount && kind == Kind::window; ++plane) {
+          for (int k = 0; k < 3; ++k) {
+            if (!(golden::clip_distance(plane, shaded[vertex_ids[t][k]].clip, gb) >= 0.0f)) {
+              kind = Kind::clip;
+              break;
+            }
+          }
+        }
+      }
+      kinds[t] = kind;
+      all_window = all_window && kind == Kind::window;
+      ++stats.triangles;
+      if (kind == Kind::invalid) ++stats.triangles_invalid;
+      if (kind == Kind::window) ++stats.triangles_exact;
+      if (kind == Kind::clip) ++stats.triangles_clipped;
+    }
+    if (triangles.empty()) return;
+
+    apply_state(draw.state);
+    if (all_window) {
+      // Native: the draw's own primitive type and index list, so OpenGL does
+      // primitive assembly (strip order, fan, provoking vertex) itself.
+      ++stats.native_draws;
+      std::vector<char> used(shaded.size(), 0);
+      for (const auto& ids : vertex_ids) {
+        for (uint32_t vi : ids) used[vi] = 1;
+      }
+      std::vector<GlVertex> vertices(shaded.size(), GlVertex{});
+      for (size_t i = 0; i < shaded.size(); ++i) {
+        if (used[i]) vertices[i] = window_vertex(shaded[i]);
+      }
+      for (const auto& ids : vertex_ids) {
+        if (beyond_viewport(vertices[ids[0]]) || beyond_viewport(vertices[ids[1]]) ||
+            beyond_viewport(vertices[ids[2]])) {
+          ++stats.triangles_beyond_viewport;
+        }
+      }
+      upload(vertices);
+      set_mode(true, draw.state.shading);
+      const GLsizei count = static_cast<GLsizei>(draw.vertex_count());
+      if (draw.indices.empty()) {
+        gl.glDrawArrays(gl_primitive(draw.primitive), 0, count);
+      } else {
+        gl.glBufferData(GL_ELEMENT_ARRAY_BUFFER,
+                        static_cast<GLsizeiptr>(draw.indices.size() * sizeof(uint32_t)),
+                        draw.indices.data(), GL_STREAM_DRAW);
+        gl.glDrawElements(gl_primitive(draw.primitive), count, GL_UNSIGNED_INT, nullptr);
+      }
+      check("native draw");
+      return;
+    }
+
+    // Expanded: runs of consecutive triangles of one kind as GL_TRIANGLES,
+    // each triangle's vertices in assembled order (the third is provoking).
+    ++stats.expanded_draws;
+    size_t t = 0;
+    while (t < triangles.size()) {
+      if (kinds[t] == Kind::invalid) {
+        ++t;
+        continue;
+      }
+      const Kind kind = kinds[t];
+      std::vector<GlVertex> vertices;
+      for (; t < triangles.size() && kinds[t] == kind; ++t) {
+        bool beyond = false;
+        for (int k = 0; k < 3; ++k) {
+          const golden::ShadedVertex& v = shaded[vertex_ids[t][k]];
+          vertices.push_back(kind == Kind::window ? window_vertex(v) : clip_vertex(v));
+          beyond = beyond || (kind == Kind::window && beyond_viewport(vertices.back()));
+        }
+        if (beyond) ++stats.triangles_beyond_viewport;
+      }
+      upload(vertices);
+      set_mode(kind == Kind::window, draw.state.shading);
+      gl.glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(vertices.size()));
+      check("expanded draw");
+    }
+  }
+
+  ReferenceResult render(const Scene& scene) {
+    const FramebufferDesc& desc = scene.framebuffer;
+    width = desc.width;
+    height = desc.height;
+    tx = width / 2;
+    ty = height / 2;
+    stats = ReferenceStats{};
+
+    GLuint fbo = 0, color_rb = 0, depth_rb = 0;
+    gl.glGenFramebuffers(1, &fbo);
+    gl.glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    gl.glGenRenderbuffers(1, &color_rb);
+    gl.glBindRenderbuffer(GL_RENDERBUFFER, color_rb);
+    gl.glRenderbufferStorage(GL_RENDERBUFFER,
+                             desc.color_format == ColorFormat::rgba8 ? GL_RGBA8 : GL_RGBA16F,
+                             width, height);
+    gl.glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, color_rb);
+    gl.glGenRenderbuffers(1, &depth_rb);
+    gl.glBindRenderbuffer(GL_RENDERBUFFER, depth_rb);
+    GLenum depth_internal = GL_DEPTH_COMPONENT24;
+    if (desc.depth_format == DepthFormat::unorm16) depth_internal = GL_DEPTH_COMPONENT16;
+    if (desc.depth_format == DepthFormat::float32) depth_internal = GL_DEPTH_COMPONENT32F;
+    gl.glRenderbufferStorage(GL_RENDERBUFFER, depth_internal, width, height);
+    gl.glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_rb);
+    struct Cleanup {
+      Impl* self;
+      GLuint fbo, color_rb, depth_rb;
+      ~Cleanup() {
+        self->gl.glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        self->gl.glDeleteFramebuffers(1, &fbo);
+        self->gl.glDeleteRenderbuffers(1, &color_rb);
+        self->gl.glDeleteRenderbuffers(1, &depth_rb);
+      }
+    } cleanup{this, fbo, color_rb, depth_rb};
+    if (gl.glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+      throw ReferenceError("the framebuffer object is incomplete");
+    }
+    check("framebuffer set-up");
+
+    // Fixed state for the whole frame.
+    gl.glViewport(tx - viewport_side / 2, ty - viewport_side / 2, viewport_side, viewport_side);
+    gl.glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+    gl.glDepthRange(0.0, 1.0);
+    gl.glProvokingVertex(GL_LAST_VERTEX_CONVENTION);
+    gl.glDisable(GL_DITHER);
+    gl.glDisable(GL_SCISSOR_TEST);
+    gl.glDisable(GL_MULTISAMPLE);
+    gl.glDisable(GL_FRAMEBUFFER_SRGB);
+    check("frame state");
+
+    gl.glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    gl.glDepthMask(GL_TRUE);
+    const glm::vec4& c = desc.clear_color;
+    gl.glClearColor(c.r, c.g, c.b, c.a);
+    gl.glClearDepth(desc.clear_depth);
+    gl.glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    check("clear");
+
+    for (const Draw& draw : scene.draws) render_draw(scene, draw);
+    gl.glFinish();
+
+    ReferenceResult result;
+    result.stats = stats;
+    Framebuffer& fb = result.framebuffer;
+    fb = Framebuffer(width, height, desc.color_format, desc.depth_format);
+    gl.glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    const size_t pixels = static_cast<size_t>(width) * height;
+    if (desc.color_format == ColorFormat::rgba8) {
+      std::vector<uint8_t> rgba(pixels * 4);
+      gl.glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+      for (size_t i = 0; i < rgba.size(); ++i) fb.color[i] = rgba[i];
+    } else {
+      gl.glReadPixels(0, 0, width, height, GL_RGBA, GL_HALF_FLOAT, fb.color.data());
+    }
+    check("colour read-back");
+    switch (desc.depth_format) {
+      case DepthFormat::unorm16: {
+        std::vector<uint16_t> d(pixels);
+        gl.glReadPixels(0, 0, width, height, GL_DEPTH_COMPONENT, GL_UNSIGNED_SHORT, d.data());
+        for (size_t i = 0; i < pixels; ++i) fb.depth[i] = d[i];
+        break;
+      }
+      case DepthFormat::unorm24: {
+        // 24-bit values arrive scaled to 32 bits by bit replication
+        // (v << 8 | v >> 16); the top 24 bits are the stored value.
+        std::vector<uint32_t> d(pixels);
+        gl.glReadPixels(0, 0, width, height, GL_DEPTH_COMPONENT, GL_UNSIGNED_INT, d.data());
+        for (size_t i = 0; i < pixels; ++i) fb.depth[i] = d[i] >> 8;
+        break;
+      }
+      case DepthFormat::float32: {
+        std::vector<float> d(pixels);
+        gl.glReadPixels(0, 0, width, height, GL_DEPTH_COMPONENT, GL_FLOAT, d.data());
+        for (size_t i = 0; i < pixels; ++i) fb.depth[i] = bits_from_float(d[i]);
+        break;
+      }
+    }
+    check("depth read-back");
+    return result;
+  }
+};
+
+GlReference::GlReference() : m_impl(std::make_unique<Impl>()) { m_impl->init(); }
+GlReference::~GlReference() = default;
+
+ReferenceResult GlReference::render(const Scene& scene) { return m_impl->render(scene); }
+std::string GlReference::renderer() const { return m_impl->renderer; }
+std::string GlReference::version() const { return m_impl->version; }
+int GlReference::viewport_side() const { return m_impl->viewport_side; }
+
+}  // namespace gpusim::reference

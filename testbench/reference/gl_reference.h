@@ -1,0 +1,98 @@
+// The reference renderer: an independent OpenGL implementation (Mesa's
+// llvmpipe, through EGL's surfaceless platform) renders a scene so that the
+// golden model can be checked against it (docs/validation.md).
+//
+// Division of labour. The vertex stage is the spec's own (golden::shade_vertex:
+// transform and lighting); OpenGL does everything after it: primitive
+// assembly, clipping, rasterization and the fill rule, attribute and depth
+// interpolation, polygon offset, the depth test, blending, colour masks and
+// the conversions to the buffer formats.
+//
+// Window coordinates. The spec computes each vertex's window position in
+// float and snaps it to 1/256 pixel; any other float evaluation of the same
+// divide and viewport transform (llvmpipe's) rounds differently once in a
+// while, and a vertex one subpixel off changes coverage. So a triangle the
+// spec does not clip is handed to OpenGL already in window space: the vertex
+// is (x_ndc, y_ndc, z_w, 1) where x_ndc = (X/256 - tx) / (V/2) for the
+// spec's snapped X, with V a power of two (the viewport's side, 16384 for
+// llvmpipe) and tx an integer. Every one of these operations is exact in
+// binary32, and so is llvmpipe's x_ndc * (V/2) + tx, so OpenGL snaps exactly
+// the spec's X. The viewport is V x V pixels placed so that window (0, 0) is
+// the framebuffer's lower left corner: llvmpipe clips x and y to the
+// viewport (it has no guard band when a depth buffer is bound), and this
+// viewport reaches V/2 pixels beyond the framebuffer on every side, so no
+// such clipping reaches a visible pixel unless a vertex lies farther out.
+// Depth uses glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE) so window z is the
+// spec's z_w unchanged, with GL_DEPTH_CLAMP on (no near/far clipping for
+// these triangles, which the spec does not clip either; fragment depth is
+// clamped to [0, 1] like the spec's). With w = 1 OpenGL's own perspective
+// correction does nothing, so a Gouraud colour is passed as the spec's
+// colour / w and 1 / w in `noperspective` varyings and divided per fragment,
+// which is perspective-correct interpolation.
+//
+// A triangle the spec clips (crossing near, far, w = 0, or the guard band) is
+// handed to OpenGL in homogeneous clip coordinates, rescaled so that the
+// divide and viewport give the spec's window coordinates up to rounding, with
+// depth clamp off: OpenGL clips it with its own algorithm and interpolates
+// colours with its own perspective correction. Coverage along such cut edges
+// can differ by rounding, and is reported separately.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+#include "hw/framebuffer.h"
+#include "testbench/scene/scene.h"
+
+namespace gpusim::reference {
+
+// No usable OpenGL (EGL missing, no llvmpipe, a GL error): what() says why.
+class ReferenceError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// What happened to the scene's triangles on the way into OpenGL.
+struct ReferenceStats {
+  uint64_t triangles = 0;          // assembled (spec section 3)
+  uint64_t triangles_invalid = 0;  // out-of-range index or non-finite position: not drawn
+  uint64_t triangles_exact = 0;    // handed over in window space (spec does not clip them)
+  uint64_t triangles_clipped = 0;  // handed over in clip space: OpenGL clips them
+  // Exact triangles with a vertex outside OpenGL's viewport: llvmpipe clips
+  // them at the viewport edge, V/2 pixels beyond the framebuffer.
+  uint64_t triangles_beyond_viewport = 0;
+  uint64_t native_draws = 0;    // draws submitted with their own primitive type and indices
+  uint64_t expanded_draws = 0;  // draws submitted triangle by triangle (GL_TRIANGLES)
+};
+
+struct ReferenceResult {
+  Framebuffer framebuffer;
+  ReferenceStats stats;
+};
+
+// One EGL display and OpenGL context; several renders per instance are fine.
+class GlReference {
+ public:
+  // Creates the context (LIBGL_ALWAYS_SOFTWARE=1, GALLIUM_DRIVER=llvmpipe);
+  // throws ReferenceError unless GL_RENDERER names llvmpipe.
+  GlReference();
+  ~GlReference();
+  GlReference(const GlReference&) = delete;
+  GlReference& operator=(const GlReference&) = delete;
+
+  // Render the scene: clear, then every draw in order, and read back colour
+  // and depth in the scene's formats. Throws ReferenceError on a GL error.
+  ReferenceResult render(const Scene& scene);
+
+  std::string renderer() const;  // GL_RENDERER, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"
+  std::string version() const;   // GL_VERSION, e.g. "4.5 (Core Profile) Mesa 22.3.6"
+  int viewport_side() const;     // V, the side of the viewport used for exact triangles
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> m_impl;
+};
+
+}  // namespace gpusim::reference

@@ -1,0 +1,159 @@
+// gpusim_reference: renders scenes with Mesa's llvmpipe (testbench/reference/
+// gl_reference.h) into EXR files in the simulator's layout, for the
+// regression suite (scripts/regress, docs/validation.md).
+//
+//   gpusim_reference SCENE --out FILE.exr [--png FILE.png] [--stats FILE.json]
+//   gpusim_reference --batch LIST     LIST: lines "SCENE OUT.exr [OUT.png [STATS.json]]"
+//                                     ("-" for no PNG), one OpenGL context for all
+//   gpusim_reference --info           the renderer and version, nothing rendered
+//
+// Exit status: 0 done, 2 bad input (one line naming the file and the
+// problem), 3 no usable OpenGL (no EGL, no llvmpipe, a GL error).
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <systemc>
+#include <vector>
+
+#include "hw/input_error.h"
+#include "testbench/io/image_files.h"
+#include "testbench/io/output_file.h"
+#include "testbench/reference/gl_reference.h"
+#include "testbench/scene/scene.h"
+
+namespace gpusim {
+namespace {
+
+constexpr int kExitError = 2;
+constexpr int kExitNoGl = 3;
+
+nlohmann::json stats_json(const reference::ReferenceStats& s) {
+  return {{"triangles", s.triangles},
+          {"triangles_invalid", s.triangles_invalid},
+          {"triangles_exact", s.triangles_exact},
+          {"triangles_clipped", s.triangles_clipped},
+          {"triangles_beyond_viewport", s.triangles_beyond_viewport},
+          {"native_draws", s.native_draws},
+          {"expanded_draws", s.expanded_draws}};
+}
+
+struct Job {
+  std::string scene, exr, png, stats;
+};
+
+void render_job(reference::GlReference& gl, const Job& job) {
+  const Scene scene = load_scene(job.scene);
+  const reference::ReferenceResult result = gl.render(scene);
+  OutputFiles files;
+  write_frame_exr(result.framebuffer, files.add(job.exr));
+  if (!job.png.empty()) write_frame_png(result.framebuffer, files.add(job.png));
+  if (!job.stats.empty()) {
+    const nlohmann::json j = {{"scene", job.scene},
+                              {"renderer", gl.renderer()},
+                              {"version", gl.version()},
+                              {"viewport_side", gl.viewport_side()},
+                              {"stats", stats_json(result.stats)}};
+    write_text_file_atomically(files.add(job.stats), j.dump(2) + "\n");
+  }
+  files.commit();
+  const reference::ReferenceStats& s = result.stats;
+  std::printf("reference: %s -> %s: %llu triangles (%llu exact, %llu clipped by OpenGL, %llu invalid, "
+              "%llu beyond the viewport)\n",
+              job.scene.c_str(), job.exr.c_str(), static_cast<unsigned long long>(s.triangles),
+              static_cast<unsigned long long>(s.triangles_exact),
+              static_cast<unsigned long long>(s.triangles_clipped),
+              static_cast<unsigned long long>(s.triangles_invalid),
+              static_cast<unsigned long long>(s.triangles_beyond_viewport));
+}
+
+std::vector<Job> read_batch(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path + ": cannot open");
+  std::vector<Job> jobs;
+  std::string line;
+  int number = 0;
+  while (std::getline(in, line)) {
+    ++number;
+    std::istringstream fields(line);
+    Job job;
+    if (!(fields >> job.scene)) continue;  // blank line
+    std::string extra;
+    if (!(fields >> job.exr) || (fields >> job.png && fields >> job.stats && fields >> extra)) {
+      throw InputError(path + ": line " + std::to_string(number) +
+                       ": expected SCENE OUT.exr [OUT.png [STATS.json]]");
+    }
+    if (job.png == "-") job.png.clear();
+    jobs.push_back(job);
+  }
+  return jobs;
+}
+
+int main_with_errors(int argc, char** argv) {
+  CLI::App app{"gpusim_reference: render scenes with Mesa's llvmpipe (OpenGL) as EXR references"};
+  Job job;
+  std::string batch;
+  bool info = false;
+  app.add_option("scene", job.scene, "Scene file (JSON, docs/scene-format.md)");
+  app.add_option("--out", job.exr, "Output EXR (R, G, B, A half; Z float), like gpusim golden's frame.exr");
+  app.add_option("--png", job.png, "Also write an 8-bit PNG preview");
+  app.add_option("--stats", job.stats, "Also write how the triangles were handed to OpenGL (JSON)");
+  app.add_option("--batch", batch,
+                 "Render every line \"SCENE OUT.exr [OUT.png [STATS.json]]\" of this file (\"-\": no PNG)");
+  app.add_flag("--info", info, "Print GL_RENDERER and GL_VERSION and exit");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "gpusim_reference: " << e.what() << " (see gpusim_reference --help)\n";
+    return kExitError;
+  }
+  std::vector<Job> jobs;
+  if (!batch.empty()) {
+    jobs = read_batch(batch);
+  } else if (!job.scene.empty()) {
+    if (job.exr.empty()) {
+      std::cerr << "gpusim_reference: --out FILE.exr is required with a scene\n";
+      return kExitError;
+    }
+    jobs.push_back(job);
+  } else if (!info) {
+    std::cerr << "gpusim_reference: give a scene, --batch LIST or --info (see gpusim_reference --help)\n";
+    return kExitError;
+  }
+
+  try {
+    reference::GlReference gl;
+    if (info) {
+      std::printf("GL_RENDERER: %s\nGL_VERSION: %s\nviewport side: %d\n", gl.renderer().c_str(),
+                  gl.version().c_str(), gl.viewport_side());
+    }
+    for (const Job& j : jobs) render_job(gl, j);
+  } catch (const reference::ReferenceError& e) {
+    std::cerr << "gpusim_reference: no usable OpenGL reference: " << e.what() << "\n";
+    return kExitNoGl;
+  }
+  return 0;
+}
+
+}  // namespace
+}  // namespace gpusim
+
+int sc_main(int argc, char* argv[]) {
+  try {
+    return gpusim::main_with_errors(argc, argv);
+  } catch (const gpusim::InputError& e) {
+    std::cerr << "gpusim_reference: " << e.what() << "\n";
+  } catch (const std::exception& e) {
+    std::cerr << "gpusim_reference: internal error: " << e.what() << "\n";
+  }
+  return gpusim::kExitError;
+}
+
+// libsystemc (linked through gpusim_hw) owns main() otherwise; this tool runs
+// no simulation, so it calls sc_main directly.
+int main(int argc, char* argv[]) { return sc_main(argc, argv); }
