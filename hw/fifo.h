@@ -11,6 +11,12 @@
 // Cost: a ring buffer allocated once, one request_update() per delta with
 // activity, no clock and no per-cycle work. A stage with nothing to do sleeps
 // in read() (or on data_written_event()) and costs the kernel nothing.
+// Packets with heap storage (vectors) are recycled rather than reallocated:
+// read(T&) and write(T&&) exchange the packet with the slot (std::swap), so
+// the slot keeps the reader's previous buffers and hands them to the next
+// writer, like a register that keeps its storage. The events are notified
+// only when someone can be waiting on them (see update()): a notification
+// without a waiter still costs the kernel a delta-event trigger per delta.
 //
 // Statistics integrate in simulated time and are computed up to "now" on
 // demand, so they can be read at any point, including after sc_start()
@@ -37,6 +43,10 @@ template <typename T>
 class FifoInIf : public virtual sc_core::sc_interface {
  public:
   virtual T read() = 0;
+  // The same, into `item`: its previous value goes to the freed slot, for the
+  // next writer to reuse its buffers (a reader that reads into one packet
+  // object every time allocates nothing).
+  virtual void read(T& item) = 0;
   virtual bool nb_read(T& item) = 0;
   virtual size_t size() const = 0;
   virtual const T& front() const = 0;
@@ -52,6 +62,10 @@ class FifoOutIf : public virtual sc_core::sc_interface {
   // pipeline latency. The item holds its slot from when it enters; if the
   // write had to wait for a slot, `ready_at` moves later by that wait.
   virtual void write(const T& item, const sc_core::sc_time& ready_at) = 0;
+  // Moving writes: `item` is left holding the slot's previous contents (a
+  // stale packet whose buffers a writer may clear and refill).
+  virtual void write(T&& item) = 0;
+  virtual void write(T&& item, const sc_core::sc_time& ready_at) = 0;
   virtual bool nb_write(const T& item) = 0;
   virtual size_t num_free() const = 0;
   virtual size_t depth() const = 0;
@@ -114,8 +128,9 @@ struct SplitMix64 {
 template <typename T>
 class Fifo : public sc_core::sc_prim_channel, public FifoInIf<T>, public FifoOutIf<T> {
  public:
-  // T must be default-constructible and copy-assignable: the ring holds
-  // `depth` values from construction on, so a write is one assignment.
+  // T must be default-constructible, copy-assignable and swappable: the ring
+  // holds `depth` values from construction on, so a write is one assignment
+  // (or one swap).
   Fifo(const char* name, size_t depth)
       : sc_core::sc_prim_channel(name),
         m_buf(depth),
@@ -129,52 +144,48 @@ class Fifo : public sc_core::sc_prim_channel, public FifoInIf<T>, public FifoOut
 
   // Blocking; SC_THREAD only. Waits while the FIFO is full.
   void write(const T& item) override { write(item, sc_core::SC_ZERO_TIME); }
+  void write(T&& item) override { write(std::move(item), sc_core::SC_ZERO_TIME); }
 
   void write(const T& item, const sc_core::sc_time& ready_at) override {
-    const sc_core::sc_time called = sc_core::sc_time_stamp();
-    maybe_stall(m_write_rng);
-    if (num_free() == 0) {
-      begin_blocked(m_blocked_writers);
-      do {
-        sc_core::wait(m_data_read_event);
-      } while (num_free() == 0);
-      end_blocked(m_blocked_writers);
-    }
-    // The latency runs from when the item enters the FIFO: a result waiting
-    // for a free slot has not started down the output's register chain.
-    push(item, ready_at + (sc_core::sc_time_stamp() - called));
+    const sc_core::sc_time ready = wait_for_slot(ready_at);
+    m_buf[m_tail] = item;
+    push(ready);
+  }
+
+  void write(T&& item, const sc_core::sc_time& ready_at) override {
+    const sc_core::sc_time ready = wait_for_slot(ready_at);
+    using std::swap;
+    swap(m_buf[m_tail], item);
+    push(ready);
   }
 
   // Blocking; SC_THREAD only. Waits while no item is readable.
   T read() override {
-    maybe_stall(m_read_rng);
-    if (size() == 0) {
-      begin_blocked(m_blocked_readers);
-      do {
-        sc_core::wait(m_data_written_event);
-      } while (size() == 0);
-      end_blocked(m_blocked_readers);
-    }
-    // An item still in the writer's pipeline: waiting for it is starving too.
-    const uint64_t ready = m_ready[m_head];
-    const uint64_t now = sc_core::sc_time_stamp().value();
-    if (ready > now) {
-      begin_blocked(m_blocked_readers);
-      sc_core::wait(sc_core::sc_time::from_value(ready - now));
-      end_blocked(m_blocked_readers);
-    }
-    return pop();
+    wait_for_item();
+    T item = std::move(m_buf[m_head]);
+    pop();
+    return item;
+  }
+
+  void read(T& item) override {
+    wait_for_item();
+    using std::swap;
+    swap(m_buf[m_head], item);
+    pop();
   }
 
   bool nb_write(const T& item) override {
     if (num_free() == 0) return false;
-    push(item, sc_core::SC_ZERO_TIME);
+    m_buf[m_tail] = item;
+    push(sc_core::SC_ZERO_TIME);
     return true;
   }
 
   bool nb_read(T& item) override {
-    if (size() == 0 || m_ready[m_head] > sc_core::sc_time_stamp().value()) return false;
-    item = pop();
+    if (size() == 0 || m_ready[m_head] > time_stamp()) return false;
+    using std::swap;
+    swap(m_buf[m_head], item);
+    pop();
     return true;
   }
 
@@ -190,8 +201,16 @@ class Fifo : public sc_core::sc_prim_channel, public FifoInIf<T>, public FifoOut
   }
 
   // Notified (delta) after a delta cycle in which items were written / read.
-  const sc_core::sc_event& data_written_event() const override { return m_data_written_event; }
-  const sc_core::sc_event& data_read_event() const override { return m_data_read_event; }
+  // Whoever asks for an event may wait on it, so from then on it is notified
+  // after every delta with activity, waiter or not (see update()).
+  const sc_core::sc_event& data_written_event() const override {
+    m_events_handed_out = true;
+    return m_data_written_event;
+  }
+  const sc_core::sc_event& data_read_event() const override {
+    m_events_handed_out = true;
+    return m_data_read_event;
+  }
 
   // From now on, every blocking read() and write() first waits, with
   // `probability`, a uniformly drawn 1..max_cycles cycles. Readers and writers
@@ -213,7 +232,7 @@ class Fifo : public sc_core::sc_prim_channel, public FifoInIf<T>, public FifoOut
   }
 
   FifoStats stats() const {
-    const uint64_t now = sc_core::sc_time_stamp().value();
+    const uint64_t now = this->now();
     const uint64_t dt = now - m_occupancy.since;
     FifoStats s;
     s.written = m_total_written;
@@ -252,46 +271,92 @@ class Fifo : public sc_core::sc_prim_channel, public FifoInIf<T>, public FifoOut
   }
 
  private:
-  void push(const T& item, const sc_core::sc_time& ready_at) {
-    m_buf[m_tail] = item;
-    m_ready[m_tail] = ready_at.value();
+  // The current time as an sc_time value. The simulation context is the
+  // channel's own (the same as sc_time_stamp()'s while it runs), read
+  // inline rather than through the library call.
+  const sc_core::sc_time& time_stamp() const { return simcontext()->time_stamp(); }
+  uint64_t now() const { return time_stamp().value(); }
+
+  // The blocking part of write(): waits until a slot is free and returns the
+  // item's ready time (`ready_at`, later by the wait).
+  sc_core::sc_time wait_for_slot(const sc_core::sc_time& ready_at) {
+    const sc_core::sc_time called = time_stamp();
+    maybe_stall(m_write_rng);
+    if (num_free() == 0) {
+      begin_blocked(m_blocked_writers);
+      do {
+        sc_core::wait(m_data_read_event);
+      } while (num_free() == 0);
+      end_blocked(m_blocked_writers);
+    }
+    // The latency runs from when the item enters the FIFO: a result waiting
+    // for a free slot has not started down the output's register chain.
+    return ready_at + (time_stamp() - called);
+  }
+
+  // The blocking part of read(): waits until the oldest item is readable.
+  void wait_for_item() {
+    maybe_stall(m_read_rng);
+    if (size() == 0) {
+      begin_blocked(m_blocked_readers);
+      do {
+        sc_core::wait(m_data_written_event);
+      } while (size() == 0);
+      end_blocked(m_blocked_readers);
+    }
+    // An item still in the writer's pipeline: waiting for it is starving too.
+    const sc_core::sc_time& ready = m_ready[m_head];
+    const sc_core::sc_time& now = time_stamp();
+    if (ready > now) {
+      begin_blocked(m_blocked_readers);
+      sc_core::wait(ready - now);
+      end_blocked(m_blocked_readers);
+    }
+  }
+
+  // The item is already in m_buf[m_tail]; `ready` is its ready time.
+  void push(const sc_core::sc_time& ready) {
+    m_ready[m_tail] = ready;
     m_tail = m_tail + 1 == m_buf.size() ? 0 : m_tail + 1;
     ++m_num_written;
     ++m_total_written;
     request_update();
   }
 
-  T pop() {
-    T item = std::move(m_buf[m_head]);
+  // The item has already been taken from m_buf[m_head].
+  void pop() {
     m_head = m_head + 1 == m_buf.size() ? 0 : m_head + 1;
     ++m_num_read;
     ++m_total_read;
     request_update();
-    return item;
   }
 
   // Commits this delta's reads and writes: the occupancy seen by the other
   // side, and the statistics, change only here.
+  //
+  // An event is notified only if someone can be waiting on it: a reader or
+  // writer blocked in this FIFO (counted by the blocked-time integrals), or
+  // anyone the event was handed out to. Skipping a notification nobody waits
+  // on changes nothing in the schedule: no process was going to wake, and the
+  // kernel triggers the other delta events in the same order.
   void update() override {
-    const uint64_t now = sc_core::sc_time_stamp().value();
+    const uint64_t now = this->now();
     const uint64_t dt = now - m_occupancy.since;
-    if (m_committed == depth()) m_full += dt;
+    if (m_committed == m_buf.size()) m_full += dt;
     if (m_committed == 0) m_empty += dt;
     m_committed = m_committed - m_num_read + m_num_written;
     m_occupancy.set(m_committed, now);
     m_max_occupancy = std::max(m_max_occupancy, m_committed);
-    if (m_num_written) m_data_written_event.notify(sc_core::SC_ZERO_TIME);
-    if (m_num_read) m_data_read_event.notify(sc_core::SC_ZERO_TIME);
+    if (m_num_written && (m_blocked_readers.level > 0 || m_events_handed_out))
+      m_data_written_event.notify(sc_core::SC_ZERO_TIME);
+    if (m_num_read && (m_blocked_writers.level > 0 || m_events_handed_out))
+      m_data_read_event.notify(sc_core::SC_ZERO_TIME);
     m_num_written = 0;
     m_num_read = 0;
   }
 
-  static void begin_blocked(fifo_detail::Integral& blocked) {
-    blocked.set(blocked.level + 1, sc_core::sc_time_stamp().value());
-  }
-  static void end_blocked(fifo_detail::Integral& blocked) {
-    blocked.set(blocked.level - 1, sc_core::sc_time_stamp().value());
-  }
+  void begin_blocked(fifo_detail::Integral& blocked) { blocked.set(blocked.level + 1, now()); }
+  void end_blocked(fifo_detail::Integral& blocked) { blocked.set(blocked.level - 1, now()); }
 
   void maybe_stall(fifo_detail::SplitMix64& rng) {
     if (m_stall_probability <= 0.0 || rng.uniform() >= m_stall_probability) return;
@@ -303,7 +368,7 @@ class Fifo : public sc_core::sc_prim_channel, public FifoInIf<T>, public FifoOut
   }
 
   std::vector<T> m_buf;
-  std::vector<uint64_t> m_ready;  // per slot: sc_time value from which the reader may take it
+  std::vector<sc_core::sc_time> m_ready;  // per slot: when the reader may take it
   size_t m_head = 0;         // oldest item
   size_t m_tail = 0;         // next free slot
   size_t m_committed = 0;    // items held at the start of this delta
@@ -311,6 +376,7 @@ class Fifo : public sc_core::sc_prim_channel, public FifoInIf<T>, public FifoOut
   size_t m_num_written = 0;  // in this delta
   sc_core::sc_event m_data_written_event;
   sc_core::sc_event m_data_read_event;
+  mutable bool m_events_handed_out = false;  // set by data_written/read_event()
 
   uint64_t m_total_written = 0;
   uint64_t m_total_read = 0;

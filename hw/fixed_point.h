@@ -33,11 +33,24 @@ constexpr float kGuardBandPixels = 32768.0f;
 using EdgeValue = int64_t;
 using Subpixel = int32_t;
 
+// Snapped coordinates saturate at +-2^24 subpixels (2^16 pixels, twice the
+// guard band), so the bounds above hold for every input.
+constexpr int32_t kSnapLimit = 1 << 24;
+
 // Round a window coordinate to the subpixel grid: to nearest, ties to even.
 // x * 256 is exact in binary floating point, so the only rounding is the one
-// to an integer. The caller guarantees |x| is within the guard band.
+// to an integer. After clipping |x| is within the guard band, except that
+// float rounding in the clipper on extreme inputs (coordinates near the float
+// range, or a cut next to w = 0 on large coordinates) can land a vertex far
+// outside, or at infinity or NaN: such values saturate at +-kSnapLimit, and
+// NaN snaps to 0 (docs/pipeline-spec.md, section 6), rather than overflow the
+// conversion to int (undefined behaviour) and the edge functions after it.
 inline Subpixel snap_to_subpixel(float x) {
-  return static_cast<Subpixel>(std::nearbyint(x * static_cast<float>(kSubpixelOne)));
+  const float v = x * static_cast<float>(kSubpixelOne);
+  if (v != v) return 0;
+  if (v >= static_cast<float>(kSnapLimit)) return kSnapLimit;
+  if (v <= -static_cast<float>(kSnapLimit)) return -kSnapLimit;
+  return static_cast<Subpixel>(std::nearbyint(v));
 }
 
 // Pixel (ix, iy) has its centre at subpixel (ix * 256 + 128, iy * 256 + 128).

@@ -1,5 +1,6 @@
 #include "hw/gpu_config.h"
 
+#include <filesystem>
 #include <fstream>
 #include <regex>
 #include <sstream>
@@ -247,10 +248,23 @@ GpuConfig gpu_config_from_json(const nlohmann::json& j, const std::string& sourc
 }
 
 GpuConfig load_gpu_config(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    throw InputError(path + ": is a directory, not a configuration file");
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path + ": cannot open file");
   std::ostringstream text;
   text << in.rdbuf();
+  if (in.bad()) throw InputError(path + ": read error");
+  const std::string& t = text.str();
+  if (t.size() >= 2 && ((t[0] == '\xFE' && t[1] == '\xFF') || (t[0] == '\xFF' && t[1] == '\xFE'))) {
+    throw InputError(path + ": is UTF-16 encoded; configuration files are UTF-8 JSON");
+  }
+  const size_t nul = t.find('\0');
+  if (nul != std::string::npos) {
+    throw InputError(path + ": byte " + std::to_string(nul) + " is NUL: not a JSON text file");
+  }
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(text.str(), nullptr, /*allow_exceptions=*/true,

@@ -14,7 +14,8 @@ Memory::Memory(sc_core::sc_module_name name, uint64_t size, unsigned latency_cyc
       m_data(size),
       m_latency(latency_cycles),
       m_bytes_per_cycle(bytes_per_cycle),
-      m_cycle(cycle) {
+      m_cycle(cycle),
+      m_latency_time(sc_core::sc_time::from_value(cycle.value() * latency_cycles)) {
   if (bytes_per_cycle == 0) throw std::invalid_argument("Memory: bytes_per_cycle must be >= 1");
   socket.register_b_transport(this, &Memory::b_transport);
   socket.register_transport_dbg(this, &Memory::transport_dbg);
@@ -35,12 +36,10 @@ unsigned Memory::bind(tlm::tlm_initiator_socket<>& initiator, const std::string&
   return index;
 }
 
-Memory::Client& Memory::client(int id) {
-  const auto index = static_cast<size_t>(id);
-  while (m_clients.size() <= index) {
+void Memory::add_clients(size_t up_to) {
+  while (m_clients.size() <= up_to) {
     m_clients.push_back({"client" + std::to_string(m_clients.size()), {}});
   }
-  return m_clients[index];
 }
 
 void Memory::b_transport(int id, tlm::tlm_generic_payload& trans, sc_core::sc_time& delay) {
@@ -79,13 +78,14 @@ void Memory::b_transport(int id, tlm::tlm_generic_payload& trans, sc_core::sc_ti
     c.stats.bytes_written += len;
   }
 
-  // The bus model of the header comment.
-  const sc_core::sc_time now = sc_core::sc_time_stamp();
+  // The bus model of the header comment. (The time is read from this
+  // module's simulation context inline: the same as sc_time_stamp().)
+  const sc_core::sc_time now = simcontext()->time_stamp();
   const sc_core::sc_time arrival = now + delay;
   const sc_core::sc_time start = arrival > m_bus_free ? arrival : m_bus_free;
   const uint64_t busy = (len + m_bytes_per_cycle - 1) / m_bytes_per_cycle;
   m_bus_free = start + sc_core::sc_time::from_value(m_cycle.value() * busy);
-  delay = (m_bus_free - now) + sc_core::sc_time::from_value(m_cycle.value() * m_latency);
+  delay = (m_bus_free - now) + m_latency_time;
 
   ++c.stats.requests;
   c.stats.busy_cycles += busy;

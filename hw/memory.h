@@ -89,7 +89,13 @@ class Memory : public sc_core::sc_module {
 
   void b_transport(int id, tlm::tlm_generic_payload& trans, sc_core::sc_time& delay);
   unsigned int transport_dbg(int id, tlm::tlm_generic_payload& trans);
-  Client& client(int id);
+  // Client `id`, created (named "client<id>") on its first request.
+  Client& client(int id) {
+    const auto index = static_cast<size_t>(id);
+    if (index >= m_clients.size()) add_clients(index);
+    return m_clients[index];
+  }
+  void add_clients(size_t up_to);
   bool in_range(uint64_t addr, uint64_t len) const {
     return addr <= m_data.size() && len <= m_data.size() - addr;
   }
@@ -98,6 +104,7 @@ class Memory : public sc_core::sc_module {
   unsigned m_latency;
   unsigned m_bytes_per_cycle;
   sc_core::sc_time m_cycle;
+  sc_core::sc_time m_latency_time;  // m_latency cycles
   sc_core::sc_time m_bus_free;
   uint64_t m_busy_cycles = 0;
   std::vector<Client> m_clients;

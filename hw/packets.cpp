@@ -1,5 +1,7 @@
 #include "hw/packets.h"
 
+#include <stdexcept>
+#include <string>
 #include <tuple>
 
 namespace gpusim {
@@ -43,6 +45,15 @@ std::ostream& operator<<(std::ostream& os, const ClippedTriangle& t) {
     os << " [" << v.x << ", " << v.y << ", " << v.z << ", 1/w " << v.inv_w << "]";
   }
   return os << "}";
+}
+
+int log2_side(unsigned side) {
+  if (side == 0 || (side & (side - 1)) != 0) {
+    throw std::invalid_argument("side " + std::to_string(side) + " is not a power of two");
+  }
+  int n = 0;
+  while ((1u << n) < side) ++n;
+  return n;
 }
 
 bool RasterTriangle::operator==(const RasterTriangle& o) const {

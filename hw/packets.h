@@ -1,7 +1,10 @@
 // Packets crossing the FIFOs between stage groups. Small value types: no
 // owning raw pointers; a triangle set up once is shared read-only by every
 // unit and stage that needs it. Control tokens (clear, end of frame) travel
-// in band, so they stay ordered with the work around them.
+// in band, so they stay ordered with the work around them. Packets holding
+// buffers have a member-wise swap(): a FIFO exchanges packets with its slots
+// (hw/fifo.h), and swapping the members is a few pointer exchanges, where the
+// generic std::swap moves everything three times.
 #pragma once
 
 #include <array>
@@ -9,6 +12,7 @@
 #include <glm/glm.hpp>
 #include <memory>
 #include <ostream>
+#include <utility>
 #include <vector>
 
 #include "hw/fixed_point.h"
@@ -93,6 +97,10 @@ struct SetupPacket {
   PacketKind kind = PacketKind::work;
   std::shared_ptr<const RasterTriangle> triangle;  // work only
   bool operator==(const SetupPacket& o) const;
+  friend void swap(SetupPacket& a, SetupPacket& b) noexcept {
+    std::swap(a.kind, b.kind);
+    a.triangle.swap(b.triangle);
+  }
 };
 std::ostream& operator<<(std::ostream& os, const SetupPacket& p);
 
@@ -119,6 +127,12 @@ struct StampBatch {
   // depth test computed, for stages after it; empty before the depth test.
   std::vector<float> depth;
   bool operator==(const StampBatch& o) const;
+  friend void swap(StampBatch& a, StampBatch& b) noexcept {
+    std::swap(a.kind, b.kind);
+    a.triangle.swap(b.triangle);
+    a.stamps.swap(b.stamps);
+    a.depth.swap(b.depth);
+  }
 };
 std::ostream& operator<<(std::ostream& os, const StampBatch& b);
 
@@ -130,6 +144,12 @@ struct ShadedStampBatch {
   std::vector<Stamp> stamps;
   std::vector<glm::vec4> colors;
   bool operator==(const ShadedStampBatch& o) const;
+  friend void swap(ShadedStampBatch& a, ShadedStampBatch& b) noexcept {
+    std::swap(a.kind, b.kind);
+    a.triangle.swap(b.triangle);
+    a.stamps.swap(b.stamps);
+    a.colors.swap(b.colors);
+  }
 };
 std::ostream& operator<<(std::ostream& os, const ShadedStampBatch& b);
 
@@ -139,5 +159,10 @@ std::ostream& operator<<(std::ostream& os, const ShadedStampBatch& b);
 inline unsigned tile_owner(int tx, int ty, unsigned units) {
   return static_cast<unsigned>(tx + ty) % units;
 }
+
+// Tile and stamp sides are powers of two (docs/gpu-config.md), so a pixel's
+// tile, or a stamp pixel's row, is found with a shift by log2(side), as
+// hardware does. Throws std::invalid_argument if `side` is not a power of two.
+int log2_side(unsigned side);
 
 }  // namespace gpusim

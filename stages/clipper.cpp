@@ -24,6 +24,8 @@ Clipper::Clipper(sc_core::sc_module_name name, const GpuConfig& config, const Fr
       m_config(config),
       m_frame(frame),
       m_cost(config.stage("clipper")),
+      m_cycle(config.cycle().value()),
+      m_latency(clock_cycles(m_cost.latency)),
       m_cache(config.vertex_cache_entries) {
   const float width = static_cast<float>(frame.framebuffer.width);
   const float height = static_cast<float>(frame.framebuffer.height);
@@ -59,9 +61,9 @@ void Clipper::run() {
       m_out.push_back(token);
     }
     m_busy_cycles += busy;
-    if (busy > 0) sc_core::wait(m_config.cycles(busy));
+    if (busy > 0) sc_core::wait(clock_cycles(busy));
     for (const ClippedTriangle& t : m_out) {
-      out->write(t, sc_core::sc_time_stamp() + m_config.cycles(m_cost.latency));
+      out->write(t, sc_core::sc_time_stamp() + m_latency);
       ++m_tokens_out;
     }
   }
@@ -132,7 +134,9 @@ void Clipper::assemble(const DrawState& draw, uint32_t draw_id, uint32_t slot, c
   }
 }
 
-float Clipper::distance(int plane, const glm::vec4& c) const {
+// inline: called with a constant plane in unrolled loops, where the switch
+// folds away (only this file uses it).
+inline float Clipper::distance(int plane, const glm::vec4& c) const {
   switch (plane) {
     case 0:
       return c.w - kMinClipW;

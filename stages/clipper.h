@@ -74,6 +74,14 @@ class Clipper : public sc_core::sc_module {
   const GpuConfig& m_config;
   const FrameState& m_frame;
   const StageCost m_cost;
+  // The clock period in SystemC time units, kept: GpuConfig::cycles() converts
+  // it from the MHz double on every call, a cost paid per token otherwise.
+  const uint64_t m_cycle;
+  sc_core::sc_time clock_cycles(uint64_t n) const {
+    return sc_core::sc_time::from_value(m_cycle * n);
+  }
+  // latency(stage) cycles: an output is readable this long after it is written.
+  const sc_core::sc_time m_latency;
   // Guard-band factors (spec section 4): x >= -m_gl * w, x <= m_gr * w, ...
   float m_gl = 0.0f, m_gr = 0.0f, m_gb = 0.0f, m_gt = 0.0f;
   float m_half_width = 0.0f, m_half_height = 0.0f;

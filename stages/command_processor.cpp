@@ -11,7 +11,9 @@ CommandProcessor::CommandProcessor(sc_core::sc_module_name name, const GpuConfig
       out("out"),
       m_config(config),
       m_frame(frame),
-      m_cost(config.stage("command_processor")) {
+      m_cost(config.stage("command_processor")),
+      m_cycle(config.cycle().value()),
+      m_latency(clock_cycles(m_cost.latency)) {
   SC_HAS_PROCESS(CommandProcessor);
   SC_THREAD(run);
 }
@@ -40,8 +42,8 @@ void CommandProcessor::run() {
         break;
     }
     m_busy_cycles += m_cost.ii;
-    sc_core::wait(m_config.cycles(m_cost.ii));
-    out->write(cmd, sc_core::sc_time_stamp() + m_config.cycles(m_cost.latency));
+    sc_core::wait(clock_cycles(m_cost.ii));
+    out->write(cmd, sc_core::sc_time_stamp() + m_latency);
     ++m_tokens_out;
   }
 }

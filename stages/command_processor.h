@@ -33,6 +33,14 @@ class CommandProcessor : public sc_core::sc_module {
   const GpuConfig& m_config;
   const FrameState& m_frame;
   const StageCost m_cost;
+  // The clock period in SystemC time units, kept: GpuConfig::cycles() converts
+  // it from the MHz double on every call, a cost paid per token otherwise.
+  const uint64_t m_cycle;
+  sc_core::sc_time clock_cycles(uint64_t n) const {
+    return sc_core::sc_time::from_value(m_cycle * n);
+  }
+  // latency(stage) cycles: an output is readable this long after it is written.
+  const sc_core::sc_time m_latency;
   StatGroup m_stats{name()};
   uint64_t& m_busy_cycles = m_stats.counter("busy_cycles", "cycles spent decoding commands");
   uint64_t& m_tokens_in = m_stats.counter("tokens_in", "commands read");

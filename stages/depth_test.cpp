@@ -23,12 +23,6 @@ void store_depth(uint8_t* p, unsigned bytes, DepthValue v) {
   }
 }
 
-int log2_exact(unsigned v) {
-  int n = 0;
-  while ((1u << n) < v) ++n;
-  return n;
-}
-
 }  // namespace
 
 DepthTest::DepthTest(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame,
@@ -41,14 +35,17 @@ DepthTest::DepthTest(sc_core::sc_module_name name, const GpuConfig& config, cons
       m_frame(frame),
       m_unit(unit),
       m_cost(config.stage("depth_test")),
+      m_cycle(config.cycle().value()),
+      m_latency(clock_cycles(m_cost.latency)),
+      m_tile_shift(log2_side(config.tile_size)),
+      m_stamp_shift(log2_side(config.stamp[0])),
       m_cache(mem, m_stats, config.tile_cache_entries) {
   SC_HAS_PROCESS(DepthTest);
   SC_THREAD(run);
 }
 
 uint64_t DepthTest::stall_cycles(const sc_core::sc_time& t) const {
-  const uint64_t c = m_config.cycle().value();
-  return (t.value() + c - 1) / c;
+  return (t.value() + m_cycle - 1) / m_cycle;
 }
 
 void DepthTest::run() {
@@ -64,12 +61,15 @@ void DepthTest::run() {
   layout.unit = m_unit;
   m_cache.configure(layout);
 
+  // Read into and written from one packet object: the FIFOs recycle its
+  // buffers (hw/fifo.h), so no batch allocates.
+  StampBatch batch;
   for (;;) {
-    StampBatch batch = in->read();
+    in->read(batch);
     ++m_tokens_in;
     sc_core::sc_time t = sc_core::SC_ZERO_TIME;  // memory stall, local offset
     uint64_t cycles = m_cost.ii;
-    sc_core::sc_time ready_after = m_config.cycles(m_cost.latency);
+    sc_core::sc_time ready_after = m_latency;
     bool forward = true;
     switch (batch.kind) {
       case PacketKind::work:
@@ -96,9 +96,9 @@ void DepthTest::run() {
     }
     m_memory_stall_cycles += stall;
     m_busy_cycles += cycles + stall;
-    sc_core::wait(m_config.cycles(cycles + stall));
+    sc_core::wait(clock_cycles(cycles + stall));
     if (forward) {
-      out->write(batch, sc_core::sc_time_stamp() + ready_after);
+      out->write(std::move(batch), sc_core::sc_time_stamp() + ready_after);
       ++m_tokens_out;
     }
   }
@@ -109,7 +109,6 @@ void DepthTest::test(StampBatch& batch, sc_core::sc_time& t) {
   const RenderState& st = m_frame.draws.at(tri.draw_id).state;
   const FramebufferDesc& fb = m_frame.framebuffer;
   const unsigned stamp_w = m_config.stamp[0];
-  const int stamp_shift = log2_exact(stamp_w);
   const int tile = static_cast<int>(m_config.tile_size);
 
   uint64_t fragments = 0;
@@ -142,7 +141,7 @@ void DepthTest::test(StampBatch& batch, sc_core::sc_time& t) {
   size_t kept = 0;
   for (size_t n = 0; n < batch.stamps.size(); ++n) {
     Stamp s = batch.stamps[n];
-    const int tx = s.x / tile, ty = s.y / tile;
+    const int tx = s.x >> m_tile_shift, ty = s.y >> m_tile_shift;
     if (s.x < 0 || s.y < 0 || s.x - tx * tile + static_cast<int>(stamp_w) > tile ||
         s.y - ty * tile + static_cast<int>(m_config.stamp[1]) > tile) {
       SC_REPORT_ERROR("gpusim/depth_test",
@@ -155,7 +154,7 @@ void DepthTest::test(StampBatch& batch, sc_core::sc_time& t) {
     uint64_t passed = 0;
     for (uint64_t bits = s.mask; bits != 0; bits &= bits - 1) {
       const int idx = __builtin_ctzll(bits);
-      const int i = idx & static_cast<int>(stamp_w - 1), j = idx >> stamp_shift;
+      const int i = idx & static_cast<int>(stamp_w - 1), j = idx >> m_stamp_shift;
       const int x = s.x + i, y = s.y + j;
       if (x >= fb.width || y >= fb.height) {
         SC_REPORT_ERROR("gpusim/depth_test",

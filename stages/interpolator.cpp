@@ -15,18 +15,23 @@ Interpolator::Interpolator(sc_core::sc_module_name name, const GpuConfig& config
       m_config(config),
       m_frame(frame),
       m_unit(unit),
-      m_cost(config.stage("interpolator")) {
+      m_cost(config.stage("interpolator")),
+      m_cycle(config.cycle().value()),
+      m_latency(clock_cycles(m_cost.latency)),
+      m_stamp_shift(log2_side(config.stamp[0])) {
   SC_HAS_PROCESS(Interpolator);
   SC_THREAD(run);
 }
 
 void Interpolator::run() {
-  ShadedStampBatch result;  // reused: its colour vector keeps its capacity
+  // One packet object each way: the FIFOs recycle their buffers (hw/fifo.h),
+  // so no batch allocates.
+  StampBatch batch;
+  ShadedStampBatch result;
   for (;;) {
-    StampBatch batch = in->read();
+    in->read(batch);
     ++m_tokens_in;
     result.kind = batch.kind;
-    result.triangle = batch.triangle;
     result.stamps.clear();
     result.colors.clear();
     uint64_t cycles = m_cost.ii;
@@ -37,9 +42,10 @@ void Interpolator::run() {
       result.stamps.swap(batch.stamps);
       m_fragments += result.colors.size();
     }
+    result.triangle.swap(batch.triangle);
     m_busy_cycles += cycles;
-    sc_core::wait(m_config.cycles(cycles));
-    out->write(result, sc_core::sc_time_stamp() + m_config.cycles(m_cost.latency));
+    sc_core::wait(clock_cycles(cycles));
+    out->write(std::move(result), sc_core::sc_time_stamp() + m_latency);
     ++m_tokens_out;
   }
 }
@@ -56,8 +62,6 @@ void Interpolator::shade(const StampBatch& batch, ShadedStampBatch& result) {
   }
 
   const unsigned stamp_w = m_config.stamp[0];
-  int stamp_shift = 0;
-  while ((1u << stamp_shift) < stamp_w) ++stamp_shift;
   std::array<EdgeValue, 3> step_x, step_y;
   for (int k = 0; k < 3; ++k) {
     step_x[k] = tri.edge[k].a * kSubpixelOne;
@@ -68,7 +72,7 @@ void Interpolator::shade(const StampBatch& batch, ShadedStampBatch& result) {
   for (const Stamp& s : batch.stamps) {
     for (uint64_t bits = s.mask; bits != 0; bits &= bits - 1) {
       const int idx = __builtin_ctzll(bits);
-      const int i = idx & static_cast<int>(stamp_w - 1), j = idx >> stamp_shift;
+      const int i = idx & static_cast<int>(stamp_w - 1), j = idx >> m_stamp_shift;
       const float f0 = static_cast<float>(s.e[0] + i * step_x[0] + j * step_y[0]);
       const float f1 = static_cast<float>(s.e[1] + i * step_x[1] + j * step_y[1]);
       const float f2 = static_cast<float>(s.e[2] + i * step_x[2] + j * step_y[2]);

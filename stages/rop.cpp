@@ -63,6 +63,10 @@ Rop::Rop(sc_core::sc_module_name name, const GpuConfig& config, const FrameState
       m_frame(frame),
       m_unit(unit),
       m_cost(config.stage("rop")),
+      m_cycle(config.cycle().value()),
+      m_latency(clock_cycles(m_cost.latency)),
+      m_tile_shift(log2_side(config.tile_size)),
+      m_stamp_shift(log2_side(config.stamp[0])),
       m_cache(mem, m_stats, config.tile_cache_entries) {
   SC_HAS_PROCESS(Rop);
   SC_THREAD(run);
@@ -80,10 +84,11 @@ void Rop::run() {
   layout.units = m_config.units;
   layout.unit = m_unit;
   m_cache.configure(layout);
-  const uint64_t cycle = m_config.cycle().value();
 
+  // Read into one packet object: the FIFO recycles its buffers (hw/fifo.h).
+  ShadedStampBatch batch;
   for (;;) {
-    const ShadedStampBatch batch = in->read();
+    in->read(batch);
     ++m_tokens_in;
     m_frame_done = false;
     sc_core::sc_time t = sc_core::SC_ZERO_TIME;  // memory stall, local offset
@@ -103,16 +108,16 @@ void Rop::run() {
         break;
       }
       case PacketKind::end_of_frame:
-        t = m_config.cycles(m_cost.latency);
+        t = m_latency;
         m_cache.flush(t);
         break;
     }
-    uint64_t stall = (t.value() + cycle - 1) / cycle;
+    uint64_t stall = (t.value() + m_cycle - 1) / m_cycle;
     // end_of_frame: the write-back overlaps the token's own ii.
     if (batch.kind == PacketKind::end_of_frame) stall = stall > cycles ? stall - cycles : 0;
     m_memory_stall_cycles += stall;
     m_busy_cycles += cycles + stall;
-    sc_core::wait(m_config.cycles(cycles + stall));
+    sc_core::wait(clock_cycles(cycles + stall));
     ++m_tokens_out;
     if (batch.kind == PacketKind::end_of_frame) {
       ++m_frames;
@@ -134,13 +139,11 @@ void Rop::blend(const ShadedStampBatch& batch, sc_core::sc_time& t) {
   const ColorFormat format = fb.color_format;
   const bool half = format == ColorFormat::rgba16f;
   const unsigned stamp_w = m_config.stamp[0];
-  int stamp_shift = 0;
-  while ((1u << stamp_shift) < stamp_w) ++stamp_shift;
   const int tile = static_cast<int>(m_config.tile_size);
 
   size_t c = 0;  // index into batch.colors
   for (const Stamp& s : batch.stamps) {
-    const int tx = s.x / tile, ty = s.y / tile;
+    const int tx = s.x >> m_tile_shift, ty = s.y >> m_tile_shift;
     if (s.x < 0 || s.y < 0 || s.x - tx * tile + static_cast<int>(stamp_w) > tile ||
         s.y - ty * tile + static_cast<int>(m_config.stamp[1]) > tile) {
       SC_REPORT_ERROR("gpusim/rop", (std::string(name()) + ": stamp at (" + std::to_string(s.x) +
@@ -155,7 +158,7 @@ void Rop::blend(const ShadedStampBatch& batch, sc_core::sc_time& t) {
                         (std::string(name()) + ": fewer colours than covered pixels").c_str());
       }
       const int idx = __builtin_ctzll(bits);
-      const int x = s.x + (idx & static_cast<int>(stamp_w - 1)), y = s.y + (idx >> stamp_shift);
+      const int x = s.x + (idx & static_cast<int>(stamp_w - 1)), y = s.y + (idx >> m_stamp_shift);
       if (x >= fb.width || y >= fb.height) {
         SC_REPORT_ERROR("gpusim/rop", (std::string(name()) + ": pixel (" + std::to_string(x) +
                                        ", " + std::to_string(y) + ") outside the framebuffer")

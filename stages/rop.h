@@ -72,6 +72,17 @@ class Rop : public sc_core::sc_module {
   const FrameState& m_frame;
   const unsigned m_unit;
   const StageCost m_cost;
+  // The clock period in SystemC time units, kept: GpuConfig::cycles() converts
+  // it from the MHz double on every call, a cost paid per token otherwise.
+  const uint64_t m_cycle;
+  sc_core::sc_time clock_cycles(uint64_t n) const {
+    return sc_core::sc_time::from_value(m_cycle * n);
+  }
+  // latency(stage) cycles: an output is readable this long after it is written.
+  const sc_core::sc_time m_latency;
+  // log2 of the tile side and of the stamp width (powers of two): a stamp's
+  // tile is its origin >> m_tile_shift, a mask bit's row is bit >> m_stamp_shift.
+  const int m_tile_shift, m_stamp_shift;
   bool m_frame_done = false;
   sc_core::sc_event m_frame_done_event;
   std::vector<int64_t>* m_last_writer = nullptr;

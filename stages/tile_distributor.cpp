@@ -13,6 +13,9 @@ TileDistributor::TileDistributor(sc_core::sc_module_name name, const GpuConfig& 
       m_config(config),
       m_frame(frame),
       m_cost(config.stage("tile_distributor")),
+      m_cycle(config.cycle().value()),
+      m_latency(clock_cycles(m_cost.latency)),
+      m_tile_shift(log2_side(config.tile_size)),
       m_targets(config.units, false) {
   for (unsigned u = 0; u < config.units; ++u) {
     const std::string n = std::to_string(u);
@@ -28,8 +31,8 @@ unsigned TileDistributor::target_units(const RasterTriangle& t, std::vector<bool
   targets.assign(units, false);
   if (t.x0 > t.x1 || t.y0 > t.y1) return 0;
   // The box is inside the framebuffer, so tile indices are non-negative.
-  const int ts = static_cast<int>(m_config.tile_size);
-  const int tx0 = t.x0 / ts, tx1 = t.x1 / ts, ty0 = t.y0 / ts, ty1 = t.y1 / ts;
+  const int tx0 = t.x0 >> m_tile_shift, tx1 = t.x1 >> m_tile_shift;
+  const int ty0 = t.y0 >> m_tile_shift, ty1 = t.y1 >> m_tile_shift;
   unsigned found = 0;
   // Stops as soon as every unit is found: a large box finds them all within
   // its first few tiles whatever the ownership pattern spreads like.
@@ -48,24 +51,35 @@ unsigned TileDistributor::target_units(const RasterTriangle& t, std::vector<bool
 void TileDistributor::run() {
   const unsigned units = m_config.units;
   for (;;) {
-    const SetupPacket p = in->read();
+    SetupPacket p = in->read();
     ++m_tokens_in;
+    const PacketKind kind = p.kind;
     unsigned sends = units;
-    if (p.kind == PacketKind::work) {
+    if (kind == PacketKind::work) {
       sends = target_units(*p.triangle, m_targets);
     } else {
       m_targets.assign(units, true);
     }
     const uint64_t busy =
-        uint64_t{m_cost.ii} * (p.kind == PacketKind::work ? std::max(1u, sends) : 1u);
-    sc_core::wait(m_config.cycles(busy));
+        uint64_t{m_cost.ii} * (kind == PacketKind::work ? std::max(1u, sends) : 1u);
+    sc_core::wait(clock_cycles(busy));
     m_busy_cycles += busy;
-    const sc_core::sc_time ready = sc_core::sc_time_stamp() + m_config.cycles(m_cost.latency);
+    const sc_core::sc_time ready = sc_core::sc_time_stamp() + m_latency;
+    // The last unit sent to takes the packet itself (a moving write leaves p
+    // stale), the others a copy: one reference count update less.
+    unsigned last = 0;
+    for (unsigned u = 0; u < units; ++u) {
+      if (m_targets[u]) last = u;
+    }
     for (unsigned u = 0; u < units; ++u) {
       if (!m_targets[u]) continue;
-      out[u]->write(p, ready);
+      if (u == last) {
+        out[u]->write(std::move(p), ready);
+      } else {
+        out[u]->write(p, ready);
+      }
       ++m_tokens_out;
-      if (p.kind == PacketKind::work) {
+      if (kind == PacketKind::work) {
         ++m_triangles_sent;
         ++*m_unit_triangles[u];
       }

@@ -32,10 +32,15 @@ TileRasterizer::TileRasterizer(sc_core::sc_module_name name, const GpuConfig& co
       m_frame(frame),
       m_unit(unit),
       m_cost(config.stage("rasterizer")),
+      m_cycle(config.cycle().value()),
+      m_latency(clock_cycles(m_cost.latency)),
       m_tile(static_cast<int>(config.tile_size)),
       m_stamp_w(static_cast<int>(config.stamp[0])),
       m_stamp_h(static_cast<int>(config.stamp[1])),
       m_stamp_pixels(stamp_pixels(config)),
+      m_tile_shift(log2_side(config.tile_size)),
+      m_stamp_w_shift(log2_side(config.stamp[0])),
+      m_stamp_h_shift(log2_side(config.stamp[1])),
       m_full_mask(m_stamp_pixels == 64 ? ~uint64_t{0} : (uint64_t{1} << m_stamp_pixels) - 1) {
   if (unit >= config.units) {
     throw std::invalid_argument("TileRasterizer: unit " + std::to_string(unit) + " of " +
@@ -50,11 +55,11 @@ void TileRasterizer::run() {
     SetupPacket p = in->read();
     ++m_tokens_in;
     if (p.kind != PacketKind::work) {
-      sc_core::wait(m_config.cycles(m_cost.ii));
+      sc_core::wait(clock_cycles(m_cost.ii));
       m_busy_cycles += m_cost.ii;
       StampBatch b;
       b.kind = p.kind;
-      out->write(b, sc_core::sc_time_stamp() + m_config.cycles(m_cost.latency));
+      out->write(b, sc_core::sc_time_stamp() + m_latency);
       ++m_tokens_out;
       continue;
     }
@@ -62,18 +67,23 @@ void TileRasterizer::run() {
     rasterize(p.triangle);
     // Cycles of trailing tiles that produced no batch.
     if (m_pending_cycles > 0) {
-      sc_core::wait(m_config.cycles(m_pending_cycles));
+      sc_core::wait(clock_cycles(m_pending_cycles));
       m_busy_cycles += m_pending_cycles;
       m_pending_cycles = 0;
     }
   }
 }
 
-void TileRasterizer::emit_batch() {
-  sc_core::wait(m_config.cycles(m_pending_cycles));
+void TileRasterizer::emit_batch(const std::shared_ptr<const RasterTriangle>& tri) {
+  sc_core::wait(clock_cycles(m_pending_cycles));
   m_busy_cycles += m_pending_cycles;
   m_pending_cycles = 0;
-  out->write(m_batch, sc_core::sc_time_stamp() + m_config.cycles(m_cost.latency));
+  m_batch.kind = PacketKind::work;
+  m_batch.triangle = tri;
+  m_batch.depth.clear();
+  // Moved in: m_batch comes back holding the slot's stale packet, whose
+  // stamp buffer the next tile refills (hw/fifo.h).
+  out->write(std::move(m_batch), sc_core::sc_time_stamp() + m_latency);
   ++m_tokens_out;
 }
 
@@ -83,28 +93,27 @@ void TileRasterizer::rasterize(const std::shared_ptr<const RasterTriangle>& tri)
   const int sw = m_stamp_w, sh = m_stamp_h, ts = m_tile;
   const uint64_t ii = m_cost.ii;
 
-  // Per-triangle constants: per-pixel offsets inside a stamp, steps between
-  // stamps, and per edge the offsets from a tile's origin pixel centre to its
-  // pixel centre of largest / smallest E (chosen by the signs of a and b).
+  // Per-triangle constants: per-pixel steps (the offset table inside a stamp
+  // is filled on first use, by coverage()), steps between stamps, and per
+  // edge the offsets from a tile's origin pixel centre to its pixel centre of
+  // largest / smallest E (chosen by the signs of a and b).
   std::array<EdgeValue, 3> step_x, step_y, tile_reach_max, tile_reach_min;
   const EdgeValue reach = EdgeValue{ts - 1} * kSubpixelOne;  // tile origin -> far pixel centre
+  m_offset_valid = false;
   for (int k = 0; k < 3; ++k) {
     const EdgeEquation& e = t.edge[k];
     const EdgeValue a = e.a * kSubpixelOne, b = e.b * kSubpixelOne;
-    for (int j = 0; j < sh; ++j) {
-      for (int i = 0; i < sw; ++i) m_offset[k][j * sw + i] = i * a + j * b;
-    }
+    m_pixel_dx[k] = a;
+    m_pixel_dy[k] = b;
     step_x[k] = a * sw;
     step_y[k] = b * sh;
     tile_reach_max[k] = std::max<EdgeValue>(e.a, 0) * reach + std::max<EdgeValue>(e.b, 0) * reach;
     tile_reach_min[k] = std::min<EdgeValue>(e.a, 0) * reach + std::min<EdgeValue>(e.b, 0) * reach;
   }
 
-  m_batch.kind = PacketKind::work;
-  m_batch.triangle = tri;
-  m_batch.depth.clear();
-
-  const int tx0 = t.x0 / ts, tx1 = t.x1 / ts, ty0 = t.y0 / ts, ty1 = t.y1 / ts;
+  // Sizes are powers of two and coordinates non-negative: divisions are shifts.
+  const int tx0 = t.x0 >> m_tile_shift, tx1 = t.x1 >> m_tile_shift;
+  const int ty0 = t.y0 >> m_tile_shift, ty1 = t.y1 >> m_tile_shift;
   for (int ty = ty0; ty <= ty1; ++ty) {
     for (int tx = tx0; tx <= tx1; ++tx) {
       if (tile_owner(tx, ty, m_config.units) != m_unit) continue;
@@ -129,8 +138,8 @@ void TileRasterizer::rasterize(const std::shared_ptr<const RasterTriangle>& tri)
       // Stamps of the tile that intersect the box (the tile meets the box).
       const int px0 = std::max(ox, t.x0), px1 = std::min(ox + ts - 1, t.x1);
       const int py0 = std::max(oy, t.y0), py1 = std::min(oy + ts - 1, t.y1);
-      const int si0 = (px0 - ox) / sw, si1 = (px1 - ox) / sw;
-      const int sj0 = (py0 - oy) / sh, sj1 = (py1 - oy) / sh;
+      const int si0 = (px0 - ox) >> m_stamp_w_shift, si1 = (px1 - ox) >> m_stamp_w_shift;
+      const int sj0 = (py0 - oy) >> m_stamp_h_shift, sj1 = (py1 - oy) >> m_stamp_h_shift;
       std::array<EdgeValue, 3> e_row;
       for (int k = 0; k < 3; ++k) e_row[k] = e_tile[k] + si0 * step_x[k] + sj0 * step_y[k];
 
@@ -158,16 +167,7 @@ void TileRasterizer::rasterize(const std::shared_ptr<const RasterTriangle>& tri)
             mask = box;
           } else {
             ++m_stamps_evaluated;
-            // All pixels against all edges: E + offset - bias >= 0.
-            const EdgeValue t0 = t.edge[0].bias - e[0], t1 = t.edge[1].bias - e[1],
-                            t2 = t.edge[2].bias - e[2];
-            const EdgeValue *o0 = m_offset[0].data(), *o1 = m_offset[1].data(),
-                            *o2 = m_offset[2].data();
-            uint64_t cover = 0;
-            for (int p = 0; p < m_stamp_pixels; ++p) {
-              cover |= static_cast<uint64_t>((o0[p] >= t0) & (o1[p] >= t1) & (o2[p] >= t2)) << p;
-            }
-            mask = cover & box;
+            mask = coverage(t, e, box);
           }
           if (mask == 0) continue;
           m_batch.stamps.push_back(Stamp{sx, sy, mask, e});
@@ -175,10 +175,48 @@ void TileRasterizer::rasterize(const std::shared_ptr<const RasterTriangle>& tri)
           m_fragments += static_cast<uint64_t>(std::bitset<64>(mask).count());
         }
       }
-      if (!m_batch.stamps.empty()) emit_batch();
+      if (!m_batch.stamps.empty()) emit_batch(tri);
     }
   }
-  m_batch.triangle.reset();
+}
+
+// The hardware tests all w x h pixels against all three edges in parallel and
+// masks the result with the box. Pixels outside the box cannot survive the
+// mask, so the model evaluates only the box's: all of them through the
+// offset table when the box is the whole stamp, else one by one (a small
+// triangle's box holds a few pixels). Either way a pixel is covered iff
+// E + offset - bias >= 0 for every edge, in exact integers.
+uint64_t TileRasterizer::coverage(const RasterTriangle& t, const std::array<EdgeValue, 3>& e,
+                                  uint64_t box) {
+  const EdgeValue t0 = t.edge[0].bias - e[0], t1 = t.edge[1].bias - e[1],
+                  t2 = t.edge[2].bias - e[2];
+  if (box != m_full_mask) {
+    uint64_t cover = 0;
+    for (uint64_t bits = box; bits != 0; bits &= bits - 1) {
+      const int p = __builtin_ctzll(bits);
+      const EdgeValue i = p & (m_stamp_w - 1), j = p >> m_stamp_w_shift;
+      const bool in = i * m_pixel_dx[0] + j * m_pixel_dy[0] >= t0 &&
+                      i * m_pixel_dx[1] + j * m_pixel_dy[1] >= t1 &&
+                      i * m_pixel_dx[2] + j * m_pixel_dy[2] >= t2;
+      cover |= static_cast<uint64_t>(in) << p;
+    }
+    return cover;
+  }
+  if (!m_offset_valid) {
+    for (int k = 0; k < 3; ++k) {
+      for (int p = 0; p < m_stamp_pixels; ++p) {
+        const int i = p & (m_stamp_w - 1), j = p >> m_stamp_w_shift;
+        m_offset[k][p] = i * m_pixel_dx[k] + j * m_pixel_dy[k];
+      }
+    }
+    m_offset_valid = true;
+  }
+  const EdgeValue *o0 = m_offset[0].data(), *o1 = m_offset[1].data(), *o2 = m_offset[2].data();
+  uint64_t cover = 0;
+  for (int p = 0; p < m_stamp_pixels; ++p) {
+    cover |= static_cast<uint64_t>((o0[p] >= t0) & (o1[p] >= t1) & (o2[p] >= t2)) << p;
+  }
+  return cover;
 }
 
 }  // namespace gpusim

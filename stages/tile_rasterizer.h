@@ -67,7 +67,8 @@ class TileRasterizer : public sc_core::sc_module {
   FifoOutPort<StampBatch> out;
 
   // Throws std::invalid_argument when a stamp holds more than 64 pixels (the
-  // width of Stamp::mask) or the tile is not a multiple of the stamp.
+  // width of Stamp::mask), the tile is not a multiple of the stamp, or a side
+  // is not a power of two (log2_side()).
   TileRasterizer(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame,
                  unsigned unit);
 
@@ -78,23 +79,42 @@ class TileRasterizer : public sc_core::sc_module {
 
   void run();
   void rasterize(const std::shared_ptr<const RasterTriangle>& tri);
-  // Waits the cycles walked since the last output, then writes m_batch.
-  void emit_batch();
+  // The edge-function core on one stamp: the pixels of `box` covered by the
+  // triangle, from the raw edge values `e` at the stamp's origin.
+  uint64_t coverage(const RasterTriangle& t, const std::array<EdgeValue, 3>& e, uint64_t box);
+  // Waits the cycles walked since the last output, then writes m_batch (the
+  // stamps of one tile) as the batch of `tri`.
+  void emit_batch(const std::shared_ptr<const RasterTriangle>& tri);
 
   const GpuConfig& m_config;
   const FrameState& m_frame;
   const unsigned m_unit;
   const StageCost m_cost;
+  // The clock period in SystemC time units, kept: GpuConfig::cycles() converts
+  // it from the MHz double on every call, a cost paid per token otherwise.
+  const uint64_t m_cycle;
+  sc_core::sc_time clock_cycles(uint64_t n) const {
+    return sc_core::sc_time::from_value(m_cycle * n);
+  }
+  // latency(stage) cycles: an output is readable this long after it is written.
+  const sc_core::sc_time m_latency;
   const int m_tile;                // tile side, pixels
   const int m_stamp_w, m_stamp_h;  // stamp, pixels
   const int m_stamp_pixels;
+  // log2 of the tile side and of the stamp's sides (all powers of two):
+  // pixel p of a stamp is (p & (w - 1), p >> m_stamp_w_shift).
+  const int m_tile_shift, m_stamp_w_shift, m_stamp_h_shift;
   const uint64_t m_full_mask;
 
-  // Per-triangle edge-core constants: offset of pixel p = j * w + i from the
-  // stamp origin, i * a * 256 + j * b * 256, per edge.
+  // Per-triangle edge-core constants: the steps of each edge's value by one
+  // pixel in x and in y (a * 256, b * 256), and the offset of pixel
+  // p = j * w + i from the stamp origin, i * a * 256 + j * b * 256, per edge
+  // (filled when the triangle's first whole stamp is evaluated).
+  std::array<EdgeValue, 3> m_pixel_dx{}, m_pixel_dy{};
   std::array<std::array<EdgeValue, kMaxStampPixels>, 3> m_offset{};
+  bool m_offset_valid = false;
   uint64_t m_pending_cycles = 0;  // walked but not yet waited
-  StampBatch m_batch;             // reused: keeps its capacity
+  StampBatch m_batch;             // the tile's stamps; buffers recycled through the FIFO
 
   StatGroup m_stats{name()};
   uint64_t& m_busy_cycles = m_stats.counter("busy_cycles", "cycles of tile tests and stamps");

@@ -36,7 +36,9 @@ TriangleSetup::TriangleSetup(sc_core::sc_module_name name, const GpuConfig& conf
       out("out"),
       m_config(config),
       m_frame(frame),
-      m_cost(config.stage("triangle_setup")) {
+      m_cost(config.stage("triangle_setup")),
+      m_cycle(config.cycle().value()),
+      m_latency(clock_cycles(m_cost.latency)) {
   SC_HAS_PROCESS(TriangleSetup);
   SC_THREAD(run);
 }
@@ -117,9 +119,9 @@ void TriangleSetup::run() {
   for (;;) {
     const ClippedTriangle tri = in->read();
     ++m_tokens_in;
-    sc_core::wait(m_config.cycles(m_cost.ii));
+    sc_core::wait(clock_cycles(m_cost.ii));
     m_busy_cycles += m_cost.ii;
-    const sc_core::sc_time ready = sc_core::sc_time_stamp() + m_config.cycles(m_cost.latency);
+    const sc_core::sc_time ready = sc_core::sc_time_stamp() + m_latency;
 
     SetupPacket p;
     p.kind = tri.kind;
@@ -132,7 +134,7 @@ void TriangleSetup::run() {
       }
       p.triangle = std::move(t);
     }
-    out->write(p, ready);
+    out->write(std::move(p), ready);
     ++m_tokens_out;
   }
 }

@@ -25,6 +25,8 @@ VertexFetch::VertexFetch(sc_core::sc_module_name name, const GpuConfig& config,
       m_config(config),
       m_frame(frame),
       m_cost(config.stage("vertex_fetch")),
+      m_cycle(config.cycle().value()),
+      m_latency(clock_cycles(m_cost.latency)),
       m_cache_entries(config.vertex_cache_entries),
       m_tag(config.vertex_cache_entries, kNoTag) {
   m_stats.formula("cache_hit_rate", "cache_hits / cache_lookups",
@@ -47,10 +49,10 @@ void VertexFetch::run() {
 
 void VertexFetch::forward(const Command& cmd) {
   m_busy_cycles += m_cost.ii;
-  sc_core::wait(m_config.cycles(m_cost.ii));
+  sc_core::wait(clock_cycles(m_cost.ii));
   VertexBatch token;
   token.kind = cmd.kind;
-  out->write(token, sc_core::sc_time_stamp() + m_config.cycles(m_cost.latency));
+  out->write(token, sc_core::sc_time_stamp() + m_latency);
   ++m_tokens_out;
 }
 
@@ -62,7 +64,6 @@ void VertexFetch::fetch_draw(uint32_t draw_id) {
     cache_flush();
     if (m_entry_of.size() < b.vertex_count) m_entry_of.resize(b.vertex_count, kNoCacheEntry);
   }
-  const uint64_t cycle = m_config.cycle().value();
   for (uint32_t first = 0; first < b.slot_count; first += kVertexBatchSlots) {
     VertexBatch& batch = m_batch;
     batch.kind = PacketKind::work;
@@ -72,14 +73,14 @@ void VertexFetch::fetch_draw(uint32_t draw_id) {
     const sc_core::sc_time memory = fetch_batch(draw, batch);
     // Every delay is a whole number of cycles: requests start at cycle
     // boundaries and the bus and the memory count in cycles.
-    const uint64_t memory_cycles = (memory.value() + cycle - 1) / cycle;
+    const uint64_t memory_cycles = (memory.value() + m_cycle - 1) / m_cycle;
     const uint64_t busy = uint64_t{m_cost.ii} * batch.slot_count;
     const sc_core::sc_time ready =
-        sc_core::sc_time_stamp() + m_config.cycles(std::max(busy, memory_cycles) + m_cost.latency);
+        sc_core::sc_time_stamp() + clock_cycles(std::max(busy, memory_cycles) + m_cost.latency);
     m_memory_cycles += memory_cycles;
     m_busy_cycles += busy;
     m_slots += batch.slot_count;
-    sc_core::wait(m_config.cycles(busy));
+    sc_core::wait(clock_cycles(busy));
     out->write(batch, ready);
     ++m_batches;
     ++m_tokens_out;

@@ -64,6 +64,14 @@ class VertexFetch : public sc_core::sc_module {
   const GpuConfig& m_config;
   const FrameState& m_frame;
   const StageCost m_cost;
+  // The clock period in SystemC time units, kept: GpuConfig::cycles() converts
+  // it from the MHz double on every call, a cost paid per token otherwise.
+  const uint64_t m_cycle;
+  sc_core::sc_time clock_cycles(uint64_t n) const {
+    return sc_core::sc_time::from_value(m_cycle * n);
+  }
+  // latency(stage) cycles: an output is readable this long after it is written.
+  const sc_core::sc_time m_latency;
   const uint32_t m_cache_entries;
 
   // FIFO replacement: entries are filled in order 0, 1, ... and then reused

@@ -52,7 +52,9 @@ VertexShader::VertexShader(sc_core::sc_module_name name, const GpuConfig& config
       out("out"),
       m_config(config),
       m_frame(frame),
-      m_cost(config.stage("vertex_shader")) {
+      m_cost(config.stage("vertex_shader")),
+      m_cycle(config.cycle().value()),
+      m_latency(clock_cycles(m_cost.latency)) {
   SC_HAS_PROCESS(VertexShader);
   SC_THREAD(run);
 }
@@ -139,8 +141,8 @@ void VertexShader::run() {
       busy = uint64_t{m_cost.ii} * batch.vertex_count;
     }
     m_busy_cycles += busy;
-    if (busy > 0) sc_core::wait(m_config.cycles(busy));
-    out->write(o, sc_core::sc_time_stamp() + m_config.cycles(m_cost.latency));
+    if (busy > 0) sc_core::wait(clock_cycles(busy));
+    out->write(o, sc_core::sc_time_stamp() + m_latency);
     ++m_tokens_out;
   }
 }

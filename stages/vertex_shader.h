@@ -49,6 +49,14 @@ class VertexShader : public sc_core::sc_module {
   const GpuConfig& m_config;
   const FrameState& m_frame;
   const StageCost m_cost;
+  // The clock period in SystemC time units, kept: GpuConfig::cycles() converts
+  // it from the MHz double on every call, a cost paid per token otherwise.
+  const uint64_t m_cycle;
+  sc_core::sc_time clock_cycles(uint64_t n) const {
+    return sc_core::sc_time::from_value(m_cycle * n);
+  }
+  // latency(stage) cycles: an output is readable this long after it is written.
+  const sc_core::sc_time m_latency;
   ShadedBatch m_out;
   bool m_loaded = false;
   uint32_t m_draw_id = 0;

@@ -1,6 +1,8 @@
 // gpusim: the command line. Subcommands render a scene with a model, or compare
 // frames. Bad input ends in one line on stderr naming the file and the problem
-// and exit status 2; outputs are written all together or not at all.
+// and exit status 2; a simulation that hangs or whose counters do not balance
+// ends in a report and exit status 3 (docs/robustness.md); outputs are
+// written all together or not at all.
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -9,6 +11,7 @@
 #include <cstdlib>
 #include <iostream>
 #include <map>
+#include <new>
 #include <string>
 #include <systemc>
 
@@ -20,11 +23,70 @@
 #include "testbench/io/output_file.h"
 #include "testbench/scene/scene.h"
 #include "testbench/sim/gpu_run.h"
+#include "testbench/sim/memory_budget.h"
 
 namespace gpusim {
 namespace {
 
 constexpr int kExitError = 2;
+constexpr int kExitSimulation = 3;
+
+// The --memory-limit option (MiB; 0: the machine's).
+MemoryLimit memory_limit(uint64_t mib) {
+  if (mib == 0) return default_memory_limit();
+  return MemoryLimit{mib << 20, "--memory-limit " + std::to_string(mib)};
+}
+
+// Messages quote file names and file contents: control characters and bytes
+// that are not UTF-8 are shown as \xNN, so an error is one readable line.
+std::string printable(const std::string& s) {
+  std::string out;
+  const auto escape = [&](unsigned char c) {
+    char buf[8];
+    std::snprintf(buf, sizeof buf, "\\x%02X", c);
+    out += buf;
+  };
+  for (size_t i = 0; i < s.size();) {
+    const unsigned char c = static_cast<unsigned char>(s[i]);
+    if (c >= 0x20 && c < 0x7F) {
+      out += static_cast<char>(c);
+      ++i;
+      continue;
+    }
+    // A well-formed UTF-8 sequence passes unchanged.
+    size_t n = c >= 0xC2 && c <= 0xDF ? 2 : c >= 0xE0 && c <= 0xEF ? 3 : c >= 0xF0 && c <= 0xF4 ? 4 : 0;
+    bool ok = n > 0 && i + n <= s.size();
+    for (size_t k = 1; ok && k < n; ++k) ok = (static_cast<unsigned char>(s[i + k]) & 0xC0) == 0x80;
+    if (ok) {
+      out.append(s, i, n);
+      i += n;
+    } else {
+      escape(c);
+      ++i;
+    }
+  }
+  return out;
+}
+
+// Each line of a multi-line report made printable.
+std::string printable_report(const std::string& report) {
+  std::string out, line;
+  for (size_t i = 0; i <= report.size(); ++i) {
+    if (i == report.size() || report[i] == '\n') {
+      out += (i == line.size() ? "" : "\n") + printable(line);
+      line.clear();
+    } else {
+      line += report[i];
+    }
+  }
+  return out;
+}
+
+// A simulation failure: "gpusim: <scene>: <report>" on stderr, exit 3.
+int report_simulation_error(const std::string& scene_path, const SimulationError& e) {
+  std::cerr << "gpusim: " << printable(scene_path) << ": " << printable_report(e.what()) << "\n";
+  return kExitSimulation;
+}
 
 // frame.exr, frame.png and stats.json into dir, committed together.
 void write_frame_outputs(const std::string& dir, const Framebuffer& fb,
@@ -37,12 +99,21 @@ void write_frame_outputs(const std::string& dir, const Framebuffer& fb,
   files.commit();
 }
 
-int run_golden(const std::string& scene_path, const std::string& out_dir) {
+int run_golden(const std::string& scene_path, const std::string& out_dir, uint64_t memory_mib) {
   const Scene scene = load_scene(scene_path);
+  check_scene_limits(scene);
+  check_memory(estimate_golden_memory(scene), memory_limit(memory_mib), scene_path);
   const auto start = std::chrono::steady_clock::now();
   const golden::Result result = golden::render(scene);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const std::vector<std::string> errors = pipeline_count_errors(result.stats.to_json());
+  if (!errors.empty()) {
+    std::string report = "golden model: the counters do not balance:";
+    for (const std::string& e : errors) report += "\n  " + e;
+    return report_simulation_error(scene_path,
+                                   SimulationError(SimulationError::Kind::conservation, report));
+  }
 
   // No wall-clock figures in stats.json: the same input gives the same bytes.
   const nlohmann::json stats = {
@@ -77,6 +148,7 @@ struct RunArgs {
   bool units_given = false;  // --units overrides the configuration's
   std::string out_dir = "out";
   bool check = false;
+  uint64_t memory_mib = 0;  // 0: the machine's
 };
 
 std::string pixel_text(const Framebuffer& fb, int x, int y) {
@@ -135,15 +207,17 @@ int run_cycle_model(const RunArgs& args) {
     j["units"] = args.units;
     config = gpu_config_from_json(j, "--units");
   }
+  check_scene_limits(scene);
+  check_memory(estimate_cycle_memory(scene, config, args.check), memory_limit(args.memory_mib),
+               args.scene);
   GpuRunOptions options;
   options.record_last_writer = args.check;
   options.progress = isatty(STDERR_FILENO);
-  const GpuRunResult result = run_gpu(scene, config, options);
-  if (!result.completed) {
-    std::fprintf(stderr,
-                 "gpusim: %s: the simulation stopped at cycle %llu before the frame completed\n",
-                 args.scene.c_str(), static_cast<unsigned long long>(result.cycles));
-    return 3;
+  GpuRunResult result;
+  try {
+    result = run_gpu(scene, config, options);
+  } catch (const SimulationError& e) {
+    return report_simulation_error(args.scene, e);  // a hang, or counters that do not balance
   }
   // No wall-clock figures in stats.json: the same input gives the same bytes.
   const nlohmann::json stats = {
@@ -212,10 +286,15 @@ int main_with_errors(int argc, char** argv) {
   app.require_subcommand(1);
 
   std::string scene_path, out_dir = "out";
+  uint64_t golden_memory_mib = 0;
   CLI::App* golden = app.add_subcommand("golden", "Render a scene with the golden model");
   golden->add_option("scene", scene_path, "Scene file (JSON, docs/scene-format.md)")->required();
   golden->add_option("--out", out_dir, "Output directory for frame.exr, frame.png, stats.json")
       ->capture_default_str();
+  const char* memory_help =
+      "Refuse a scene needing more than this many MiB (default: the machine's physical "
+      "memory or its control group's limit)";
+  golden->add_option("--memory-limit", golden_memory_mib, memory_help);
 
   RunArgs run;
   CLI::App* run_cmd = app.add_subcommand("run", "Simulate the cycle-modeled GPU on a scene");
@@ -228,6 +307,7 @@ int main_with_errors(int argc, char** argv) {
   run_cmd->add_flag(
       "--check", run.check,
       "Also render with the golden model and compare bit for bit (exit 1 on a difference)");
+  run_cmd->add_option("--memory-limit", run.memory_mib, memory_help);
 
   CompareArgs cmp;
   CLI::App* compare = app.add_subcommand(
@@ -257,7 +337,7 @@ int main_with_errors(int argc, char** argv) {
     return kExitError;
   }
 
-  if (golden->parsed()) return run_golden(scene_path, out_dir);
+  if (golden->parsed()) return run_golden(scene_path, out_dir, golden_memory_mib);
   if (run_cmd->parsed()) {
     run.units_given = units_option->count() > 0;
     return run_cycle_model(run);
@@ -272,10 +352,16 @@ int main_with_errors(int argc, char** argv) {
 int sc_main(int argc, char* argv[]) {
   try {
     return gpusim::main_with_errors(argc, argv);
+  } catch (const gpusim::SimulationError& e) {
+    // A report of several lines; the first names the scene.
+    std::cerr << "gpusim: " << gpusim::printable_report(e.what()) << "\n";
+    return gpusim::kExitSimulation;
   } catch (const gpusim::InputError& e) {
-    std::cerr << "gpusim: " << e.what() << "\n";
+    std::cerr << "gpusim: " << gpusim::printable(e.what()) << "\n";
+  } catch (const std::bad_alloc&) {
+    std::cerr << "gpusim: out of memory\n";
   } catch (const std::exception& e) {
-    std::cerr << "gpusim: internal error: " << e.what() << "\n";
+    std::cerr << "gpusim: internal error: " << gpusim::printable(e.what()) << "\n";
   }
   return gpusim::kExitError;
 }

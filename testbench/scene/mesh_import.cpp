@@ -5,8 +5,12 @@
 #include <assimp/scene.h>
 
 #include <algorithm>
+#include <assimp/DefaultLogger.hpp>
 #include <assimp/Importer.hpp>
+#include <assimp/LogStream.hpp>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 
 namespace gpusim {
 namespace {
@@ -49,15 +53,72 @@ Material convert_material(const aiMaterial& m) {
   return out;
 }
 
+// assimp's warnings and errors during one import. Importers report some
+// damage only there: glTF2 drops faces with out-of-range indices with a
+// warning and returns the rest.
+class LogCapture {
+ public:
+  LogCapture() {
+    Assimp::DefaultLogger::create("", Assimp::Logger::NORMAL, 0);
+    Assimp::DefaultLogger::get()->attachStream(new Stream(m_messages),
+                                               Assimp::Logger::Err | Assimp::Logger::Warn);
+  }
+  ~LogCapture() { Assimp::DefaultLogger::kill(); }
+  LogCapture(const LogCapture&) = delete;
+  LogCapture& operator=(const LogCapture&) = delete;
+
+  const std::vector<std::string>& messages() const { return m_messages; }
+  // The first message containing `text`, or "".
+  std::string find(const char* text) const {
+    for (const std::string& m : m_messages) {
+      if (m.find(text) != std::string::npos) return m;
+    }
+    return "";
+  }
+
+ private:
+  // "Warn,  T0: Some faces had ..." -> "Some faces had ...".
+  class Stream : public Assimp::LogStream {
+   public:
+    explicit Stream(std::vector<std::string>& out) : m_out(out) {}
+    void write(const char* message) override {
+      std::string m = message;
+      const size_t colon = m.find(": ");
+      if (colon != std::string::npos && colon < 16) m = m.substr(colon + 2);
+      m = one_line(m);
+      if (!m.empty() && m_out.size() < 16) m_out.push_back(m);
+    }
+
+   private:
+    std::vector<std::string>& m_out;
+  };
+  std::vector<std::string> m_messages;
+};
+
+// Whether the file starts with a UTF-16 byte order mark (assimp's text
+// importers read UTF-8 or ASCII only; box_UTF16BE.obj gives no faces).
+bool starts_utf16(const std::string& file) {
+  std::ifstream in(file, std::ios::binary);
+  unsigned char b[2] = {0, 0};
+  in.read(reinterpret_cast<char*>(b), 2);
+  return in.gcount() == 2 && ((b[0] == 0xFE && b[1] == 0xFF) || (b[0] == 0xFF && b[1] == 0xFE));
+}
+
 }  // namespace
 
 std::vector<ImportedMesh> import_mesh(const std::string& file) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(file, ec)) throw MeshImportError("is a directory");
   Assimp::Importer importer;
   const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
                          aiProcess_GenSmoothNormals | aiProcess_PreTransformVertices |
                          aiProcess_SortByPType;
+  const LogCapture log;
   const aiScene* scene = importer.ReadFile(file, flags);
   if (scene == nullptr) throw MeshImportError(one_line(importer.GetErrorString()));
+  // Geometry assimp dropped is not the file's geometry: refuse it.
+  const std::string dropped = log.find("out-of-range ind");
+  if (!dropped.empty()) throw MeshImportError(dropped);
 
   std::vector<ImportedMesh> out;
   for (unsigned mi = 0; mi < scene->mNumMeshes; ++mi) {
@@ -115,7 +176,15 @@ std::vector<ImportedMesh> import_mesh(const std::string& file) {
     }
     out.push_back(std::move(im));
   }
-  if (out.empty()) throw MeshImportError("the file has no triangles");
+  if (out.empty()) {
+    std::string why;
+    if (starts_utf16(file)) why = "it is UTF-16 encoded: save it as UTF-8";
+    for (const std::string& m : log.messages()) {
+      if (why.size() > 200) break;
+      why += (why.empty() ? "assimp: " : "; ") + m;
+    }
+    throw MeshImportError("the file has no triangles" + (why.empty() ? "" : " (" + why + ")"));
+  }
   return out;
 }
 

@@ -49,5 +49,8 @@ struct Scene {
 
 // Load and validate a scene file; throws InputError.
 Scene load_scene(const std::string& path);
+// The same for a scene file's contents: `path` names it in messages and mesh
+// paths resolve against its directory (the scene parser's fuzz target).
+Scene load_scene_from_string(const std::string& text, const std::string& path);
 
 }  // namespace gpusim

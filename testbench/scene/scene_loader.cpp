@@ -100,7 +100,11 @@ class SceneReader {
   explicit SceneReader(std::string file)
       : file_(std::move(file)), dir_(fs::path(file_).parent_path()) {}
 
+  // The file named at construction.
   Scene read();
+  // `text` as the contents of that file (mesh paths resolve against its
+  // directory all the same).
+  Scene read_text(const std::string& text);
 
  private:
   [[noreturn]] void fail(const std::string& path, const std::string& problem) const {
@@ -305,8 +309,20 @@ Scene SceneReader::read() {
   std::ostringstream text;
   text << in.rdbuf();
   if (in.bad()) fail("", "read error");
+  return read_text(text.str());
+}
 
-  const Json json = parse(text.str());
+Scene SceneReader::read_text(const std::string& text) {
+  if (text.size() >= 2 && ((text[0] == '\xFE' && text[1] == '\xFF') ||
+                           (text[0] == '\xFF' && text[1] == '\xFE'))) {
+    fail("", "is UTF-16 encoded; scene files are UTF-8 JSON");
+  }
+  // nlohmann reads a NUL byte as the end of the input: say what it is.
+  const size_t nul = text.find('\0');
+  if (nul != std::string::npos) {
+    fail("", "byte " + std::to_string(nul) + " is NUL: not a JSON text file");
+  }
+  const Json json = parse(text);
   const At root{json, ""};
   expect_object(root);
   check_keys(root, {"framebuffer", "camera", "ambient", "lights", "draws"});
@@ -772,6 +788,10 @@ void SceneReader::finish_draw(Draw& d, const glm::mat4& model, const At& a, Scen
 
 Scene load_scene(const std::string& path) {
   return SceneReader(path).read();
+}
+
+Scene load_scene_from_string(const std::string& text, const std::string& path) {
+  return SceneReader(path).read_text(text);
 }
 
 }  // namespace gpusim

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <sstream>
 #include <systemc>
 
 #include "stages/gpu.h"
@@ -30,11 +31,12 @@ class Host : public sc_core::sc_module {
  public:
   SC_HAS_PROCESS(Host);
   Host(sc_core::sc_module_name name, Gpu& gpu, size_t draws, uint64_t triangles, bool progress,
-       sc_core::sc_time cycle)
+       sc_core::sc_time cycle, bool withhold_end_of_frame = false)
       : sc_core::sc_module(name),
         m_gpu(gpu),
         m_draws(draws),
         m_triangles(triangles),
+        m_withhold_end_of_frame(withhold_end_of_frame),
         m_cycle(cycle),
         m_interval(cycle * 100000.0) {
     SC_THREAD(stream);
@@ -49,7 +51,8 @@ class Host : public sc_core::sc_module {
     q.write(Command{PacketKind::clear, 0});
     for (size_t i = 0; i < m_draws; ++i)
       q.write(Command{PacketKind::work, static_cast<uint32_t>(i)});
-    q.write(Command{PacketKind::end_of_frame, 0});
+    // (Fault injection: a lost end_of_frame, which the watchdog must catch.)
+    if (!m_withhold_end_of_frame) q.write(Command{PacketKind::end_of_frame, 0});
     while (!m_gpu.frame_done()) sc_core::wait(m_gpu.unit_done_events());
     finished = sc_core::sc_time_stamp();
     done = true;
@@ -63,8 +66,13 @@ class Host : public sc_core::sc_module {
     const auto start = std::chrono::steady_clock::now();
     double last = 0.0;
     bool shown = false;
+    uint64_t moved = m_gpu.progress_count();
     while (!done) {
       sc_core::wait(m_interval, m_stop);
+      // Nothing moved: wait for an item rather than time, so that a deadlock
+      // lets the kernel run out of events (docs/robustness.md).
+      if (m_gpu.progress_count() == moved) sc_core::wait(m_gpu.activity_events() | m_stop);
+      moved = m_gpu.progress_count();
       const double wall =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       if (wall < 1.0 || wall - last < 0.2 || done) continue;
@@ -81,6 +89,7 @@ class Host : public sc_core::sc_module {
   Gpu& m_gpu;
   size_t m_draws;
   uint64_t m_triangles;  // assembled triangles in the frame
+  bool m_withhold_end_of_frame;
   sc_core::sc_time m_cycle;
   sc_core::sc_time m_interval;
   sc_core::sc_event m_stop;
@@ -176,10 +185,16 @@ void fresh_simulation_context() {
 GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOptions& options) {
   static_assert(sizeof(glm::vec4) == 16 && sizeof(glm::vec3) == 12, "packed attributes");
   fresh_simulation_context();
-  const LoadedFrame loaded = load_frame(scene);
-  Gpu gpu("gpu", config, loaded.frame, loaded.memory.size());
+  LoadedFrame loaded = load_frame(scene);
+  Gpu::Faults faults;
+  faults.disconnected_fifo = options.fault_disconnected_fifo;
+  faults.stalled_fifo = options.fault_stalled_fifo;
+  Gpu gpu("gpu", config, loaded.frame, loaded.memory.size(), faults);
   std::memcpy(gpu.memory().data(0, loaded.memory.size()), loaded.memory.data(),
               loaded.memory.size());
+  // The image is in the GPU's memory now: free the copy (half the footprint
+  // of a large framebuffer).
+  std::vector<uint8_t>().swap(loaded.memory);
   GpuRunResult result;
   if (options.record_last_writer) {
     result.last_writer.assign(
@@ -192,20 +207,105 @@ GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOp
   }
   uint64_t triangles = 0;
   for (const Draw& d : scene.draws) triangles += triangle_count(d.primitive, d.vertex_count());
-  Host host("host", gpu, scene.draws.size(), triangles, options.progress, config.cycle());
+  Host host("host", gpu, scene.draws.size(), triangles, options.progress, config.cycle(),
+            options.fault_withhold_end_of_frame);
 
   const auto start = std::chrono::steady_clock::now();
-  sc_core::sc_start();
+  try {
+    sc_core::sc_start();
+  } catch (const sc_core::sc_report& e) {
+    // A stage's SC_REPORT_ERROR: a model bug, reported with where items were.
+    std::string what = e.what();
+    while (!what.empty() && (what.back() == '\n' || what.back() == ' ')) what.pop_back();
+    throw SimulationError(SimulationError::Kind::model_error,
+                          "model error at cycle " +
+                              std::to_string(static_cast<uint64_t>(sc_core::sc_time_stamp() /
+                                                                   config.cycle())) +
+                              ": " + what + "\n" + gpu.fifo_report());
+  }
   result.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-  result.completed = host.done;
-  result.cycles = static_cast<uint64_t>((host.done ? host.finished : sc_core::sc_time_stamp()) /
-                                        config.cycle());
+  if (gpu.watchdog_fired()) {
+    throw SimulationError(SimulationError::Kind::watchdog, gpu.watchdog_report());
+  }
+  if (!host.done) {
+    // The kernel ran out of events: every process waits for one that will
+    // never come (the watchdog stops counting once every stage waits on a
+    // FIFO). One more cycle of (empty) simulated time tells which FIFOs have
+    // a reader or writer blocked on them.
+    const uint64_t stopped = static_cast<uint64_t>(sc_core::sc_time_stamp() / config.cycle());
+    const Gpu::Sample before = gpu.sample();
+    sc_core::sc_start(config.cycle());
+    const Gpu::Sample after = gpu.sample();
+    throw SimulationError(SimulationError::Kind::deadlock,
+                          "deadlock: every process is blocked and the frame is not complete (seen "
+                          "at cycle " +
+                              std::to_string(stopped) + "): " + gpu.state_report(before, after));
+  }
+
+  result.completed = true;
+  result.cycles = static_cast<uint64_t>(host.finished / config.cycle());
   result.framebuffer = read_framebuffer(gpu.memory(), loaded.frame);
   result.counts = gpu.pipeline_counts();
   result.timing = gpu.stats_json(result.cycles);
+
+  std::vector<std::string> errors = conservation_errors(result.timing, loaded.frame);
+  for (std::string& e : pipeline_count_errors(result.counts)) errors.push_back("pipeline: " + e);
+  if (!errors.empty()) {
+    std::string report = "conservation: the stages' counters do not balance (" +
+                         std::to_string(errors.size()) + " rule" +
+                         (errors.size() == 1 ? "" : "s") + " violated):";
+    for (const std::string& e : errors) report += "\n  " + e;
+    throw SimulationError(SimulationError::Kind::conservation, report);
+  }
   return result;
+}
+
+std::vector<std::string> pipeline_count_errors(const nlohmann::json& counts) {
+  std::vector<std::string> errors;
+  const auto get = [&](const char* k) -> uint64_t {
+    if (!counts.contains(k) || !counts.at(k).is_number_unsigned()) {
+      errors.push_back(std::string(k) + ": missing");
+      return 0;
+    }
+    return counts.at(k).get<uint64_t>();
+  };
+  const uint64_t in = get("triangles_in"), invalid = get("triangles_invalid"),
+                 away = get("triangles_clipped_away"), clipped = get("triangles_clipped"),
+                 after = get("triangles_after_clip"), degenerate = get("triangles_degenerate"),
+                 culled = get("triangles_culled"), rasterized = get("triangles_rasterized"),
+                 generated = get("fragments_generated"), passed = get("fragments_passed_depth"),
+                 written = get("fragments_written");
+  const auto fail = [&](const std::string& what) { errors.push_back(what); };
+  if (invalid + away > in) {
+    fail("triangles_invalid + triangles_clipped_away = " + std::to_string(invalid + away) +
+         " exceeds triangles_in = " + std::to_string(in));
+  } else {
+    const uint64_t survivors = in - invalid - away;
+    if (after < survivors) {
+      fail("triangles_after_clip = " + std::to_string(after) + " is below the " +
+           std::to_string(survivors) + " triangles the clipper kept");
+    }
+    if (clipped > survivors) {
+      fail("triangles_clipped = " + std::to_string(clipped) + " exceeds the " +
+           std::to_string(survivors) + " triangles the clipper kept");
+    }
+  }
+  if (after != degenerate + culled + rasterized) {
+    fail("triangles_after_clip = " + std::to_string(after) +
+         ", but triangles_degenerate + triangles_culled + triangles_rasterized = " +
+         std::to_string(degenerate + culled + rasterized));
+  }
+  if (passed > generated) {
+    fail("fragments_passed_depth = " + std::to_string(passed) + " exceeds fragments_generated = " +
+         std::to_string(generated));
+  }
+  if (written > passed) {
+    fail("fragments_written = " + std::to_string(written) + " exceeds fragments_passed_depth = " +
+         std::to_string(passed));
+  }
+  return errors;
 }
 
 }  // namespace gpusim

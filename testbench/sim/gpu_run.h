@@ -3,11 +3,18 @@
 // (clear, draws, end of frame) into the GPU and runs the simulation to
 // completion. Each run_gpu() gets a fresh SystemC simulation context, so a
 // process can run several frames one after the other.
+//
+// A run that does not complete cleanly throws SimulationError: the watchdog
+// fired, every process blocked before the frame completed, a stage reported
+// an internal error, or the stages' counters do not balance
+// (docs/robustness.md).
 #pragma once
 
 #include <nlohmann/json.hpp>
 
 #include <cstdint>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "hw/draw_state.h"
@@ -34,10 +41,34 @@ struct GpuRunOptions {
   double stall_probability = 0.0;
   unsigned stall_max_cycles = 8;
   uint64_t stall_seed = 1;
+
+  // Test-only fault injection (docs/robustness.md, "Watchdog"): production
+  // runs leave these at their defaults. FIFOs by name, as in stats.json.
+  bool fault_withhold_end_of_frame = false;  // the host never sends end_of_frame: a lost item
+  std::string fault_disconnected_fifo;       // the FIFO never delivers: a deadlock
+  std::string fault_stalled_fifo;            // its neighbours stay busy: the watchdog fires
+};
+
+// The cycle model did not finish the frame cleanly. what() is a report: a
+// headline, then (for hangs) one line per stage and per FIFO.
+class SimulationError : public std::runtime_error {
+ public:
+  enum class Kind {
+    watchdog,      // no item moved for watchdog_cycles
+    deadlock,      // every process blocked before the frame completed
+    model_error,   // a stage reported an internal error (SC_REPORT_ERROR)
+    conservation,  // the stages' counters do not balance
+  };
+  SimulationError(Kind kind, const std::string& report)
+      : std::runtime_error(report), m_kind(kind) {}
+  Kind kind() const { return m_kind; }
+
+ private:
+  Kind m_kind;
 };
 
 struct GpuRunResult {
-  bool completed = false;  // every unit finished the frame
+  bool completed = false;  // every unit finished the frame (always, when run_gpu returns)
   uint64_t cycles = 0;
   double wall_seconds = 0.0;
   Framebuffer framebuffer;
@@ -46,6 +77,12 @@ struct GpuRunResult {
   nlohmann::json timing;             // Gpu::stats_json
 };
 
+// Throws SimulationError when the frame does not complete cleanly.
 GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOptions& options);
+
+// The spec's bookkeeping (docs/pipeline-spec.md, section 13) over a set of
+// pipeline counters, named as golden::Stats::to_json() names them: one line
+// per violated identity, empty when they hold.
+std::vector<std::string> pipeline_count_errors(const nlohmann::json& counts);
 
 }  // namespace gpusim
