@@ -131,6 +131,7 @@ void DepthTest::test(StampBatch& batch, sc_core::sc_time& t) {
   const DepthFormat format = fb.depth_format;
   const unsigned bytes = depth_bytes_per_pixel(format);
   const float area = static_cast<float>(tri.area2);
+  const float dz1 = tri.z[1] - tri.z[0], dz2 = tri.z[2] - tri.z[0];  // spec section 9
   // Steps of the edge functions by one pixel in x and in y.
   std::array<EdgeValue, 3> step_x, step_y;
   for (int k = 0; k < 3; ++k) {
@@ -162,10 +163,9 @@ void DepthTest::test(StampBatch& batch, sc_core::sc_time& t) {
                          std::to_string(y) + ") outside the framebuffer")
                             .c_str());
       }
-      const float f0 = static_cast<float>(s.e[0] + i * step_x[0] + j * step_y[0]);
       const float f1 = static_cast<float>(s.e[1] + i * step_x[1] + j * step_y[1]);
       const float f2 = static_cast<float>(s.e[2] + i * step_x[2] + j * step_y[2]);
-      float z = (f0 * tri.z[0] + f1 * tri.z[1] + f2 * tri.z[2]) / area;
+      float z = tri.z[0] + (f1 * dz1 + f2 * dz2) / area;
       if (tri.has_depth_offset) z = z + tri.depth_offset;
       const DepthValue fragment = encode_depth(format, z);
       uint8_t* stored = m_cache.pixel(entry, x, y);

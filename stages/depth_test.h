@@ -1,9 +1,10 @@
 // Depth test, one per unit (docs/pipeline-spec.md, sections 9 to 11): early
 // depth, since no shader can discard a fragment here. For every covered pixel
-// of a stamp it rebuilds the three edge values by stepping from the stamp
+// of a stamp it rebuilds the edge values E1 and E2 by stepping from the stamp
 // origin's (pixel (i, j): e_k + i * a_k * 256 + j * b_k * 256, exact int64),
-// interpolates z = (f0 z0 + f1 z1 + f2 z2) / float(area2) with f_k =
-// float(E_k), adds the triangle's polygon offset, encodes z in the buffer's
+// interpolates z = z0 + (f1 (z1 - z0) + f2 (z2 - z0)) / float(area2) with
+// f_k = float(E_k), in that float order (exact for a triangle of constant
+// depth), adds the triangle's polygon offset, encodes z in the buffer's
 // format and compares it with the stored value; a passing value is stored
 // when depth_write is on. Failing pixels leave the stamp's mask, empty stamps
 // leave the batch, and an empty batch is not forwarded. The forwarded batch's

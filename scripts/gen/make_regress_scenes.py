@@ -749,18 +749,13 @@ def color_mask():
             "draws": draws}
 
 
-# ------------------------------------------- known disagreements (reported)
-# Minimal reproductions of the differences found between the golden model and
-# llvmpipe; scripts/regress expects them (KNOWN_DISAGREEMENTS) and reports
-# them as such instead of failing, and warns when they change.
-
-@scene("known_constant_depth", "known disagreement", "9, 11",
-       "a quad of constant depth (z = 0.1 everywhere) drawn with lequal and no depth writes over "
-       "an opaque bar of the same depth: the spec's (f0*z0 + f1*z1 + f2*z2) / A is not exactly "
-       "z for three equal z (float(E_i), the products and the sum all round; here E reaches "
-       "1.6e8 > 2^24), so in 6 pixels the golden model's fragment encodes one unorm24 step "
-       "farther and fails; llvmpipe's plane equation gives exactly z")
-def known_constant_depth():
+@scene("constant_depth_lequal", "depth", "9, 11",
+       "a quad of constant depth (z = 0.1 everywhere, z_w = 0.55) drawn with lequal and no depth "
+       "writes over an opaque bar of the same depth: every fragment must encode to exactly the "
+       "bar's value and pass. The spec's z0 + (f1*(z1 - z0) + f2*(z2 - z0)) / A is exact for "
+       "equal z; the former (f0*z0 + f1*z1 + f2*z2) / A was not once float(E_i) rounds (here E "
+       "reaches 1.6e8 > 2^24) and failed in 6 pixels, where llvmpipe's plane equation passes")
+def constant_depth_lequal():
     return {
         "framebuffer": {"width": 200, "height": 120, "clear_color": [0, 0, 0, 1]},
         "draws": [
@@ -771,6 +766,11 @@ def known_constant_depth():
         ],
     }
 
+
+# ------------------------------------------- known disagreements (reported)
+# Minimal reproductions of the differences found between the golden model and
+# llvmpipe; scripts/regress expects them (KNOWN_DISAGREEMENTS) and reports
+# them as such instead of failing, and warns when they change.
 
 @scene("known_offset_units", "known disagreement", "10",
        "one quad at constant window depth 0.75 with polygon_offset [0, 4] in unorm16: the spec "

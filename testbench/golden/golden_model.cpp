@@ -261,8 +261,9 @@ class Renderer {
     const float f2 = static_cast<float>(e[2]);
     const WindowVertex &v0 = t.v[0], &v1 = t.v[1], &v2 = t.v[2];
 
-    // Depth: linear in window space, then polygon offset.
-    float z = (f0 * v0.z + f1 * v1.z + f2 * v2.z) / static_cast<float>(t.area2);
+    // Depth: linear in window space, relative to z0 so that a triangle of
+    // constant depth gets exactly z0 everywhere; then polygon offset.
+    float z = v0.z + (f1 * (v1.z - v0.z) + f2 * (v2.z - v0.z)) / static_cast<float>(t.area2);
     if (st.offset_factor != 0.0f || st.offset_units != 0.0f) z = z + t.depth_offset;
 
     const size_t p = m_fb.pixel_index(x, y);

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <cstddef>
 #include <cstdio>
@@ -219,6 +220,19 @@ struct GlReference::Impl {
   int tx = 0, ty = 0;  // window position of NDC (0, 0) in the V x V viewport
   ReferenceStats stats;
 
+  // One OpenGL draw call, prepared before the timed part of a render: its
+  // vertices shaded by the spec's vertex stage, converted and uploaded.
+  struct Batch {
+    const RenderState* state = nullptr;
+    bool window_space = true;
+    GLenum primitive = GL_TRIANGLES;
+    GLsizei count = 0;
+    bool indexed = false;
+    GLuint vertex_buffer = 0, index_buffer = 0;
+  };
+  std::vector<Batch> batches;
+  std::vector<GLuint> batch_buffers;  // every buffer object of `batches`
+
   // Separate from the constructor so that ~Impl releases what a failed
   // init() had already created.
   void init() {
@@ -278,6 +292,13 @@ struct GlReference::Impl {
     gl.glGenBuffers(1, &vertex_buffer);
     gl.glGenBuffers(1, &index_buffer);
     gl.glBindBuffer(GL_ARRAY_BUFFER, vertex_buffer);
+    set_attribute_pointers();
+    gl.glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, index_buffer);
+    check("context set-up");
+  }
+
+  // The vertex layout (GlVertex), read from the bound GL_ARRAY_BUFFER.
+  void set_attribute_pointers() {
     const GLsizei stride = sizeof(GlVertex);
     gl.glVertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, stride,
                              reinterpret_cast<const void*>(offsetof(GlVertex, position)));
@@ -288,8 +309,6 @@ struct GlReference::Impl {
     gl.glVertexAttribPointer(3, 1, GL_FLOAT, GL_FALSE, stride,
                              reinterpret_cast<const void*>(offsetof(GlVertex, inv_w)));
     for (GLuint i = 0; i < 4; ++i) gl.glEnableVertexAttribArray(i);
-    gl.glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, index_buffer);
-    check("context set-up");
   }
 
   ~Impl() {
@@ -435,12 +454,50 @@ struct GlReference::Impl {
     }
   }
 
-  void upload(const std::vector<GlVertex>& vertices) {
-    gl.glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vertices.size() * sizeof(GlVertex)),
-                    vertices.data(), GL_STREAM_DRAW);
+  // A new buffer object holding `bytes` bytes of `data`, owned by the render.
+  GLuint upload(GLenum target, const void* data, size_t bytes) {
+    GLuint buffer = 0;
+    gl.glGenBuffers(1, &buffer);
+    batch_buffers.push_back(buffer);
+    gl.glBindBuffer(target, buffer);
+    gl.glBufferData(target, static_cast<GLsizeiptr>(bytes), data, GL_STATIC_DRAW);
+    return buffer;
   }
 
-  void render_draw(const Scene& scene, const Draw& draw) {
+  void add_batch(const RenderState& state, bool window_space, GLenum primitive,
+                 const std::vector<GlVertex>& vertices, GLsizei count,
+                 const std::vector<uint32_t>* indices) {
+    Batch b;
+    b.state = &state;
+    b.window_space = window_space;
+    b.primitive = primitive;
+    b.count = count;
+    b.vertex_buffer = upload(GL_ARRAY_BUFFER, vertices.data(), vertices.size() * sizeof(GlVertex));
+    if (indices != nullptr) {
+      b.indexed = true;
+      b.index_buffer =
+          upload(GL_ELEMENT_ARRAY_BUFFER, indices->data(), indices->size() * sizeof(uint32_t));
+    }
+    batches.push_back(b);
+  }
+
+  void draw_batch(const Batch& b) {
+    apply_state(*b.state);
+    set_mode(b.window_space, b.state->shading);
+    gl.glBindBuffer(GL_ARRAY_BUFFER, b.vertex_buffer);
+    set_attribute_pointers();
+    if (b.indexed) {
+      gl.glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, b.index_buffer);
+      gl.glDrawElements(b.primitive, b.count, GL_UNSIGNED_INT, nullptr);
+    } else {
+      gl.glDrawArrays(b.primitive, 0, b.count);
+    }
+    check("draw");
+  }
+
+  // The untimed part of a draw: the spec's vertex stage, the classification
+  // of its triangles, and the upload of what OpenGL draws (add_batch).
+  void prepare_draw(const Scene& scene, const Draw& draw) {
     std::vector<golden::ShadedVertex> shaded(draw.positions.size());
     for (uint32_t i = 0; i < shaded.size(); ++i) shaded[i] = golden::shade_vertex(scene, draw, i);
     const golden::GuardBand gb = golden::guard_band_for(width, height);
@@ -481,7 +538,6 @@ struct GlReference::Impl {
     }
     if (triangles.empty()) return;
 
-    apply_state(draw.state);
     if (all_window) {
       // Native: the draw's own primitive type and index list, so OpenGL does
       // primitive assembly (strip order, fan, provoking vertex) itself.
@@ -500,18 +556,10 @@ struct GlReference::Impl {
           ++stats.triangles_beyond_viewport;
         }
       }
-      upload(vertices);
-      set_mode(true, draw.state.shading);
-      const GLsizei count = static_cast<GLsizei>(draw.vertex_count());
-      if (draw.indices.empty()) {
-        gl.glDrawArrays(gl_primitive(draw.primitive), 0, count);
-      } else {
-        gl.glBufferData(GL_ELEMENT_ARRAY_BUFFER,
-                        static_cast<GLsizeiptr>(draw.indices.size() * sizeof(uint32_t)),
-                        draw.indices.data(), GL_STREAM_DRAW);
-        gl.glDrawElements(gl_primitive(draw.primitive), count, GL_UNSIGNED_INT, nullptr);
-      }
-      check("native draw");
+      add_batch(draw.state, true, gl_primitive(draw.primitive), vertices,
+                static_cast<GLsizei>(draw.vertex_count()),
+                draw.indices.empty() ? nullptr : &draw.indices);
+      check("native draw upload");
       return;
     }
 
@@ -535,14 +583,13 @@ struct GlReference::Impl {
         }
         if (beyond) ++stats.triangles_beyond_viewport;
       }
-      upload(vertices);
-      set_mode(kind == Kind::window, draw.state.shading);
-      gl.glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(vertices.size()));
-      check("expanded draw");
+      add_batch(draw.state, kind == Kind::window, GL_TRIANGLES, vertices,
+                static_cast<GLsizei>(vertices.size()), nullptr);
+      check("expanded draw upload");
     }
   }
 
-  ReferenceResult render(const Scene& scene) {
+  ReferenceResult render(const Scene& scene, int repeat) {
     const FramebufferDesc& desc = scene.framebuffer;
     width = desc.width;
     height = desc.height;
@@ -574,6 +621,12 @@ struct GlReference::Impl {
         self->gl.glDeleteFramebuffers(1, &fbo);
         self->gl.glDeleteRenderbuffers(1, &color_rb);
         self->gl.glDeleteRenderbuffers(1, &depth_rb);
+        if (!self->batch_buffers.empty()) {
+          self->gl.glDeleteBuffers(static_cast<GLsizei>(self->batch_buffers.size()),
+                                   self->batch_buffers.data());
+        }
+        self->batch_buffers.clear();
+        self->batches.clear();
       }
     } cleanup{this, fbo, color_rb, depth_rb};
     if (gl.glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
@@ -592,18 +645,36 @@ struct GlReference::Impl {
     gl.glDisable(GL_FRAMEBUFFER_SRGB);
     check("frame state");
 
-    gl.glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    gl.glDepthMask(GL_TRUE);
-    const glm::vec4& c = desc.clear_color;
-    gl.glClearColor(c.r, c.g, c.b, c.a);
-    gl.glClearDepth(desc.clear_depth);
-    gl.glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    check("clear");
-
-    for (const Draw& draw : scene.draws) render_draw(scene, draw);
-    gl.glFinish();
-
+    using Clock = std::chrono::steady_clock;
+    auto seconds_since = [](Clock::time_point start) {
+      return std::chrono::duration<double>(Clock::now() - start).count();
+    };
     ReferenceResult result;
+
+    // Untimed for render_seconds: the spec's vertex stage on the CPU and the
+    // upload of every draw call's vertices and indices, finished.
+    const Clock::time_point prepare_start = Clock::now();
+    for (const Draw& draw : scene.draws) prepare_draw(scene, draw);
+    gl.glFinish();
+    result.prepare_seconds = seconds_since(prepare_start);
+
+    // Timed: the clear, every draw call and glFinish() (llvmpipe rasterizes
+    // in its own thread; glFinish returns when the frame is complete). Each
+    // repetition redraws the same frame from the clear.
+    for (int r = 0; r < std::max(1, repeat); ++r) {
+      const Clock::time_point start = Clock::now();
+      gl.glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+      gl.glDepthMask(GL_TRUE);
+      const glm::vec4& c = desc.clear_color;
+      gl.glClearColor(c.r, c.g, c.b, c.a);
+      gl.glClearDepth(desc.clear_depth);
+      gl.glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+      check("clear");
+      for (const Batch& b : batches) draw_batch(b);
+      gl.glFinish();
+      result.render_seconds.push_back(seconds_since(start));
+    }
+
     result.stats = stats;
     Framebuffer& fb = result.framebuffer;
     fb = Framebuffer(width, height, desc.color_format, desc.depth_format);
@@ -647,7 +718,9 @@ struct GlReference::Impl {
 GlReference::GlReference() : m_impl(std::make_unique<Impl>()) { m_impl->init(); }
 GlReference::~GlReference() = default;
 
-ReferenceResult GlReference::render(const Scene& scene) { return m_impl->render(scene); }
+ReferenceResult GlReference::render(const Scene& scene, int repeat) {
+  return m_impl->render(scene, repeat);
+}
 std::string GlReference::renderer() const { return m_impl->renderer; }
 std::string GlReference::version() const { return m_impl->version; }
 int GlReference::viewport_side() const { return m_impl->viewport_side; }

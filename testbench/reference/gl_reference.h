@@ -42,6 +42,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "hw/framebuffer.h"
 #include "testbench/scene/scene.h"
@@ -70,6 +71,17 @@ struct ReferenceStats {
 struct ReferenceResult {
   Framebuffer framebuffer;
   ReferenceStats stats;
+  // Wall-clock times (steady_clock), in seconds. prepare_seconds: the spec's
+  // vertex stage (golden::shade_vertex) on the CPU, the triangles'
+  // classification and the upload of every draw call's vertices and indices
+  // into buffer objects, up to glFinish(). render_seconds, one per
+  // repetition: from the clear through every draw call to glFinish()
+  // returning — llvmpipe's vertex fetch and (pass-through) vertex shader,
+  // clipping, setup, binning, rasterization, fragment shading, depth test,
+  // blending. Neither covers creating the context, loading the scene,
+  // allocating the framebuffer or reading it back.
+  double prepare_seconds = 0.0;
+  std::vector<double> render_seconds;
 };
 
 // One EGL display and OpenGL context; several renders per instance are fine.
@@ -83,8 +95,11 @@ class GlReference {
   GlReference& operator=(const GlReference&) = delete;
 
   // Render the scene: clear, then every draw in order, and read back colour
-  // and depth in the scene's formats. Throws ReferenceError on a GL error.
-  ReferenceResult render(const Scene& scene);
+  // and depth in the scene's formats. With repeat > 1 the frame (clear and
+  // draws, from the same uploaded buffers) is drawn that many times, each
+  // timed; the result is the same each time. Throws ReferenceError on a GL
+  // error.
+  ReferenceResult render(const Scene& scene, int repeat = 1);
 
   std::string renderer() const;  // GL_RENDERER, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"
   std::string version() const;   // GL_VERSION, e.g. "4.5 (Core Profile) Mesa 22.3.6"

@@ -2,15 +2,20 @@
 // gl_reference.h) into EXR files in the simulator's layout, for the
 // regression suite (scripts/regress, docs/validation.md).
 //
-//   gpusim_reference SCENE --out FILE.exr [--png FILE.png] [--stats FILE.json]
+//   gpusim_reference SCENE --out FILE.exr [--png FILE.png] [--stats FILE.json] [--repeat N]
 //   gpusim_reference --batch LIST     LIST: lines "SCENE OUT.exr [OUT.png [STATS.json]]"
 //                                     ("-" for no PNG), one OpenGL context for all
 //   gpusim_reference --info           the renderer and version, nothing rendered
+//
+// --stats also records the render's wall-clock time (`timing`: the median of
+// --repeat N renders of the frame in one context, from the clear to
+// glFinish() returning; see ReferenceResult), for scripts/bench.
 //
 // Exit status: 0 done, 2 bad input (one line naming the file and the
 // problem), 3 no usable OpenGL (no EGL, no llvmpipe, a GL error).
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -45,9 +50,30 @@ struct Job {
   std::string scene, exr, png, stats;
 };
 
-void render_job(reference::GlReference& gl, const Job& job) {
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  if (n == 0) return 0.0;
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+nlohmann::json timing_json(const reference::ReferenceResult& r) {
+  return {{"repeat", r.render_seconds.size()},
+          {"render_seconds", median(r.render_seconds)},
+          {"render_seconds_first", r.render_seconds.empty() ? 0.0 : r.render_seconds.front()},
+          {"render_seconds_each", r.render_seconds},
+          {"prepare_seconds", r.prepare_seconds},
+          {"covers",
+           "render_seconds: median over the repetitions of glClear, every draw call and "
+           "glFinish() returning, in one context with the vertices already uploaded; "
+           "prepare_seconds: once, the spec's vertex stage on the CPU, triangle classification "
+           "and uploads. Neither includes context creation, scene loading, framebuffer "
+           "allocation or read-back"}};
+}
+
+void render_job(reference::GlReference& gl, const Job& job, int repeat) {
   const Scene scene = load_scene(job.scene);
-  const reference::ReferenceResult result = gl.render(scene);
+  const reference::ReferenceResult result = gl.render(scene, repeat);
   OutputFiles files;
   write_frame_exr(result.framebuffer, files.add(job.exr));
   if (!job.png.empty()) write_frame_png(result.framebuffer, files.add(job.png));
@@ -56,7 +82,8 @@ void render_job(reference::GlReference& gl, const Job& job) {
                               {"renderer", gl.renderer()},
                               {"version", gl.version()},
                               {"viewport_side", gl.viewport_side()},
-                              {"stats", stats_json(result.stats)}};
+                              {"stats", stats_json(result.stats)},
+                              {"timing", timing_json(result)}};
     write_text_file_atomically(files.add(job.stats), j.dump(2) + "\n");
   }
   files.commit();
@@ -68,6 +95,11 @@ void render_job(reference::GlReference& gl, const Job& job) {
               static_cast<unsigned long long>(s.triangles_clipped),
               static_cast<unsigned long long>(s.triangles_invalid),
               static_cast<unsigned long long>(s.triangles_beyond_viewport));
+  if (repeat > 1) {
+    std::printf("  rendered %d times in %.4f s median (first %.4f s), prepared in %.4f s\n",
+                repeat, median(result.render_seconds), result.render_seconds.front(),
+                result.prepare_seconds);
+  }
 }
 
 std::vector<Job> read_batch(const std::string& path) {
@@ -97,6 +129,7 @@ int main_with_errors(int argc, char** argv) {
   Job job;
   std::string batch;
   bool info = false;
+  int repeat = 1;
   app.add_option("scene", job.scene, "Scene file (JSON, docs/scene-format.md)");
   app.add_option("--out", job.exr, "Output EXR (R, G, B, A half; Z float), like gpusim golden's frame.exr");
   app.add_option("--png", job.png, "Also write an 8-bit PNG preview");
@@ -104,6 +137,10 @@ int main_with_errors(int argc, char** argv) {
   app.add_option("--batch", batch,
                  "Render every line \"SCENE OUT.exr [OUT.png [STATS.json]]\" of this file (\"-\": no PNG)");
   app.add_flag("--info", info, "Print GL_RENDERER and GL_VERSION and exit");
+  app.add_option("--repeat", repeat,
+                 "Draw each frame N times in one context and record each render's time "
+                 "(--stats: the median); the output is the same")
+      ->check(CLI::Range(1, 1000));
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -132,7 +169,7 @@ int main_with_errors(int argc, char** argv) {
       std::printf("GL_RENDERER: %s\nGL_VERSION: %s\nviewport side: %d\n", gl.renderer().c_str(),
                   gl.version().c_str(), gl.viewport_side());
     }
-    for (const Job& j : jobs) render_job(gl, j);
+    for (const Job& j : jobs) render_job(gl, j, repeat);
   } catch (const reference::ReferenceError& e) {
     std::cerr << "gpusim_reference: no usable OpenGL reference: " << e.what() << "\n";
     return kExitNoGl;

@@ -123,9 +123,9 @@ TEST(GoldenDepth, ClearEncodesTheClearColour) {
 
 // Depth through the rasterizer: a right triangle whose right-angle vertex v0
 // sits on the centre of pixel (4, 4), legs of 2048 subpixels (area2 = 2^22).
-// At that pixel E0 = area2, E1 = E2 = 0, so z = (A z0) / A = z0 exactly (A is
-// a power of two), and z_w = (z_ndc + 1) / 2 reproduces z0 exactly for these
-// values (2 float(1/3) - 1 is exact). So the stored value is the hand encoding.
+// At that pixel E1 = E2 = 0, so z = z0 + (0 + 0) / A = z0 exactly (section
+// 9), and z_w = (z_ndc + 1) / 2 reproduces z0 exactly for these values
+// (2 float(1/3) - 1 is exact). So the stored value is the hand encoding.
 TEST(GoldenDepth, FragmentDepthIsEncodedPerFormat) {
   for (const DepthCase& c : kDepthCases) {
     Scene s = frame(16, 16, ColorFormat::rgba8, c.format, {0, 0, 0, 0}, 1.0f);
@@ -137,6 +137,90 @@ TEST(GoldenDepth, FragmentDepthIsEncodedPerFormat) {
     const golden::Result r = golden::render(s);
     ASSERT_EQ(r.last_writer[4 * 16 + 4], 0);
     EXPECT_EQ(r.framebuffer.depth[4 * 16 + 4], c.stored) << to_string(c.format) << " " << c.z;
+  }
+}
+
+// Section 9: z = z0 + (f1 (z1 - z0) + f2 (z2 - z0)) / A is exact for a
+// triangle of constant depth, whatever its size. Two large triangles (one of
+// each winding) in 256 x 256 with vertices off the pixel grid: area2 is about
+// 3.9e9 and 3.7e9 subpixel^2, so most E_k exceed 2^24 and float(E_k) rounds.
+// Every vertex has clip z = 0.1f, w = 1, so z_w = (0.1f + 1) * 0.5 in float:
+// 0.1f = 0x3DCCCCCD, 0.1f + 1 rounds to 1.1f = 0x3F8CCCCD = 1.10000002384...,
+// times 0.5 is 0x3F0CCCCD = 0.550000011920929 exactly. With z1 - z0 =
+// z2 - z0 = 0 every fragment's z is z_w, so (by hand):
+//   unorm16: 0.550000011920929 * 65535    = 36044.25   -> 36044
+//   unorm24: 0.550000011920929 * 16777215 = 9227468.45 -> 9227468
+//   float32: 0x3F0CCCCD
+// and `equal` against a buffer cleared to the same float passes everywhere.
+// (The former (f0 z0 + f1 z1 + f2 z2) / A gives 9227468 and 9227469 on the
+// first triangle, 9227467 to 9227469 on the second: not constant.)
+TEST(GoldenDepth, ConstantDepthIsExactOnLargeTriangles) {
+  const float zw = (0.1f + 1.0f) * 0.5f;
+  ASSERT_EQ(bits_from_float(zw), 0x3F0CCCCDu);
+  const struct {
+    DepthFormat format;
+    uint32_t stored;
+  } cases[] = {{DepthFormat::unorm16, 36044u},
+               {DepthFormat::unorm24, 9227468u},
+               {DepthFormat::float32, 0x3F0CCCCDu}};
+  const float corners[2][3][2] = {{{3.3f, 7.1f}, {250.7f, 20.2f}, {30.9f, 249.6f}},
+                                  {{5.2f, 3.9f}, {12.4f, 240.3f}, {251.1f, 131.7f}}};  // cw
+  for (const auto& c : cases) {
+    for (const auto& tri : corners) {
+      Scene s = frame(256, 256, ColorFormat::rgba8, c.format, {0, 0, 0, 0}, zw);
+      Draw d;
+      for (const auto& v : tri) {
+        d.positions.push_back({v[0] / 128.0f - 1.0f, v[1] / 128.0f - 1.0f, 0.1f, 1.0f});
+      }
+      d.colors.assign(3, {1, 1, 1, 1});
+      d.state.depth_func = CompareFunc::equal;
+      s.draws.push_back(d);
+      const golden::Result r = golden::render(s);
+      ASSERT_GT(r.stats.fragments_generated, 25000u);
+      EXPECT_EQ(r.stats.fragments_passed_depth, r.stats.fragments_generated) << to_string(c.format);
+      for (size_t p = 0; p < r.framebuffer.depth.size(); ++p) {
+        ASSERT_EQ(r.framebuffer.depth[p], c.stored) << to_string(c.format) << " pixel " << p;
+      }
+    }
+  }
+}
+
+// Section 9 on a sloped plane where every step is exact: v0 on the centre of
+// pixel (4, 4) at z 0.25, v1 8 pixels to the right at 0.5, v2 8 pixels up at
+// 0.375 (area2 = 2048^2 = 2^22). At the centre of pixel (x, y), E1 = 2048 *
+// 256 (x - 4) and E2 = 2048 * 256 (y - 4) (below 2^24: exact in float), so
+// f1 (z1 - z0) = 2^19 (x - 4) / 4, f2 (z2 - z0) = 2^19 (y - 4) / 8, and
+// dividing by 2^22 gives (x - 4) / 32 + (y - 4) / 64, all exact: z is the
+// plane 0.25 + (x - 4) / 32 + (y - 4) / 64, a multiple of 2^-6, encoded as
+// nearbyint(z (2^n - 1)) in unorm16 and unorm24 and as itself in float32.
+TEST(GoldenDepth, SlopedDepthIsThePlaneThroughTheVertices) {
+  for (DepthFormat f : {DepthFormat::unorm16, DepthFormat::unorm24, DepthFormat::float32}) {
+    Scene s = frame(16, 16, ColorFormat::rgba8, f);
+    Draw d;
+    d.positions = {at(4.5f, 4.5f, 0.25f, 16, 16), at(12.5f, 4.5f, 0.5f, 16, 16),
+                   at(4.5f, 12.5f, 0.375f, 16, 16)};
+    d.colors.assign(3, {1, 1, 1, 1});
+    d.state.depth_func = CompareFunc::always;
+    s.draws.push_back(d);
+    const golden::Result r = golden::render(s);
+    uint64_t checked = 0;
+    for (int y = 0; y < 16; ++y) {
+      for (int x = 0; x < 16; ++x) {
+        const size_t p = static_cast<size_t>(y) * 16 + x;
+        if (r.last_writer[p] != 0) continue;
+        const double z = 0.25 + (x - 4) / 32.0 + (y - 4) / 64.0;
+        uint32_t want = 0;
+        switch (f) {
+          case DepthFormat::unorm16: want = static_cast<uint32_t>(std::nearbyint(z * 65535.0)); break;
+          case DepthFormat::unorm24: want = static_cast<uint32_t>(std::nearbyint(z * 16777215.0)); break;
+          case DepthFormat::float32: want = bits_from_float(static_cast<float>(z)); break;
+        }
+        EXPECT_EQ(r.framebuffer.depth[p], want) << to_string(f) << " pixel " << x << ", " << y;
+        ++checked;
+      }
+    }
+    EXPECT_EQ(checked, r.stats.fragments_generated);
+    EXPECT_GE(checked, 36u);  // the 9 x 9 half-square: at least the 8 + 7 + ... + 1 interior
   }
 }
 

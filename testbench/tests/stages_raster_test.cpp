@@ -892,7 +892,8 @@ TEST_P(RasterVsRender, CountsLastWriterAndDepthEqualGolden) {
             f[k] = static_cast<float>(st.e[k] + int64_t{i} * t.edge[k].a * 256 +
                                       int64_t{j} * t.edge[k].b * 256);
           }
-          float z = (f[0] * t.z[0] + f[1] * t.z[1] + f[2] * t.z[2]) / static_cast<float>(t.area2);
+          float z = t.z[0] + (f[1] * (t.z[1] - t.z[0]) + f[2] * (t.z[2] - t.z[0])) /
+                                 static_cast<float>(t.area2);
           if (t.has_depth_offset) z = z + t.depth_offset;
           writes.emplace_back(t.primitive_id, static_cast<size_t>(st.y + j) * W + st.x + i,
                               encode_depth(depth_format, z));
