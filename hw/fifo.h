@@ -23,6 +23,10 @@
 // returned with a stage still blocked. Blocked time is counted only in the
 // blocking read() and write(); a stage that polls with nb_read()/nb_write()
 // accounts for its own waiting. Mean occupancy is over [0, now].
+//
+// Tracing: set_probe() attaches a FifoProbe (hw/fifo_probe.h) that sees every
+// read, write, blocked interval and occupancy change; without one, each hook
+// is a single branch on a null pointer.
 #pragma once
 
 #include <algorithm>
@@ -35,6 +39,8 @@
 #include <systemc>
 #include <utility>
 #include <vector>
+
+#include "hw/fifo_probe.h"
 
 namespace gpusim {
 
@@ -161,17 +167,29 @@ class Fifo : public sc_core::sc_prim_channel, public FifoInIf<T>, public FifoOut
 
   // Blocking; SC_THREAD only. Waits while no item is readable.
   T read() override {
+    if constexpr (kTraceHooks) {
+      if (m_probe) m_probe->read_called(now());
+    }
     wait_for_item();
     T item = std::move(m_buf[m_head]);
     pop();
+    if constexpr (kTraceHooks) {
+      if (m_probe) m_probe->taken(item, now());
+    }
     return item;
   }
 
   void read(T& item) override {
+    if constexpr (kTraceHooks) {
+      if (m_probe) m_probe->read_called(now());
+    }
     wait_for_item();
     using std::swap;
     swap(m_buf[m_head], item);
     pop();
+    if constexpr (kTraceHooks) {
+      if (m_probe) m_probe->taken(item, now());
+    }
   }
 
   bool nb_write(const T& item) override {
@@ -186,7 +204,19 @@ class Fifo : public sc_core::sc_prim_channel, public FifoInIf<T>, public FifoOut
     using std::swap;
     swap(m_buf[m_head], item);
     pop();
+    if constexpr (kTraceHooks) {
+      if (m_probe) {
+        m_probe->read_called(now());
+        m_probe->taken(item, now());
+      }
+    }
     return true;
+  }
+
+  // Trace hooks (hw/fifo_probe.h); nullptr detaches. The probe must outlive
+  // the simulation. A no-op in a build without trace hooks.
+  void set_probe(FifoProbe<T>* probe) {
+    if constexpr (kTraceHooks) m_probe = probe;
   }
 
   // Items the reader can take now (written before this delta, not yet read).
@@ -283,11 +313,11 @@ class Fifo : public sc_core::sc_prim_channel, public FifoInIf<T>, public FifoOut
     const sc_core::sc_time called = time_stamp();
     maybe_stall(m_write_rng);
     if (num_free() == 0) {
-      begin_blocked(m_blocked_writers);
+      begin_blocked(m_blocked_writers, true);
       do {
         sc_core::wait(m_data_read_event);
       } while (num_free() == 0);
-      end_blocked(m_blocked_writers);
+      end_blocked(m_blocked_writers, true);
     }
     // The latency runs from when the item enters the FIFO: a result waiting
     // for a free slot has not started down the output's register chain.
@@ -298,24 +328,27 @@ class Fifo : public sc_core::sc_prim_channel, public FifoInIf<T>, public FifoOut
   void wait_for_item() {
     maybe_stall(m_read_rng);
     if (size() == 0) {
-      begin_blocked(m_blocked_readers);
+      begin_blocked(m_blocked_readers, false);
       do {
         sc_core::wait(m_data_written_event);
       } while (size() == 0);
-      end_blocked(m_blocked_readers);
+      end_blocked(m_blocked_readers, false);
     }
     // An item still in the writer's pipeline: waiting for it is starving too.
     const sc_core::sc_time& ready = m_ready[m_head];
     const sc_core::sc_time& now = time_stamp();
     if (ready > now) {
-      begin_blocked(m_blocked_readers);
+      begin_blocked(m_blocked_readers, false);
       sc_core::wait(ready - now);
-      end_blocked(m_blocked_readers);
+      end_blocked(m_blocked_readers, false);
     }
   }
 
   // The item is already in m_buf[m_tail]; `ready` is its ready time.
   void push(const sc_core::sc_time& ready) {
+    if constexpr (kTraceHooks) {
+      if (m_probe) m_probe->written(m_buf[m_tail], now());
+    }
     m_ready[m_tail] = ready;
     m_tail = m_tail + 1 == m_buf.size() ? 0 : m_tail + 1;
     ++m_num_written;
@@ -347,6 +380,9 @@ class Fifo : public sc_core::sc_prim_channel, public FifoInIf<T>, public FifoOut
     m_committed = m_committed - m_num_read + m_num_written;
     m_occupancy.set(m_committed, now);
     m_max_occupancy = std::max(m_max_occupancy, m_committed);
+    if constexpr (kTraceHooks) {
+      if (m_probe) m_probe->occupancy(m_committed, now);
+    }
     if (m_num_written && (m_blocked_readers.level > 0 || m_events_handed_out))
       m_data_written_event.notify(sc_core::SC_ZERO_TIME);
     if (m_num_read && (m_blocked_writers.level > 0 || m_events_handed_out))
@@ -355,8 +391,18 @@ class Fifo : public sc_core::sc_prim_channel, public FifoInIf<T>, public FifoOut
     m_num_read = 0;
   }
 
-  void begin_blocked(fifo_detail::Integral& blocked) { blocked.set(blocked.level + 1, now()); }
-  void end_blocked(fifo_detail::Integral& blocked) { blocked.set(blocked.level - 1, now()); }
+  void begin_blocked(fifo_detail::Integral& blocked, bool writer_side) {
+    blocked.set(blocked.level + 1, now());
+    if constexpr (kTraceHooks) {
+      if (m_probe) m_probe->blocked(writer_side, true, now());
+    }
+  }
+  void end_blocked(fifo_detail::Integral& blocked, bool writer_side) {
+    blocked.set(blocked.level - 1, now());
+    if constexpr (kTraceHooks) {
+      if (m_probe) m_probe->blocked(writer_side, false, now());
+    }
+  }
 
   void maybe_stall(fifo_detail::SplitMix64& rng) {
     if (m_stall_probability <= 0.0 || rng.uniform() >= m_stall_probability) return;
@@ -394,6 +440,7 @@ class Fifo : public sc_core::sc_prim_channel, public FifoInIf<T>, public FifoOut
   fifo_detail::SplitMix64 m_read_rng;
   uint64_t m_injected_stalls = 0;
   sc_core::sc_time m_injected_stall;
+  FifoProbe<T>* m_probe = nullptr;  // trace hooks; unused without them
 };
 
 }  // namespace gpusim

@@ -1,6 +1,7 @@
 #include "stages/depth_test.h"
 
 #include <algorithm>
+#include <limits>
 #include <string>
 
 #include "hw/pixel_formats.h"
@@ -117,13 +118,28 @@ void DepthTest::test(StampBatch& batch, sc_core::sc_time& t) {
   m_stamps += batch.stamps.size();
   m_fragments_in += fragments;
 
+  // Tracing: the probe is read once per batch, so an untraced run pays one
+  // branch per fragment (none in a build without trace hooks, where the
+  // per-fragment call is compiled out and the probe stays null). Fragments
+  // the fast paths below decide without computing z are reported with NaN
+  // depths.
+  FragmentProbe* const probe = m_probe;
+  constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+  const auto report_untested = [&](uint8_t outcome) {
+    for_each_covered_pixel(batch.stamps, stamp_w, m_stamp_shift, [&](int x, int y) {
+      probe->depth_tested(m_unit, DepthFragment{x, y, tri.primitive_id, outcome, kNaN, kNaN, kNaN});
+    });
+  };
+
   // No stored value can change the outcome: no memory access.
   if (!st.depth_test || (st.depth_func == CompareFunc::always && !st.depth_write)) {
     m_fragments_passed += fragments;
     m_stamps_passed += batch.stamps.size();
+    if (probe) report_untested(depth_untested);
     return;
   }
   if (st.depth_func == CompareFunc::never) {
+    if (probe) report_untested(depth_failed);
     batch.stamps.clear();
     return;
   }
@@ -169,7 +185,18 @@ void DepthTest::test(StampBatch& batch, sc_core::sc_time& t) {
       if (tri.has_depth_offset) z = z + tri.depth_offset;
       const DepthValue fragment = encode_depth(format, z);
       uint8_t* stored = m_cache.pixel(entry, x, y);
-      if (depth_compare(st.depth_func, fragment, load_depth(stored, bytes))) {
+      const DepthValue old = load_depth(stored, bytes);
+      const bool pass = depth_compare(st.depth_func, fragment, old);
+      if constexpr (kTraceHooks) {
+        if (probe) {
+          const float value = decode_depth(format, fragment);
+          probe->depth_tested(
+              m_unit,
+              DepthFragment{x, y, tri.primitive_id, pass ? depth_passed : depth_failed, value,
+                            decode_depth(format, old), pass && st.depth_write ? value : kNaN});
+        }
+      }
+      if (pass) {
         ++passed;
         if (st.depth_write) {
           store_depth(stored, bytes, fragment);

@@ -46,6 +46,7 @@
 #include "hw/packets.h"
 #include "hw/stats.h"
 #include "hw/tile_cache.h"
+#include "hw/trace_probe.h"
 
 namespace gpusim {
 
@@ -59,6 +60,11 @@ class DepthTest : public sc_core::sc_module {
             unsigned unit);
 
   const StatGroup& stats() const { return m_stats; }
+
+  // Tracing: every tested fragment is reported to `probe` (nullptr: none).
+  void set_fragment_probe(FragmentProbe* probe) {
+    if constexpr (kTraceHooks) m_probe = probe;  // a build without hooks ignores it
+  }
 
  private:
   void run();
@@ -82,6 +88,7 @@ class DepthTest : public sc_core::sc_module {
   // log2 of the tile side and of the stamp width (powers of two): a stamp's
   // tile is its origin >> m_tile_shift, a mask bit's row is bit >> m_stamp_shift.
   const int m_tile_shift, m_stamp_shift;
+  FragmentProbe* m_probe = nullptr;
 
   StatGroup m_stats{name()};
   uint64_t& m_busy_cycles =

@@ -255,6 +255,9 @@ size_t Gpu::add_fifo_view(Fifo<T>& fifo, const std::string& name) {
   v.stats = [&fifo] { return fifo.stats(); };
   v.occupancy = [&fifo] { return fifo.depth() - fifo.num_free(); };
   v.depth = fifo.depth();
+  v.attach = [&fifo](TraceProbes& probes, size_t index) {
+    fifo.set_probe(probes.fifo_probe(index, ProbeTag<T>{}));
+  };
   m_fifo_views.push_back(std::move(v));
   m_activity_events |= fifo.data_written_event();
   m_activity_events |= fifo.data_read_event();
@@ -309,6 +312,65 @@ void Gpu::build_views() {
     m_stage_views.push_back(
         {"interpolator_" + n, &unit.interpolator->stats(), {input(visible)}, {shaded}});
     m_stage_views.push_back({"rop_" + n, &unit.rop->stats(), {input(shaded)}, {}});
+  }
+}
+
+TraceTables Gpu::trace_tables() const {
+  // Views are numbered in creation order; fault stand-ins (created first)
+  // are left out and a stage reading one is shown reading the real FIFO.
+  std::map<size_t, std::string> stand_in_of;
+  for (const auto& [name, view] : m_stand_in_view) stand_in_of[view] = name;
+  std::vector<int> index(m_fifo_views.size(), -1);
+  std::map<std::string, int> by_name;
+  TraceTables t;
+  for (size_t v = 0; v < m_fifo_views.size(); ++v) {
+    if (stand_in_of.count(v)) continue;
+    index[v] = static_cast<int>(t.fifos.size());
+    by_name[m_fifo_views[v].name] = index[v];
+    TraceTables::Fifo f;
+    f.name = m_fifo_views[v].name;
+    f.depth = m_fifo_views[v].depth;
+    t.fifos.push_back(f);
+  }
+  const auto fifo_index = [&](size_t v) {
+    const auto it = stand_in_of.find(v);
+    return it == stand_in_of.end() ? index[v] : by_name.at(it->second);
+  };
+  for (const StageView& v : m_stage_views) {
+    TraceTables::Stage s;
+    s.name = v.name;
+    // A unit's stages are named <kind>_<unit> (build_views); front-end names
+    // end in a letter.
+    const size_t us = v.name.rfind('_');
+    const bool in_unit = us != std::string::npos && us + 1 < v.name.size() &&
+                         v.name.find_first_not_of("0123456789", us + 1) == std::string::npos;
+    s.kind = in_unit ? v.name.substr(0, us) : v.name;
+    s.unit = in_unit ? std::stoi(v.name.substr(us + 1)) : -1;
+    const int me = static_cast<int>(t.stages.size());
+    for (size_t in : v.inputs) {
+      s.input = fifo_index(in);
+      t.fifos[s.input].reader = me;
+      t.fifos[s.input].unit = s.unit;
+    }
+    for (size_t out : v.outputs) {
+      s.outputs.push_back(fifo_index(out));
+      t.fifos[s.outputs.back()].writer = me;
+    }
+    t.stages.push_back(std::move(s));
+  }
+  return t;
+}
+
+void Gpu::attach_trace(TraceProbes& probes) {
+  size_t index = 0;
+  for (size_t v = 0; v < m_fifo_views.size(); ++v) {
+    bool stand_in = false;
+    for (const auto& entry : m_stand_in_view) stand_in = stand_in || entry.second == v;
+    if (!stand_in) m_fifo_views[v].attach(probes, index++);
+  }
+  for (Unit& u : m_units) {
+    u.depth->set_fragment_probe(probes.fragment_probe());
+    u.rop->set_fragment_probe(probes.fragment_probe());
   }
 }
 

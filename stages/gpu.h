@@ -27,6 +27,7 @@
 #include "hw/gpu_config.h"
 #include "hw/memory.h"
 #include "hw/packets.h"
+#include "hw/trace_probe.h"
 #include "hw/vertex_packets.h"
 #include "stages/clipper.h"
 #include "stages/command_processor.h"
@@ -73,6 +74,15 @@ class Gpu : public sc_core::sc_module {
   // Random stalls at every FIFO boundary (Fifo::inject_random_stalls), for
   // latency-insensitivity tests: results must not change.
   void inject_random_stalls(uint64_t seed, double probability, unsigned max_cycles);
+
+  // --- Tracing (docs/traces.md) --------------------------------------------
+  // The stages and FIFOs as the trace files number them, from the same views
+  // the watchdog and stats use (test-fault stand-ins left out).
+  TraceTables trace_tables() const;
+  // Attaches a recorder before sc_start(): each FIFO gets probes.fifo_probe()
+  // for its index in trace_tables(), every depth test and ROP the fragment
+  // probe. `probes` must outlive the simulation.
+  void attach_trace(TraceProbes& probes);
 
   // Assembled triangles the clipper has taken in so far (for progress lines).
   uint64_t triangles_assembled() const;
@@ -141,6 +151,7 @@ class Gpu : public sc_core::sc_module {
     std::function<FifoStats()> stats;
     std::function<size_t()> occupancy;  // items held, readable or not
     size_t depth = 0;
+    std::function<void(TraceProbes&, size_t)> attach;  // sets the FIFO's probe
   };
   // A stage and the FIFOs it reads and writes (indices into m_fifo_views).
   struct StageView {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <limits>
 #include <string>
 
 #include "hw/pixel_formats.h"
@@ -133,8 +134,20 @@ void Rop::blend(const ShadedStampBatch& batch, sc_core::sc_time& t) {
   const FramebufferDesc& fb = m_frame.framebuffer;
   m_stamps += batch.stamps.size();
   m_fragments_in += batch.colors.size();
+  // Tracing: the probe is read once per batch (one branch per fragment when
+  // none is set; none in a build without trace hooks, where it stays null).
+  FragmentProbe* const probe = m_probe;
   const std::array<bool, 4>& mask = st.color_mask;
-  if (!(mask[0] || mask[1] || mask[2] || mask[3])) return;
+  if (!(mask[0] || mask[1] || mask[2] || mask[3])) {
+    if (probe) {
+      constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+      for_each_covered_pixel(batch.stamps, m_config.stamp[0], m_stamp_shift, [&](int x, int y) {
+        probe->rop_wrote(m_unit,
+                         RopFragment{x, y, tri.primitive_id, rop_masked, {kNaN, kNaN, kNaN, kNaN}});
+      });
+    }
+    return;
+  }
 
   const ColorFormat format = fb.color_format;
   const bool half = format == ColorFormat::rgba16f;
@@ -192,6 +205,14 @@ void Rop::blend(const ShadedStampBatch& batch, sc_core::sc_time& t) {
         store_channel(stored, half, k, encode_color(format, v));
       }
       if (m_last_writer) (*m_last_writer)[static_cast<size_t>(y) * fb.width + x] = tri.primitive_id;
+      if constexpr (kTraceHooks) {
+        if (probe) {
+          RopFragment f{x, y, tri.primitive_id, rop_written, {}};
+          for (int k = 0; k < 4; ++k)
+            f.value[k] = decode_color(format, load_channel(stored, half, k));
+          probe->rop_wrote(m_unit, f);
+        }
+      }
     }
   }
   if (c != batch.colors.size()) {

@@ -42,6 +42,7 @@
 #include "hw/packets.h"
 #include "hw/stats.h"
 #include "hw/tile_cache.h"
+#include "hw/trace_probe.h"
 
 namespace gpusim {
 
@@ -63,6 +64,10 @@ class Rop : public sc_core::sc_module {
   // Testbench instrumentation, not hardware: when set, the primitive id of
   // every colour write is recorded at index y * width + x.
   void set_last_writer(std::vector<int64_t>* per_pixel) { m_last_writer = per_pixel; }
+  // Tracing: every fragment received is reported to `probe` (nullptr: none).
+  void set_fragment_probe(FragmentProbe* probe) {
+    if constexpr (kTraceHooks) m_probe = probe;  // a build without hooks ignores it
+  }
 
  private:
   void run();
@@ -86,6 +91,7 @@ class Rop : public sc_core::sc_module {
   bool m_frame_done = false;
   sc_core::sc_event m_frame_done_event;
   std::vector<int64_t>* m_last_writer = nullptr;
+  FragmentProbe* m_probe = nullptr;
 
   StatGroup m_stats{name()};
   uint64_t& m_busy_cycles =

@@ -7,11 +7,14 @@
 
 #include <CLI/CLI.hpp>
 #include <chrono>
+#include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
 #include <map>
 #include <new>
+#include <optional>
 #include <string>
 #include <systemc>
 
@@ -24,6 +27,9 @@
 #include "testbench/scene/scene.h"
 #include "testbench/sim/gpu_run.h"
 #include "testbench/sim/memory_budget.h"
+#include "traces/trace_follow.h"
+#include "traces/trace_reader.h"
+#include "traces/trace_summary.h"
 
 namespace gpusim {
 namespace {
@@ -34,7 +40,8 @@ constexpr int kExitSimulation = 3;
 // The --memory-limit option (MiB; 0: the machine's).
 MemoryLimit memory_limit(uint64_t mib) {
   if (mib == 0) return default_memory_limit();
-  return MemoryLimit{mib << 20, "--memory-limit " + std::to_string(mib)};
+  const uint64_t bytes = mib > (UINT64_MAX >> 20) ? UINT64_MAX : mib << 20;
+  return MemoryLimit{bytes, "--memory-limit " + std::to_string(mib)};
 }
 
 // Messages quote file names and file contents: control characters and bytes
@@ -149,6 +156,8 @@ struct RunArgs {
   std::string out_dir = "out";
   bool check = false;
   uint64_t memory_mib = 0;  // 0: the machine's
+  // --trace DIR and its filters (docs/traces.md); empty: not traced.
+  std::string trace_dir, trace_stages, trace_window, trace_prims;
 };
 
 std::string pixel_text(const Framebuffer& fb, int x, int y) {
@@ -213,6 +222,15 @@ int run_cycle_model(const RunArgs& args) {
   GpuRunOptions options;
   options.record_last_writer = args.check;
   options.progress = isatty(STDERR_FILENO);
+  // The trace's files, committed with its frame.exr and stats.json below; on
+  // any failure they are removed and an earlier trace in the directory stays.
+  OutputFiles trace_files;
+  options.trace_dir = args.trace_dir;
+  options.trace_files = &trace_files;
+  options.trace_scene = args.scene;
+  options.trace_stages = args.trace_stages;
+  options.trace_window = args.trace_window;
+  options.trace_prims = args.trace_prims;
   GpuRunResult result;
   try {
     result = run_gpu(scene, config, options);
@@ -225,6 +243,12 @@ int run_cycle_model(const RunArgs& args) {
       {"config", to_json(config)}, {"stats", result.counts}, {"timing", result.timing},
   };
   write_frame_outputs(args.out_dir, result.framebuffer, stats);
+  if (!args.trace_dir.empty()) {
+    write_frame_exr(result.framebuffer, trace_files.add(args.trace_dir + "/frame.exr"));
+    write_text_file_atomically(trace_files.add(args.trace_dir + "/stats.json"),
+                               stats.dump(2) + "\n");
+    trace_files.commit();
+  }
 
   const double mhz = config.clock_mhz;
   std::printf(
@@ -241,6 +265,12 @@ int run_cycle_model(const RunArgs& args) {
               c["fragments_written"].dump().c_str());
   std::printf("  frame: %s/frame.exr, %s/frame.png, %s/stats.json\n", args.out_dir.c_str(),
               args.out_dir.c_str(), args.out_dir.c_str());
+  if (!args.trace_dir.empty()) {
+    std::printf(
+        "  trace: %s (manifest.json, signals.vcd, timeline.json, transactions.bin, "
+        "fragments.bin)\n",
+        args.trace_dir.c_str());
+  }
   if (args.check && !check_against_golden(scene, result)) return 1;
   return 0;
 }
@@ -281,6 +311,68 @@ int run_compare(const CompareArgs& args) {
   return result.pass() ? 0 : 1;
 }
 
+// `gpusim trace summary DIR [--json]` and `gpusim trace follow DIR --prim N |
+// --pixel X,Y` (docs/traces.md): read a trace written by `run --trace`.
+struct TraceArgs {
+  std::string dir;
+  bool json = false;
+  int64_t prim = -1;
+  std::string pixel;  // "X,Y"
+};
+
+int run_trace_summary(const TraceArgs& args) {
+  const TraceReader reader(args.dir);
+  const TraceSummary summary(reader);
+  if (args.json) {
+    std::cout << summary.json().dump(2) << "\n";
+  } else {
+    std::cout << summary.text();
+  }
+  return 0;
+}
+
+int run_trace_follow(const TraceArgs& args, bool by_prim) {
+  const TraceReader reader(args.dir);
+  const TraceFollow follow(reader);
+  if (by_prim) {
+    std::cout << follow.prim_text(args.prim);
+    return 0;
+  }
+  // X,Y: two non-negative integers.
+  const size_t comma = args.pixel.find(',');
+  int x = -1, y = -1;
+  size_t used_x = 0, used_y = 0;
+  try {
+    if (comma != std::string::npos) {
+      x = std::stoi(args.pixel.substr(0, comma), &used_x);
+      y = std::stoi(args.pixel.substr(comma + 1), &used_y);
+    }
+  } catch (const std::exception&) {
+    used_x = used_y = 0;
+  }
+  if (comma == std::string::npos || used_x == 0 || used_x != comma || used_y == 0 ||
+      used_y != args.pixel.size() - comma - 1 || x < 0 || y < 0) {
+    throw InputError("--pixel " + args.pixel +
+                     ": expected X,Y (non-negative integers), e.g. 12,34");
+  }
+  // The frame's final value at the pixel, from DIR/frame.exr (rows top first).
+  const TraceFollow::FrameLookup frame = [&](int px,
+                                             int py) -> std::optional<TraceFollow::PixelValue> {
+    const Image img = read_exr(reader.path("frame.exr"));
+    if (px >= img.width || py >= img.height) return std::nullopt;
+    const size_t p = static_cast<size_t>(img.height - 1 - py) * img.width + px;
+    TraceFollow::PixelValue v;
+    const char* names[5] = {"R", "G", "B", "A", "Z"};
+    for (int k = 0; k < 5; ++k) {
+      const std::vector<float>* c = img.find(names[k]);
+      (k < 4 ? v.rgba[k] : v.depth) = c ? (*c)[p] : std::nanf("");
+    }
+    return v;
+  };
+  std::cout << follow.pixel_text(x, y, frame);
+  return 0;
+}
+
 int main_with_errors(int argc, char** argv) {
   CLI::App app{"gpusim: a fixed-function GPU modeled in SystemC, and its golden model"};
   app.require_subcommand(1);
@@ -308,6 +400,22 @@ int main_with_errors(int argc, char** argv) {
       "--check", run.check,
       "Also render with the golden model and compare bit for bit (exit 1 on a difference)");
   run_cmd->add_option("--memory-limit", run.memory_mib, memory_help);
+  CLI::Option* trace_option = run_cmd->add_option(
+      "--trace", run.trace_dir,
+      "Record a trace into this directory (docs/traces.md): manifest.json, signals.vcd, "
+      "timeline.json, transactions.bin, fragments.bin, frame.exr, stats.json");
+  run_cmd
+      ->add_option("--trace-stages", run.trace_stages,
+                   "Trace only these stages: comma-separated names or kinds (depth_test_2, rop)")
+      ->needs(trace_option);
+  run_cmd
+      ->add_option("--trace-window", run.trace_window,
+                   "Trace only cycles [START, END): START:END, either side may be empty")
+      ->needs(trace_option);
+  run_cmd
+      ->add_option("--trace-prims", run.trace_prims,
+                   "Trace only items and fragments of primitives A to B (inclusive): A:B")
+      ->needs(trace_option);
 
   CompareArgs cmp;
   CLI::App* compare = app.add_subcommand(
@@ -326,6 +434,23 @@ int main_with_errors(int argc, char** argv) {
   compare->add_option("--diff", cmp.diff_png, "Write a heat-map PNG of the difference");
   exact->excludes(tolerance)->excludes(channel_tolerance);
 
+  TraceArgs trace_args;
+  CLI::App* trace = app.add_subcommand("trace", "Inspect a trace written by run --trace");
+  trace->require_subcommand(1);
+  CLI::App* trace_summary = trace->add_subcommand(
+      "summary", "Per-stage utilization, the bottleneck, FIFO occupancy, unit load balance");
+  trace_summary->add_option("dir", trace_args.dir, "Trace directory (run --trace DIR)")->required();
+  trace_summary->add_flag("--json", trace_args.json, "Print JSON instead of text");
+  CLI::App* trace_follow = trace->add_subcommand(
+      "follow", "Follow a primitive through the stages, or a pixel's fragments");
+  trace_follow->add_option("dir", trace_args.dir, "Trace directory (run --trace DIR)")->required();
+  CLI::Option* prim_option = trace_follow->add_option(
+      "--prim", trace_args.prim, "Primitive id: every stage it passed, with cycles and unit");
+  CLI::Option* pixel_option = trace_follow->add_option(
+      "--pixel", trace_args.pixel,
+      "X,Y (window coordinates, origin lower left): every fragment that touched the pixel");
+  prim_option->excludes(pixel_option);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -343,6 +468,13 @@ int main_with_errors(int argc, char** argv) {
     return run_cycle_model(run);
   }
   if (compare->parsed()) return run_compare(cmp);
+  if (trace_summary->parsed()) return run_trace_summary(trace_args);
+  if (trace_follow->parsed()) {
+    if (prim_option->count() == 0 && pixel_option->count() == 0) {
+      throw InputError("trace follow: give --prim N or --pixel X,Y");
+    }
+    return run_trace_follow(trace_args, prim_option->count() > 0);
+  }
   return kExitError;
 }
 

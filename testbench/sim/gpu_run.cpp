@@ -6,7 +6,10 @@
 #include <sstream>
 #include <systemc>
 
+#include "hw/input_error.h"
 #include "stages/gpu.h"
+#include "testbench/io/output_file.h"
+#include "traces/trace_recorder.h"
 
 namespace gpusim {
 namespace {
@@ -184,6 +187,17 @@ void fresh_simulation_context() {
 
 GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOptions& options) {
   static_assert(sizeof(glm::vec4) == 16 && sizeof(glm::vec3) == 12, "packed attributes");
+  const bool tracing = !options.trace_dir.empty();
+  TraceFilter trace_filter;
+  if (tracing) {
+    if (!kTraceHooks) {
+      throw InputError(
+          "--trace: this gpusim was built without trace hooks (GPUSIM_TRACE_HOOKS=OFF)");
+    }
+    if (options.trace_files == nullptr) throw std::invalid_argument("run_gpu: trace_files not set");
+    trace_filter =
+        TraceFilter::parse(options.trace_stages, options.trace_window, options.trace_prims);
+  }
   fresh_simulation_context();
   LoadedFrame loaded = load_frame(scene);
   Gpu::Faults faults;
@@ -204,6 +218,25 @@ GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOp
   if (options.stall_probability > 0.0) {
     gpu.inject_random_stalls(options.stall_seed, options.stall_probability,
                              options.stall_max_cycles);
+  }
+  // Declared after the GPU, so destroyed before it: nothing calls a probe
+  // once the run is over.
+  std::unique_ptr<TraceRecorder> recorder;
+  if (tracing) {
+    const TraceTables tables = gpu.trace_tables();
+    trace_filter.stages_kept(tables);  // an unknown stage fails before anything is written
+    const std::string& dir = options.trace_dir;
+    create_output_directory(dir);
+    OutputFiles& files = *options.trace_files;
+    TraceRecorder::Paths paths;
+    paths.manifest = files.add(dir + "/manifest.json");
+    paths.vcd = files.add(dir + "/signals.vcd");
+    paths.timeline = files.add(dir + "/timeline.json");
+    paths.transactions = files.add(dir + "/transactions.bin");
+    paths.fragments = files.add(dir + "/fragments.bin");
+    recorder = std::make_unique<TraceRecorder>(tables, config, loaded.frame, trace_filter, paths,
+                                               options.trace_scene);
+    gpu.attach_trace(*recorder);
   }
   uint64_t triangles = 0;
   for (const Draw& d : scene.draws) triangles += triangle_count(d.primitive, d.vertex_count());
@@ -259,6 +292,7 @@ GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOp
     for (const std::string& e : errors) report += "\n  " + e;
     throw SimulationError(SimulationError::Kind::conservation, report);
   }
+  if (recorder) recorder->finish(result.cycles, sc_core::sc_time_stamp().value());
   return result;
 }
 

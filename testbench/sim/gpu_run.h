@@ -24,6 +24,8 @@
 
 namespace gpusim {
 
+class OutputFiles;
+
 // The scene as the GPU sees it: register state and an initial memory image.
 struct LoadedFrame {
   FrameState frame;
@@ -41,6 +43,17 @@ struct GpuRunOptions {
   double stall_probability = 0.0;
   unsigned stall_max_cycles = 8;
   uint64_t stall_seed = 1;
+
+  // Tracing (docs/traces.md): when trace_dir is set, the run is recorded into
+  // that directory (created if missing). The trace files are written under
+  // temporary names registered in *trace_files, which the caller commits
+  // together with its own files (stats.json, frame.exr) or discards. Filters
+  // as the command line gives them; bad syntax or an unknown stage throws
+  // InputError before anything is simulated or written.
+  std::string trace_dir;
+  OutputFiles* trace_files = nullptr;
+  std::string trace_scene;  // the scene's path, for manifest.json
+  std::string trace_stages, trace_window, trace_prims;
 
   // Test-only fault injection (docs/robustness.md, "Watchdog"): production
   // runs leave these at their defaults. FIFOs by name, as in stats.json.

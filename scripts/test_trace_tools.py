@@ -1,0 +1,291 @@
+#!/usr/bin/python3
+"""Tests scripts/trace_plots and scripts/report on real traces.
+
+    /usr/bin/python3 scripts/test_trace_tools.py [--gpusim build/gpusim] [--keep DIR]
+
+Records a small scene with `gpusim run --trace`, runs both scripts on it and
+checks: every PNG opens (OpenImageIO) with a sensible size and is not blank;
+the heat-maps' numbers (tiles.json) equal sums computed here, independently,
+from the raw transactions.bin and fragments.bin (struct, not the scripts'
+reader); the HTML embeds every image and holds the summary's bottleneck
+line; filtered traces plot; bad input exits 2 with one line. Exits 1 on a
+failure, naming it.
+"""
+
+import argparse
+import base64
+import html
+import json
+import os
+import re
+import shutil
+import struct
+import subprocess
+import sys
+import tempfile
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+REPO = os.path.dirname(HERE)
+SCENE = os.path.join(REPO, "testbench", "scenes", "shared_edges.json")
+PLOTS = ["utilization.png", "fifo_occupancy.png", "tiles_owner.png", "tiles_cycles.png", "tiles_overdraw.png"]
+
+failures = []
+
+
+def check(cond, what):
+    print(("ok    " if cond else "FAIL  ") + what)
+    if not cond:
+        failures.append(what)
+    return cond
+
+
+def run(cmd, **kw):
+    env = dict(os.environ, SC_COPYRIGHT_MESSAGE="DISABLE")
+    return subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env, **kw)
+
+
+def must(cmd):
+    r = run(cmd)
+    if r.returncode != 0:
+        print(f"FAIL  {' '.join(cmd)} exited {r.returncode}:\n{r.stderr}", file=sys.stderr)
+        sys.exit(1)
+    return r
+
+
+# -- independent readers of the raw files (docs/traces.md) -------------------
+
+
+def read_raw(path, magic, fmt):
+    with open(path, "rb") as f:
+        data = f.read()
+    assert data[:8] == magic, f"{path}: magic {data[:8]!r}"
+    version, size = struct.unpack_from("<II", data, 8)
+    assert version == 1 and size == struct.calcsize(fmt) == 48, f"{path}: version {version} size {size}"
+    return list(struct.iter_unpack(fmt, data[16:]))
+
+
+TX_FMT = "<QQqqIHBBhhI"      # cycle_in cycle_out prim_first prim_last draw stage kind reserved tile_x tile_y count
+FR_FMT = "<QqHHBBBBff4f"     # cycle prim x y stage unit outcome reserved depth old_depth value[4]
+
+
+def png_ok(path, name, min_w=200, min_h=150):
+    import OpenImageIO as oiio
+    inp = oiio.ImageInput.open(path)
+    if not check(inp is not None, f"{name}: opens as an image"):
+        return
+    spec = inp.spec()
+    px = inp.read_image(oiio.FLOAT)
+    inp.close()
+    check(spec.width >= min_w and spec.height >= min_h, f"{name}: {spec.width}x{spec.height} is a sensible size")
+    px = np.asarray(px).reshape(spec.height, spec.width, spec.nchannels)
+    check(float(px[..., :3].std()) > 0.01, f"{name}: not blank (pixel std {float(px[..., :3].std()):.3f})")
+
+
+def check_plots(trace, plots, manifest, label):
+    for p in PLOTS:
+        path = os.path.join(plots, p)
+        if check(os.path.isfile(path) and os.path.getsize(path) > 1000, f"{label}: {p} written"):
+            png_ok(path, f"{label}: {p}")
+    leftovers = [n for n in os.listdir(plots) if ".tmp" in n]
+    check(not leftovers, f"{label}: no temporary files left ({leftovers})")
+
+
+def check_tiles(trace, plots, manifest, stats):
+    fb = manifest["framebuffer"]
+    nx, ny, ts, units = fb["tiles_x"], fb["tiles_y"], fb["tile_size"], manifest["units"]
+    tiles = json.load(open(os.path.join(plots, "tiles.json")))
+    tx = read_raw(os.path.join(trace, "transactions.bin"), b"GPUSIMTX", TX_FMT)
+    fr = read_raw(os.path.join(trace, "fragments.bin"), b"GPUSIMFR", FR_FMT)
+    stage_unit = [s["unit"] for s in manifest["stages"]]
+
+    # Owner: the units seen per tile, and the rule tile_owner = (tx + ty) % units.
+    seen = {}
+    cycles = np.zeros((ny, nx), dtype=np.int64)
+    for r in tx:
+        stage, x, y = r[5], r[8], r[9]
+        if stage_unit[stage] is None or x < 0 or y < 0:
+            continue
+        seen.setdefault((y, x), set()).add(stage_unit[stage])
+        cycles[y, x] += r[1] - r[0]
+    owner = np.array(tiles["owner"])
+    check(owner.shape == (ny, nx), f"tiles.json: owner is {ny} rows of {nx} tiles")
+    check(all(len(u) == 1 for u in seen.values()), "transactions: every tile is handled by one unit only")
+    ok = all((owner[y, x] == next(iter(seen[(y, x)]))) if (y, x) in seen else owner[y, x] == -1
+             for y in range(ny) for x in range(nx))
+    check(ok, "tiles_owner: equals the units seen per tile in transactions.bin (-1 where none)")
+    rule = np.add.outer(np.arange(ny), np.arange(nx)) % units
+    check(bool(np.all(owner[owner >= 0] == rule[owner >= 0])), "tiles_owner: equals (tx + ty) % units")
+    check(len(seen) > 0, f"tiles_owner: {len(seen)} tiles with work")
+
+    check(np.array_equal(np.array(tiles["cycles"]), cycles),
+          f"tiles_cycles: equals sum(cycle_out - cycle_in) of unit-stage records per tile (total {int(cycles.sum())})")
+
+    # Overdraw: depth-test fragments per tile.
+    frag = np.zeros((ny, nx), dtype=np.int64)
+    n_dt = 0
+    for r in fr:
+        if r[4] == 0:
+            n_dt += 1
+            frag[r[3] // ts, r[2] // ts] += 1
+    check(tiles["overdraw_source"] == "fragments", "tiles_overdraw: from fragments.bin")
+    check(np.array_equal(np.array(tiles["depth_test_fragments"]), frag),
+          "tiles_overdraw: per-tile depth-test fragment counts equal fragments.bin's")
+    pixels = np.array(tiles["pixels"])
+    check(int(pixels.sum()) == fb["width"] * fb["height"], "tiles.json: tile pixels sum to the frame's")
+    od_total = float((np.array(tiles["overdraw"]) * pixels).sum())
+    check(abs(od_total - n_dt) < 1e-3 * max(1, n_dt),
+          f"tiles_overdraw: overdraw x pixels sums to the {n_dt} depth-test fragments ({od_total:.1f})")
+    gen = sum(v.get("fragments_in", 0) for k, v in stats["timing"]["stages"].items() if k.startswith("depth_test_"))
+    check(n_dt == gen and n_dt > 0, f"fragments.bin: {n_dt} depth-test fragments = stats.json depth tests' "
+                                     f"fragments_in ({gen})")
+
+
+def check_vcd_reader(trace, stats):
+    """The plots' VCD reader: each stage's busy / stalled / starved time equals stats.json's."""
+    sys.dont_write_bytecode = True
+    sys.path.insert(0, HERE)
+    import gpusim_trace as gt
+    t = gt.open_trace(trace)
+    st = stats["timing"]["stages"]
+    bad = []
+    for s in t.stages:
+        got = [float(t.vcd().stage_state(s["name"], x).integrate(np.array([0, t.cycles]))[0])
+               for x in ("busy", "stalled", "starved")]
+        want = [float(st[s["name"]][k]) for k in ("busy_cycles", "stalled_cycles", "starved_cycles")]
+        if got != want:
+            bad.append(f"{s['name']} {got} != {want}")
+    check(not bad, f"signals.vcd read by gpusim_trace: busy/stalled/starved cycles of {len(t.stages)} stages "
+                   f"equal stats.json's" + (f" {bad[:2]}" if bad else ""))
+    fifos = stats["timing"]["fifos"]
+    bad = [f["name"] for f in t.fifos
+           if abs(t.vcd().fifo(f["name"]).integrate(np.array([0, t.cycles]))[0] / t.cycles
+                  - fifos[f["name"]]["mean_occupancy"]) > 1e-9 * max(1, fifos[f["name"]]["mean_occupancy"])]
+    check(not bad, "signals.vcd read by gpusim_trace: FIFO mean occupancies equal stats.json's"
+          + (f" {bad[:3]}" if bad else ""))
+
+
+def check_report(trace, out_html, summary):
+    text = open(out_html, encoding="utf-8").read()
+    imgs = dict(re.findall(r'<img id="([^"]+)"[^>]*? src="data:image/png;base64,([^"]+)"', text))
+    for name in ["frame.png", "depth.png"] + PLOTS:
+        if check(name in imgs, f"report: embeds {name}"):
+            data = base64.b64decode(imgs[name])
+            check(data[:8] == b"\x89PNG\r\n\x1a\n", f"report: {name} is a PNG")
+            tmp = os.path.join(os.path.dirname(out_html), "check_" + name)
+            with open(tmp, "wb") as f:
+                f.write(data)
+            if name in ("frame.png", "depth.png"):
+                import OpenImageIO as oiio
+                inp = oiio.ImageInput.open(tmp)
+                spec = inp.spec()
+                inp.close()
+                m = json.load(open(os.path.join(trace, "manifest.json")))["framebuffer"]
+                check((spec.width, spec.height) == (m["width"], m["height"]),
+                      f"report: {name} is {spec.width}x{spec.height}, the frame's size")
+            else:
+                png_ok(tmp, f"report: {name}")
+    lines = [ln.strip() for ln in summary.splitlines() if "bottleneck" in ln.lower()]
+    if check(bool(lines), "summary: has a bottleneck line"):
+        check(html.escape(lines[0]) in text, f"report: holds the summary's bottleneck line: {lines[0]!r}")
+    check(text.count("<pre>") >= 1 and html.escape(summary.strip().splitlines()[0]) in text,
+          "report: holds the summary text")
+    check("shared_edges.json" in text, "report: names the scene")
+
+
+def check_bad_input(tmp, trace):
+    for script in ("trace_plots", "report"):
+        r = run([os.path.join(HERE, script), os.path.join(tmp, "no_such_dir")])
+        check(r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1,
+              f"{script}: missing DIR exits 2 with one line ({r.stderr.strip()!r})")
+        r = run([os.path.join(HERE, script), tmp])
+        check(r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1,
+              f"{script}: not a trace exits 2 with one line ({r.stderr.strip()!r})")
+    bad = os.path.join(tmp, "bad_trace")
+    shutil.rmtree(bad, ignore_errors=True)
+    shutil.copytree(trace, bad)
+    with open(os.path.join(bad, "transactions.bin"), "r+b") as f:
+        f.write(b"NOTATRAC")
+    r = run([os.path.join(HERE, "trace_plots"), bad, "--out", os.path.join(tmp, "bad_plots")])
+    check(r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1 and "magic" in r.stderr,
+          f"trace_plots: bad magic exits 2 with one line ({r.stderr.strip()!r})")
+    with open(os.path.join(bad, "transactions.bin"), "r+b") as f:
+        f.write(b"GPUSIMTX\x02\x00\x00\x00")
+    r = run([os.path.join(HERE, "trace_plots"), bad, "--out", os.path.join(tmp, "bad_plots")])
+    check(r.returncode == 2 and "version" in r.stderr, f"trace_plots: bad version exits 2 ({r.stderr.strip()!r})")
+    shutil.copy(os.path.join(trace, "transactions.bin"), os.path.join(bad, "transactions.bin"))
+    with open(os.path.join(bad, "fragments.bin"), "r+b") as f:
+        f.seek(0, 2)
+        f.truncate(f.tell() - 5)
+    r = run([os.path.join(HERE, "trace_plots"), bad, "--out", os.path.join(tmp, "bad_plots")])
+    check(r.returncode == 2 and "fragments.bin" in r.stderr, f"trace_plots: truncated fragments.bin exits 2 "
+                                                              f"({r.stderr.strip()!r})")
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--gpusim", default=os.path.join(REPO, "build", "gpusim"))
+    ap.add_argument("--scene", default=SCENE)
+    ap.add_argument("--keep", metavar="DIR", help="work in DIR and keep it (default: a temporary directory)")
+    args = ap.parse_args()
+    gpusim = os.path.abspath(args.gpusim)
+    if not os.access(gpusim, os.X_OK):
+        print(f"test_trace_tools: {gpusim}: no gpusim binary", file=sys.stderr)
+        return 2
+    tmp = os.path.abspath(args.keep) if args.keep else tempfile.mkdtemp(prefix="test_trace_tools-")
+    os.makedirs(tmp, exist_ok=True)
+    try:
+        trace = os.path.join(tmp, "trace")
+        must([gpusim, "run", args.scene, "--out", os.path.join(tmp, "out"), "--trace", trace])
+        manifest = json.load(open(os.path.join(trace, "manifest.json")))
+        stats = json.load(open(os.path.join(trace, "stats.json")))
+
+        plots = os.path.join(tmp, "plots")
+        r = must([os.path.join(HERE, "trace_plots"), trace, "--out", plots])
+        check(len(r.stdout.split()) == len(PLOTS), "trace_plots: prints the PNGs it wrote")
+        check_plots(trace, plots, manifest, "unfiltered")
+        check_tiles(trace, plots, manifest, stats)
+        check_vcd_reader(trace, stats)
+
+        r = must([os.path.join(HERE, "trace_plots"), trace])
+        check(all(os.path.isfile(os.path.join(trace, "plots", p)) for p in PLOTS), "trace_plots: default DIR/plots")
+
+        summary = must([gpusim, "trace", "summary", trace]).stdout
+        out_html = os.path.join(tmp, "report.html")
+        must([os.path.join(HERE, "report"), trace, "--out", out_html, "--gpusim", gpusim])
+        check_report(trace, out_html, summary)
+        must([os.path.join(HERE, "report"), trace, "--gpusim", gpusim])
+        check(os.path.isfile(os.path.join(trace, "report.html")), "report: default DIR/report.html")
+
+        # Filtered traces still plot; without depth-test fragments the
+        # overdraw map falls back on stamps.
+        cycles = manifest["cycles"]
+        ftrace = os.path.join(tmp, "trace_filtered")
+        must([gpusim, "run", args.scene, "--out", os.path.join(tmp, "out"), "--trace", ftrace, "--trace-window", f"{cycles // 4}:{cycles // 2}",
+              "--trace-stages", "triangle_setup,tile_rasterizer,rop"])
+        fplots = os.path.join(tmp, "plots_filtered")
+        must([os.path.join(HERE, "trace_plots"), ftrace, "--out", fplots])
+        check_plots(ftrace, fplots, manifest, "filtered (window, stages)")
+        tiles = json.load(open(os.path.join(fplots, "tiles.json")))
+        check(tiles["overdraw_source"] != "fragments", f"filtered: overdraw from {tiles['overdraw_source']}")
+        ptrace = os.path.join(tmp, "trace_prims")
+        must([gpusim, "run", args.scene, "--out", os.path.join(tmp, "out"), "--trace", ptrace, "--trace-prims", "0:9"])
+        pplots = os.path.join(tmp, "plots_prims")
+        must([os.path.join(HERE, "trace_plots"), ptrace, "--out", pplots])
+        check_plots(ptrace, pplots, manifest, "filtered (prims 0:9)")
+        must([os.path.join(HERE, "report"), ptrace, "--gpusim", gpusim])
+
+        check_bad_input(tmp, trace)
+    finally:
+        if not args.keep:
+            shutil.rmtree(tmp, ignore_errors=True)
+    if failures:
+        print(f"test_trace_tools: {len(failures)} check(s) failed", file=sys.stderr)
+        return 1
+    print("test_trace_tools: all checks passed")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

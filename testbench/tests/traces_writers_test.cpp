@@ -1,0 +1,169 @@
+// The recorder's parts on their own (docs/traces.md): which primitives a
+// vertex batch carries for each primitive type, the filter syntax, the VCD
+// writer's window and time scale, and exact microseconds in the timeline.
+// Expected values are worked out by hand from the assembly rules (list:
+// triangle k uses slots 3k..3k+2; strip: k..k+2; fan: 0, k+1, k+2).
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "hw/input_error.h"
+#include "traces/timeline_writer.h"
+#include "traces/trace_filter.h"
+#include "traces/trace_items.h"
+#include "traces/vcd_writer.h"
+
+namespace gpusim {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A frame of one draw of `slots` slots whose first primitive id is 100.
+FrameState one_draw(PrimitiveType type, uint32_t slots) {
+  FrameState f;
+  DrawState d;
+  d.primitive = type;
+  d.buffers.slot_count = slots;
+  d.first_primitive_id = 100;
+  f.draws.push_back(d);
+  return f;
+}
+
+std::pair<int64_t, int64_t> prims(const FrameState& f, uint32_t first_slot, uint32_t count) {
+  BatchHeader b;
+  b.first_slot = first_slot;
+  b.slot_count = count;
+  const ItemInfo i = ItemDescriber(f, 16).describe(b);
+  EXPECT_EQ(i.count, count);
+  return {i.prim_first, i.prim_last};
+}
+
+using Range = std::pair<int64_t, int64_t>;
+
+TEST(TraceItems, BatchesCarryThePrimitivesUsingTheirSlots) {
+  // 70 slots as a list: 23 triangles (slots 0..68), slot 69 unused.
+  const FrameState list = one_draw(PrimitiveType::triangles, 70);
+  EXPECT_EQ(prims(list, 0, 32), Range(100, 110));   // slots 0..31: triangles 0..10 (30..32)
+  EXPECT_EQ(prims(list, 32, 32), Range(110, 121));  // slots 32..63: triangles 10..21
+  EXPECT_EQ(prims(list, 64, 6), Range(121, 122));   // slots 64..69: 21 (63..65), 22 (66..68)
+  // A strip of 40 slots: 38 triangles; slots 32..39 are used by 30..37.
+  const FrameState strip = one_draw(PrimitiveType::triangle_strip, 40);
+  EXPECT_EQ(prims(strip, 0, 32), Range(100, 131));
+  EXPECT_EQ(prims(strip, 32, 8), Range(130, 137));
+  // A fan of 40 slots: every triangle uses slot 0; slots 32..39 by 30..37.
+  const FrameState fan = one_draw(PrimitiveType::triangle_fan, 40);
+  EXPECT_EQ(prims(fan, 0, 32), Range(100, 137));
+  EXPECT_EQ(prims(fan, 32, 8), Range(130, 137));
+  // Too few slots for a triangle: none.
+  EXPECT_EQ(prims(one_draw(PrimitiveType::triangles, 2), 0, 2), Range(-1, -1));
+  // A draw command carries all of them.
+  const ItemInfo draw = ItemDescriber(list, 16).describe(Command{PacketKind::work, 0});
+  EXPECT_EQ(Range(draw.prim_first, draw.prim_last), Range(100, 122));
+  EXPECT_EQ(draw.count, 23u);
+  const ItemInfo clear = ItemDescriber(list, 16).describe(Command{PacketKind::clear, 0});
+  EXPECT_EQ(clear.kind, 1);
+  EXPECT_EQ(clear.prim_first, -1);
+  EXPECT_EQ(clear.draw, ItemInfo::kNoDraw);
+}
+
+TEST(TraceItems, StampBatchesAreInTheirFirstStampsTile) {
+  const FrameState f = one_draw(PrimitiveType::triangles, 3);
+  auto tri = std::make_shared<RasterTriangle>();
+  tri->primitive_id = 7;
+  StampBatch b;
+  b.triangle = tri;
+  b.stamps.push_back(Stamp{36, 20, 0xF, {}});
+  b.stamps.push_back(Stamp{40, 20, 0xF, {}});
+  const ItemInfo i = ItemDescriber(f, 16).describe(b);
+  EXPECT_EQ(i.tile_x, 2);
+  EXPECT_EQ(i.tile_y, 1);
+  EXPECT_EQ(i.count, 2u);
+  EXPECT_EQ(i.prim_first, 7);
+}
+
+TEST(TraceFilter, ParsesAndRejects) {
+  const TraceFilter w = TraceFilter::parse("", ":5000", "3:3");
+  EXPECT_TRUE(w.item_in_window(4999, 6000));
+  EXPECT_FALSE(w.item_in_window(5000, 6000));
+  EXPECT_TRUE(w.item_in_window(0, 1));
+  EXPECT_TRUE(w.prims_match(0, 3));
+  EXPECT_FALSE(w.prims_match(4, 9));
+  EXPECT_FALSE(w.prims_match(-1, -1));
+  const TraceFilter open = TraceFilter::parse("", "1000:", "");
+  EXPECT_FALSE(open.item_in_window(0, 1000));  // [0, 1000) ends where the window starts
+  EXPECT_TRUE(open.item_in_window(999, 1001));
+  EXPECT_TRUE(open.item_in_window(1000, 1000));  // an instant inside
+  EXPECT_TRUE(open.prims_match(-1, -1));
+  for (const char* bad : {"5", "a:b", "5:5", "9:1", "-1:4", "1:2:3"}) {
+    EXPECT_THROW(TraceFilter::parse("", bad, ""), InputError) << bad;
+  }
+  for (const char* bad : {"5", "2:1", "a:3", ":3", "3:"}) {
+    EXPECT_THROW(TraceFilter::parse("", "", bad), InputError) << bad;
+  }
+  EXPECT_THROW(TraceFilter::parse("rop,,clipper", "", ""), InputError);
+
+  TraceTables t;
+  t.stages = {
+      {"clipper", "clipper", -1, 0, {}}, {"rop_0", "rop", 0, 1, {}}, {"rop_1", "rop", 1, 2, {}}};
+  EXPECT_EQ(TraceFilter::parse("rop", "", "").stages_kept(t),
+            (std::vector<bool>{false, true, true}));
+  EXPECT_EQ(TraceFilter::parse("clipper,rop_1", "", "").stages_kept(t),
+            (std::vector<bool>{true, false, true}));
+  EXPECT_THROW(TraceFilter::parse("rop_2", "", "").stages_kept(t), InputError);
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+
+TEST(VcdWriter, WritesTheWindowWithItsStartValues) {
+  const fs::path path = fs::path(::testing::TempDir()) / ("vcd_" + std::to_string(getpid()));
+  {
+    VcdWriter w(path.string(), 1000, 10, 30);
+    const size_t a = w.add("gpu.s", "busy", 1, 0);
+    const size_t b = w.add("gpu.fifos", "f", 3, 0);
+    w.begin();
+    w.set(a, 1);  // cycle 0
+    w.end_cycle(0);
+    w.set(b, 5);  // cycle 12: the values at 10 are a = 1, b = 0
+    w.set(a, 0);
+    w.set(a, 1);  // back within the cycle: no change
+    w.end_cycle(12);
+    w.set(b, 2);  // cycle 35, outside
+    w.end_cycle(35);
+    w.finish(40);
+    EXPECT_EQ(w.changes(), 3u);  // two in $dumpvars, one at 12
+  }
+  EXPECT_EQ(slurp(path),
+            "$version gpusim $end\n$comment one time unit is one clock cycle $end\n"
+            "$timescale 1 ns $end\n$scope module gpu $end\n$scope module s $end\n"
+            "$var wire 1 ! busy $end\n$upscope $end\n$scope module fifos $end\n"
+            "$var wire 3 \" f [2:0] $end\n$upscope $end\n$upscope $end\n$enddefinitions $end\n"
+            "#10\n$dumpvars\n1!\nb0 \"\n$end\n#12\nb101 \"\n#30\n");
+  fs::remove(path);
+}
+
+TEST(VcdWriter, TimescaleIsTheClockPeriodWhenItCanBe) {
+  EXPECT_EQ(VcdWriter::timescale_for(1000), "1 ns");
+  EXPECT_EQ(VcdWriter::timescale_for(10000), "10 ns");
+  EXPECT_EQ(VcdWriter::timescale_for(100), "100 ps");
+  EXPECT_EQ(VcdWriter::timescale_for(1000000), "1 us");
+  EXPECT_EQ(VcdWriter::timescale_for(2500), "");  // 400 MHz: declared as 1 ps, with a comment
+}
+
+TEST(TimelineWriter, MicrosecondsAreExact) {
+  EXPECT_EQ(TimelineWriter::microseconds(12345, 1000), "12.345");
+  EXPECT_EQ(TimelineWriter::microseconds(2000, 1000), "2");
+  EXPECT_EQ(TimelineWriter::microseconds(1, 2500), "0.0025");
+  EXPECT_EQ(TimelineWriter::microseconds(0, 1000), "0");
+}
+
+}  // namespace
+}  // namespace gpusim

@@ -1,0 +1,154 @@
+// Reads a trace directory written by `gpusim run --trace DIR`
+// (docs/traces.md): manifest.json, stats.json and the binary record files
+// transactions.bin and fragments.bin. signals.vcd has its own reader
+// (traces/vcd_reader.h).
+//
+// Opening a trace validates everything that can be checked without reading
+// the records: the manifest's fields, and each binary file's magic, version,
+// record size and length against the manifest's record count. A bad or
+// truncated file is an InputError, one line naming the file, so every tool
+// fails before printing half an answer. The records themselves are streamed
+// in chunks: a 1080p frame's fragments need not fit in memory.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace gpusim {
+
+// One entry of manifest.json's `stages`.
+struct TraceStage {
+  size_t index = 0;
+  std::string name;  // "tile_rasterizer_2"
+  std::string kind;  // "tile_rasterizer"
+  int unit = -1;     // -1: a front-end stage
+  std::string input;
+  std::vector<std::string> outputs;
+};
+
+// One entry of manifest.json's `fifos`.
+struct TraceFifo {
+  size_t index = 0;
+  std::string name;
+  uint64_t depth = 0;
+  std::string writer;  // a stage name, or "host"
+  std::string reader;
+  int unit = -1;
+};
+
+// manifest.json's `filters`: each absent (null) when not given.
+struct TraceFilters {
+  std::optional<std::vector<std::string>> stages;
+  // [start, end): either side open.
+  std::optional<std::pair<std::optional<uint64_t>, std::optional<uint64_t>>> window;
+  std::optional<std::pair<int64_t, int64_t>> prims;  // [a, b], inclusive
+
+  bool any() const { return stages || window || prims; }
+  // "--trace-stages triangle_setup,rop --trace-window 1000:", or "none".
+  std::string describe() const;
+  bool keeps_stage(const std::string& name) const;
+};
+
+struct TraceManifest {
+  std::string scene;
+  nlohmann::json config;
+  double clock_mhz = 0.0;
+  uint64_t cycle_ps = 0;
+  uint64_t cycles = 0;  // the frame's length
+  int width = 0, height = 0, tile_size = 0, tiles_x = 0, tiles_y = 0;
+  unsigned units = 0;
+  TraceFilters filters;
+  std::vector<TraceStage> stages;  // by index
+  std::vector<TraceFifo> fifos;    // by index
+  struct Draw {
+    int64_t first_primitive_id = 0;
+    uint64_t primitives = 0;
+  };
+  std::vector<Draw> draws;
+  uint64_t transaction_records = 0;
+  uint64_t fragment_records = 0;
+
+  // The traced window [start, end) in cycles: the window filter clamped to
+  // the frame, or the whole frame.
+  std::pair<uint64_t, uint64_t> window() const;
+  uint64_t primitives() const;  // primitive ids are 0 .. primitives() - 1
+  const TraceStage* stage(const std::string& name) const;
+  const TraceFifo* fifo(const std::string& name) const;
+};
+
+// One transactions.bin record (docs/traces.md).
+struct TransactionRecord {
+  enum Kind : uint8_t { work = 0, clear = 1, end_of_frame = 2 };
+  uint64_t cycle_in = 0;
+  uint64_t cycle_out = 0;
+  int64_t prim_first = -1;
+  int64_t prim_last = -1;
+  uint32_t draw = 0xFFFFFFFFu;
+  uint16_t stage = 0;
+  uint8_t kind = work;
+  int16_t tile_x = -1;
+  int16_t tile_y = -1;
+  uint32_t count = 0;
+
+  bool carries(int64_t prim) const {
+    return prim_first >= 0 && prim_first <= prim && prim <= prim_last;
+  }
+};
+
+// One fragments.bin record.
+struct FragmentRecord {
+  enum Stage : uint8_t { depth_test = 0, rop = 1 };
+  enum Outcome : uint8_t { failed = 0, passed = 1, passed_test_off = 2, not_written = 3 };
+  static constexpr uint8_t written = 1;
+  uint64_t cycle = 0;
+  int64_t prim = 0;
+  uint16_t x = 0, y = 0;
+  uint8_t stage = depth_test;
+  uint8_t unit = 0;
+  uint8_t outcome = 0;
+  float depth = 0.0f;
+  float old_depth = 0.0f;
+  float value[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+};
+
+class TraceReader {
+ public:
+  // Reads manifest.json and checks the headers and lengths of
+  // transactions.bin and fragments.bin; throws InputError on any problem.
+  explicit TraceReader(const std::string& dir);
+
+  const std::string& dir() const { return m_dir; }
+  std::string path(const std::string& file) const { return m_dir + "/" + file; }
+  const TraceManifest& manifest() const { return m_manifest; }
+
+  // Every record in file order (transactions: by cycle_out). A record naming
+  // a stage the manifest does not have is an InputError.
+  void for_each_transaction(const std::function<void(const TransactionRecord&)>& fn) const;
+  void for_each_fragment(const std::function<void(const FragmentRecord&)>& fn) const;
+
+  // stats.json, parsed (InputError when missing or malformed).
+  nlohmann::json stats() const;
+
+ private:
+  // Streams `count` records of `size` bytes after the 16-byte header.
+  void for_each_record(const std::string& file, uint64_t count, size_t size,
+                       const std::function<void(const uint8_t*, uint64_t)>& fn) const;
+
+  std::string m_dir;
+  TraceManifest m_manifest;
+};
+
+// Decodes one record (exposed for tests and for tools reading single records).
+TransactionRecord decode_transaction(const uint8_t* p);
+FragmentRecord decode_fragment(const uint8_t* p);
+
+// The pipeline position of a stage kind (command_processor 0 ... rop 9), for
+// ordering by pipeline then time; unknown kinds sort last.
+int pipeline_rank(const std::string& kind);
+
+}  // namespace gpusim
