@@ -166,6 +166,48 @@ def check_vcd_reader(trace, stats):
           + (f" {bad[:3]}" if bad else ""))
 
 
+def check_gtkwave(tmp, trace):
+    """GTKWave's own VCD parser (vcd2fst, Debian's gtkwave) reads signals.vcd,
+    and converting its FST back (fst2vcd) gives the same signals, timestamps
+    and value changes: the file opens in GTKWave as written."""
+    vcd2fst, fst2vcd = shutil.which("vcd2fst"), shutil.which("fst2vcd")
+    if not check(bool(vcd2fst and fst2vcd), "gtkwave: vcd2fst and fst2vcd installed (scripts/setup installs gtkwave)"):
+        return
+    src = os.path.join(trace, "signals.vcd")
+    fst = os.path.join(tmp, "signals.fst")
+    r = run([vcd2fst, src, fst])
+    if not check(r.returncode == 0 and os.path.isfile(fst), f"gtkwave: vcd2fst reads signals.vcd ({r.stderr.strip()[:200]!r})"):
+        return
+    back = run([fst2vcd, fst]).stdout
+
+    def body(text):
+        """Declared signal names (with scope) and the value-change section,
+        without the header lines GTKWave rewrites ($date, $version, ...)."""
+        names, changes, scope, in_body = [], [], [], False
+        for line in text.splitlines():
+            tok = line.split()
+            if not tok:
+                continue
+            if tok[0] == "$scope":
+                scope.append(tok[2])
+            elif tok[0] == "$upscope":
+                scope.pop()
+            elif tok[0] == "$var":
+                names.append(".".join(scope + [tok[4]]) + f"[{tok[2]}]")
+            elif tok[0] == "$enddefinitions":
+                in_body = True
+            elif in_body and tok[0] not in ("$dumpvars", "$end"):
+                changes.append(tok[0])
+        return names, changes
+
+    n_ours, c_ours = body(open(src).read())
+    n_back, c_back = body(back)
+    check(n_ours == n_back and len(n_ours) > 0, f"gtkwave: the same {len(n_ours)} signals after the FST round trip")
+    ts = lambda c: [x for x in c if x.startswith("#")]
+    check(ts(c_ours) == ts(c_back), f"gtkwave: the same {len(ts(c_ours))} timestamps after the FST round trip")
+    check(len(c_ours) == len(c_back), f"gtkwave: the same number of value changes ({len(c_ours)} against {len(c_back)})")
+
+
 def check_report(trace, out_html, summary):
     text = open(out_html, encoding="utf-8").read()
     imgs = dict(re.findall(r'<img id="([^"]+)"[^>]*? src="data:image/png;base64,([^"]+)"', text))
@@ -247,6 +289,7 @@ def main():
         check_plots(trace, plots, manifest, "unfiltered")
         check_tiles(trace, plots, manifest, stats)
         check_vcd_reader(trace, stats)
+        check_gtkwave(tmp, trace)
 
         r = must([os.path.join(HERE, "trace_plots"), trace])
         check(all(os.path.isfile(os.path.join(trace, "plots", p)) for p in PLOTS), "trace_plots: default DIR/plots")
