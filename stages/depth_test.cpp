@@ -24,6 +24,28 @@ void store_depth(uint8_t* p, unsigned bytes, DepthValue v) {
   }
 }
 
+// encode_depth(F, z) for a format known at compile time. For the unorm
+// formats, nearbyint(x) with x = double(clamp01(z)) * (2^n - 1) in [0, 2^24)
+// is computed as (x + 2^52) - 2^52: the sum's ulp is 1, so it rounds x to the
+// nearest integer, ties to even (the default rounding mode, which nearbyint
+// also uses), and the difference is exact. Same value, without a libm call
+// per fragment.
+template <DepthFormat F>
+DepthValue encode_depth_as(float z) {
+  const float c = clamp01(z);
+  if constexpr (F == DepthFormat::float32) {
+    return bits_from_float(c);
+  } else {
+    constexpr double kRound = 4503599627370496.0;  // 2^52
+    const double x = static_cast<double>(c) * unorm_depth_max(F);
+    return static_cast<DepthValue>((x + kRound) - kRound);
+  }
+}
+
+// test_stamps' template argument for "the render state's depth_func, read at
+// run time": never is decided in test() without a loop, so it is free.
+constexpr CompareFunc kAnyFunc = CompareFunc::never;
+
 }  // namespace
 
 DepthTest::DepthTest(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame,
@@ -61,6 +83,14 @@ void DepthTest::run() {
   layout.units = m_config.units;
   layout.unit = m_unit;
   m_cache.configure(layout);
+  // Byte offset of stamp pixel p from the stamp origin's inside a tile (rows
+  // of a tile are tile_size pixels apart, TileCache::pixel()).
+  const unsigned stamp_w = m_config.stamp[0];
+  for (unsigned p = 0; p < stamp_w * m_config.stamp[1]; ++p) {
+    m_pixel_offset[p] =
+        (static_cast<size_t>(p >> m_stamp_shift) * m_config.tile_size + (p & (stamp_w - 1))) *
+        layout.bytes_per_pixel;
+  }
 
   // Read into and written from one packet object: the FIFOs recycle its
   // buffers (hw/fifo.h), so no batch allocates.
@@ -110,11 +140,14 @@ void DepthTest::test(StampBatch& batch, sc_core::sc_time& t) {
   const RenderState& st = m_frame.draws.at(tri.draw_id).state;
   const FramebufferDesc& fb = m_frame.framebuffer;
   const unsigned stamp_w = m_config.stamp[0];
-  const int tile = static_cast<int>(m_config.tile_size);
 
+  // Full stamps need no count (popcount is a libgcc call on baseline x86-64).
+  const unsigned stamp_pixels = stamp_w * m_config.stamp[1];
+  const uint64_t full = stamp_pixels == 64 ? ~uint64_t{0} : (uint64_t{1} << stamp_pixels) - 1;
   uint64_t fragments = 0;
   for (const Stamp& s : batch.stamps)
-    fragments += static_cast<uint64_t>(__builtin_popcountll(s.mask));
+    fragments +=
+        s.mask == full ? stamp_pixels : static_cast<uint64_t>(__builtin_popcountll(s.mask));
   m_stamps += batch.stamps.size();
   m_fragments_in += fragments;
 
@@ -144,61 +177,132 @@ void DepthTest::test(StampBatch& batch, sc_core::sc_time& t) {
     return;
   }
 
-  const DepthFormat format = fb.depth_format;
-  const unsigned bytes = depth_bytes_per_pixel(format);
+  switch (fb.depth_format) {
+    case DepthFormat::unorm16:
+      test_format<DepthFormat::unorm16>(batch, t, st, probe);
+      break;
+    case DepthFormat::unorm24:
+      test_format<DepthFormat::unorm24>(batch, t, st, probe);
+      break;
+    case DepthFormat::float32:
+      test_format<DepthFormat::float32>(batch, t, st, probe);
+      break;
+  }
+}
+
+// The usual functions (less, GL's default, and lequal) get loops of their own
+// with the comparison fixed; the others share one that switches per fragment.
+template <DepthFormat F>
+void DepthTest::test_format(StampBatch& batch, sc_core::sc_time& t, const RenderState& st,
+                            FragmentProbe* probe) {
+  switch (st.depth_func) {
+    case CompareFunc::less:
+      test_stamps<F, CompareFunc::less>(batch, t, st, probe);
+      break;
+    case CompareFunc::lequal:
+      test_stamps<F, CompareFunc::lequal>(batch, t, st, probe);
+      break;
+    default:
+      test_stamps<F, kAnyFunc>(batch, t, st, probe);
+      break;
+  }
+}
+
+void DepthTest::update_offsets(const RasterTriangle& tri) {
+  std::array<EdgeValue, 2> step_x, step_y;
+  for (int k = 0; k < 2; ++k) {
+    step_x[k] = tri.edge[k + 1].a * kSubpixelOne;
+    step_y[k] = tri.edge[k + 1].b * kSubpixelOne;
+  }
+  // Consecutive batches are mostly one triangle's tiles: the table is kept
+  // while the steps are the same (compared by value, not by triangle, so a
+  // new triangle at a recycled address cannot reuse a stale table).
+  if (m_offset_valid && step_x == m_step_x && step_y == m_step_y) return;
+  m_step_x = step_x;
+  m_step_y = step_y;
+  const int stamp_pixels = static_cast<int>(m_config.stamp[0] * m_config.stamp[1]);
+  const int w_mask = static_cast<int>(m_config.stamp[0] - 1);
+  for (int p = 0; p < stamp_pixels; ++p) {
+    const EdgeValue i = p & w_mask, j = p >> m_stamp_shift;
+    for (int k = 0; k < 2; ++k) m_offset[k][static_cast<size_t>(p)] = i * step_x[k] + j * step_y[k];
+  }
+  m_offset_valid = true;
+}
+
+// The per-fragment loop for one depth format (a compile-time constant, so the
+// encoding and the buffer access are specialised). Setup is hoisted out of the
+// loop: E1 and E2 at pixel p are the stamp origin's plus m_offset (the same
+// exact int64 sums as stepping), the pixel's bytes are at a per-stamp origin
+// plus m_pixel_offset, and the framebuffer bounds are checked per pixel only
+// for stamps reaching past it. The float operations are the spec's, in order.
+template <DepthFormat F, CompareFunc Func>
+void DepthTest::test_stamps(StampBatch& batch, sc_core::sc_time& t, const RenderState& st,
+                            FragmentProbe* probe) {
+  constexpr unsigned bytes = F == DepthFormat::unorm16 ? 2 : 4;
+  [[maybe_unused]] constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+  (void)probe;  // unused in a build without trace hooks
+  const RasterTriangle& tri = *batch.triangle;
+  const FramebufferDesc& fb = m_frame.framebuffer;
+  const unsigned stamp_w = m_config.stamp[0], stamp_h = m_config.stamp[1];
+  const int tile = static_cast<int>(m_config.tile_size);
+  const int w_mask = static_cast<int>(stamp_w - 1);
+  const CompareFunc func = st.depth_func;
+  const bool depth_write = st.depth_write;
+  const bool has_offset = tri.has_depth_offset;
+  const float z0 = tri.z[0], depth_offset = tri.depth_offset;
   const float area = static_cast<float>(tri.area2);
   const float dz1 = tri.z[1] - tri.z[0], dz2 = tri.z[2] - tri.z[0];  // spec section 9
-  // Steps of the edge functions by one pixel in x and in y.
-  std::array<EdgeValue, 3> step_x, step_y;
-  for (int k = 0; k < 3; ++k) {
-    step_x[k] = tri.edge[k].a * kSubpixelOne;
-    step_y[k] = tri.edge[k].b * kSubpixelOne;
-  }
+  update_offsets(tri);
+  const EdgeValue *o1 = m_offset[0].data(), *o2 = m_offset[1].data();
 
   size_t kept = 0;
   for (size_t n = 0; n < batch.stamps.size(); ++n) {
     Stamp s = batch.stamps[n];
     const int tx = s.x >> m_tile_shift, ty = s.y >> m_tile_shift;
     if (s.x < 0 || s.y < 0 || s.x - tx * tile + static_cast<int>(stamp_w) > tile ||
-        s.y - ty * tile + static_cast<int>(m_config.stamp[1]) > tile) {
+        s.y - ty * tile + static_cast<int>(stamp_h) > tile) {
       SC_REPORT_ERROR("gpusim/depth_test",
                       (std::string(name()) + ": stamp at (" + std::to_string(s.x) + ", " +
                        std::to_string(s.y) + ") is not inside one tile")
                           .c_str());
     }
+    const bool inside =
+        s.x + static_cast<int>(stamp_w) <= fb.width && s.y + static_cast<int>(stamp_h) <= fb.height;
     const unsigned entry = m_cache.lookup(tx, ty, t);
+    uint8_t* const origin = m_cache.pixel(entry, s.x, s.y);
     bool dirty = false;
     uint64_t passed = 0;
     for (uint64_t bits = s.mask; bits != 0; bits &= bits - 1) {
       const int idx = __builtin_ctzll(bits);
-      const int i = idx & static_cast<int>(stamp_w - 1), j = idx >> m_stamp_shift;
-      const int x = s.x + i, y = s.y + j;
-      if (x >= fb.width || y >= fb.height) {
+      // The pixel's coordinates, needed only off the fast path.
+      const auto pixel_x = [&] { return s.x + (idx & w_mask); };
+      const auto pixel_y = [&] { return s.y + (idx >> m_stamp_shift); };
+      if (!inside && (pixel_x() >= fb.width || pixel_y() >= fb.height)) {
         SC_REPORT_ERROR("gpusim/depth_test",
-                        (std::string(name()) + ": pixel (" + std::to_string(x) + ", " +
-                         std::to_string(y) + ") outside the framebuffer")
+                        (std::string(name()) + ": pixel (" + std::to_string(pixel_x()) + ", " +
+                         std::to_string(pixel_y()) + ") outside the framebuffer")
                             .c_str());
       }
-      const float f1 = static_cast<float>(s.e[1] + i * step_x[1] + j * step_y[1]);
-      const float f2 = static_cast<float>(s.e[2] + i * step_x[2] + j * step_y[2]);
-      float z = tri.z[0] + (f1 * dz1 + f2 * dz2) / area;
-      if (tri.has_depth_offset) z = z + tri.depth_offset;
-      const DepthValue fragment = encode_depth(format, z);
-      uint8_t* stored = m_cache.pixel(entry, x, y);
+      const float f1 = static_cast<float>(s.e[1] + o1[idx]);
+      const float f2 = static_cast<float>(s.e[2] + o2[idx]);
+      float z = z0 + (f1 * dz1 + f2 * dz2) / area;
+      if (has_offset) z = z + depth_offset;
+      const DepthValue fragment = encode_depth_as<F>(z);
+      uint8_t* stored = origin + m_pixel_offset[static_cast<size_t>(idx)];
       const DepthValue old = load_depth(stored, bytes);
-      const bool pass = depth_compare(st.depth_func, fragment, old);
+      const bool pass = depth_compare(Func == kAnyFunc ? func : Func, fragment, old);
       if constexpr (kTraceHooks) {
         if (probe) {
-          const float value = decode_depth(format, fragment);
+          const float value = decode_depth(F, fragment);
           probe->depth_tested(
-              m_unit,
-              DepthFragment{x, y, tri.primitive_id, pass ? depth_passed : depth_failed, value,
-                            decode_depth(format, old), pass && st.depth_write ? value : kNaN});
+              m_unit, DepthFragment{pixel_x(), pixel_y(), tri.primitive_id,
+                                    pass ? depth_passed : depth_failed, value, decode_depth(F, old),
+                                    pass && depth_write ? value : kNaN});
         }
       }
       if (pass) {
         ++passed;
-        if (st.depth_write) {
+        if (depth_write) {
           store_depth(stored, bytes, fragment);
           dirty = true;
         }

@@ -72,6 +72,16 @@ class DepthTest : public sc_core::sc_module {
   // memory stall (local offset) through `t`.
   void test(StampBatch& batch, sc_core::sc_time& t);
   uint64_t stall_cycles(const sc_core::sc_time& t) const;
+  // The per-fragment loop of test() for one depth format and, unless Func is
+  // never (then read from `st`), one depth function.
+  template <DepthFormat F>
+  void test_format(StampBatch& batch, sc_core::sc_time& t, const RenderState& st,
+                   FragmentProbe* probe);
+  template <DepthFormat F, CompareFunc Func>
+  void test_stamps(StampBatch& batch, sc_core::sc_time& t, const RenderState& st,
+                   FragmentProbe* probe);
+  // Fills m_offset for the triangle's edge steps (kept while they are unchanged).
+  void update_offsets(const RasterTriangle& tri);
 
   const GpuConfig& m_config;
   const FrameState& m_frame;
@@ -89,6 +99,16 @@ class DepthTest : public sc_core::sc_module {
   // tile is its origin >> m_tile_shift, a mask bit's row is bit >> m_stamp_shift.
   const int m_tile_shift, m_stamp_shift;
   FragmentProbe* m_probe = nullptr;
+
+  // Per-fragment setup hoisted to per triangle / per frame: the offsets of
+  // E1 and E2 from a stamp's origin to its pixel p = j * w + i,
+  // i * a_k * 256 + j * b_k * 256 (at most 64 pixels, the width of
+  // Stamp::mask) for the edge steps m_step_x, m_step_y; and the byte offset
+  // of pixel p from the stamp origin's inside a cached tile.
+  std::array<std::array<EdgeValue, 64>, 2> m_offset{};
+  std::array<EdgeValue, 2> m_step_x{}, m_step_y{};
+  bool m_offset_valid = false;
+  std::array<size_t, 64> m_pixel_offset{};
 
   StatGroup m_stats{name()};
   uint64_t& m_busy_cycles =

@@ -3,6 +3,10 @@
 #include <algorithm>
 #include <array>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "hw/pixel_formats.h"
 
 namespace gpusim {
@@ -18,7 +22,8 @@ Interpolator::Interpolator(sc_core::sc_module_name name, const GpuConfig& config
       m_cost(config.stage("interpolator")),
       m_cycle(config.cycle().value()),
       m_latency(clock_cycles(m_cost.latency)),
-      m_stamp_shift(log2_side(config.stamp[0])) {
+      m_stamp_shift(log2_side(config.stamp[0])),
+      m_stamp_pixels(static_cast<int>(config.stamp[0] * config.stamp[1])) {
   SC_HAS_PROCESS(Interpolator);
   SC_THREAD(run);
 }
@@ -33,7 +38,9 @@ void Interpolator::run() {
     ++m_tokens_in;
     result.kind = batch.kind;
     result.stamps.clear();
-    result.colors.clear();
+    // A work batch's colours are resized by shade(): the stale packet's
+    // vector is only cut or extended, not cleared and refilled with zeros.
+    if (batch.kind != PacketKind::work) result.colors.clear();
     uint64_t cycles = m_cost.ii;
     if (batch.kind == PacketKind::work) {
       cycles = m_cost.ii * std::max<uint64_t>(batch.stamps.size(), 1);
@@ -50,39 +57,85 @@ void Interpolator::run() {
   }
 }
 
-void Interpolator::shade(const StampBatch& batch, ShadedStampBatch& result) {
-  const RasterTriangle& tri = *batch.triangle;
-  const RenderState& st = m_frame.draws.at(tri.draw_id).state;
-  if (st.shading == Shading::flat) {
-    size_t n = 0;
-    for (const Stamp& s : batch.stamps) n += static_cast<size_t>(__builtin_popcountll(s.mask));
-    result.colors.assign(n, tri.flat_color);
-    m_flat_fragments += n;
-    return;
-  }
-
-  const unsigned stamp_w = m_config.stamp[0];
+void Interpolator::update_offsets(const RasterTriangle& tri) {
   std::array<EdgeValue, 3> step_x, step_y;
   for (int k = 0; k < 3; ++k) {
     step_x[k] = tri.edge[k].a * kSubpixelOne;
     step_y[k] = tri.edge[k].b * kSubpixelOne;
   }
+  // Consecutive batches are mostly one triangle's tiles: the table is kept
+  // while the steps are the same (compared by value, not by triangle, so a
+  // new triangle at a recycled address cannot reuse a stale table).
+  if (m_offset_valid && step_x == m_step_x && step_y == m_step_y) return;
+  m_step_x = step_x;
+  m_step_y = step_y;
+  const int w_mask = (1 << m_stamp_shift) - 1;
+  for (int p = 0; p < m_stamp_pixels; ++p) {
+    const EdgeValue i = p & w_mask, j = p >> m_stamp_shift;
+    for (int k = 0; k < 3; ++k) m_offset[k][p] = i * step_x[k] + j * step_y[k];
+  }
+  m_offset_valid = true;
+}
+
+void Interpolator::shade(const StampBatch& batch, ShadedStampBatch& result) {
+  const RasterTriangle& tri = *batch.triangle;
+  const RenderState& st = m_frame.draws.at(tri.draw_id).state;
+  // Full stamps need no count (popcount is a libgcc call on baseline x86-64).
+  const uint64_t full = m_stamp_pixels == 64 ? ~uint64_t{0} : (uint64_t{1} << m_stamp_pixels) - 1;
+  size_t n = 0;
+  for (const Stamp& s : batch.stamps) {
+    n += s.mask == full ? static_cast<size_t>(m_stamp_pixels)
+                        : static_cast<size_t>(__builtin_popcountll(s.mask));
+  }
+  if (st.shading == Shading::flat) {
+    result.colors.assign(n, tri.flat_color);
+    m_flat_fragments += n;
+    return;
+  }
+  // Sized once, written through a pointer: no capacity check per pixel (the
+  // vector keeps its capacity and mostly its size across batches, so this
+  // rarely allocates or zero-fills).
+  result.colors.resize(n);
+  glm::vec4* out = result.colors.data();
+
+  // Pixel p of a stamp is at offset m_offset[k][p] = i * a_k * 256 +
+  // j * b_k * 256 from the origin's edge value: the same exact int64 sum as
+  // stepping per pixel, looked up instead of multiplied.
+  update_offsets(tri);
+  const EdgeValue *o0 = m_offset[0].data(), *o1 = m_offset[1].data(), *o2 = m_offset[2].data();
   const std::array<float, 3>& q = tri.inv_w;
   const std::array<glm::vec4, 3>& cw = tri.color_over_w;
+#if defined(__SSE2__)
+  // The four channels in the four lanes of one register: each lane performs
+  // the spec's operations in the spec's order (IEEE single, no contraction),
+  // so the results equal the scalar ones bit for bit. clamp01 is
+  // min(max(v, 0), 1) with maxps/minps taking the second operand when the
+  // first is NaN: NaN -> 0, -0 -> +0, as clamp01.
+  const __m128 cw0 = _mm_loadu_ps(&cw[0][0]), cw1 = _mm_loadu_ps(&cw[1][0]),
+               cw2 = _mm_loadu_ps(&cw[2][0]);
+  const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
+#endif
   for (const Stamp& s : batch.stamps) {
+    const EdgeValue e0 = s.e[0], e1 = s.e[1], e2 = s.e[2];
     for (uint64_t bits = s.mask; bits != 0; bits &= bits - 1) {
       const int idx = __builtin_ctzll(bits);
-      const int i = idx & static_cast<int>(stamp_w - 1), j = idx >> m_stamp_shift;
-      const float f0 = static_cast<float>(s.e[0] + i * step_x[0] + j * step_y[0]);
-      const float f1 = static_cast<float>(s.e[1] + i * step_x[1] + j * step_y[1]);
-      const float f2 = static_cast<float>(s.e[2] + i * step_x[2] + j * step_y[2]);
+      const float f0 = static_cast<float>(e0 + o0[idx]);
+      const float f1 = static_cast<float>(e1 + o1[idx]);
+      const float f2 = static_cast<float>(e2 + o2[idx]);
       const float den = f0 * q[0] + f1 * q[1] + f2 * q[2];
-      glm::vec4 c;
+#if defined(__SSE2__)
+      const __m128 num =
+          _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_set1_ps(f0), cw0), _mm_mul_ps(_mm_set1_ps(f1), cw1)),
+                     _mm_mul_ps(_mm_set1_ps(f2), cw2));
+      const __m128 c = _mm_div_ps(num, _mm_set1_ps(den));
+      _mm_storeu_ps(&(*out)[0], _mm_min_ps(_mm_max_ps(c, zero), one));
+#else
       for (int k = 0; k < 4; ++k) {
         const float num = f0 * cw[0][k] + f1 * cw[1][k] + f2 * cw[2][k];
-        c[k] = clamp01(num / den);
+        (*out)[k] = clamp01(num / den);
       }
-      result.colors.push_back(c);
+#endif
+      ++out;
     }
   }
 }

@@ -17,6 +17,7 @@
 // config.stage("interpolator"). No memory traffic.
 #pragma once
 
+#include <array>
 #include <systemc>
 
 #include "hw/draw_state.h"
@@ -40,6 +41,8 @@ class Interpolator : public sc_core::sc_module {
  private:
   void run();
   void shade(const StampBatch& batch, ShadedStampBatch& result);
+  // Fills m_offset for the triangle's edge steps (kept while they are unchanged).
+  void update_offsets(const RasterTriangle& tri);
 
   const GpuConfig& m_config;
   const FrameState& m_frame;
@@ -54,6 +57,15 @@ class Interpolator : public sc_core::sc_module {
   // latency(stage) cycles: an output is readable this long after it is written.
   const sc_core::sc_time m_latency;
   const int m_stamp_shift;  // log2 of the stamp width: a mask bit's row is bit >> shift
+  const int m_stamp_pixels;
+
+  // Per-pixel edge offsets inside a stamp, i * a_k * 256 + j * b_k * 256 for
+  // pixel p = j * w + i (at most 64 pixels, the width of Stamp::mask), for the
+  // edge steps m_step_x, m_step_y: per-triangle setup hoisted out of the
+  // per-pixel loop.
+  std::array<std::array<EdgeValue, 64>, 3> m_offset{};
+  std::array<EdgeValue, 3> m_step_x{}, m_step_y{};
+  bool m_offset_valid = false;
 
   StatGroup m_stats{name()};
   uint64_t& m_busy_cycles = m_stats.counter("busy_cycles", "cycles spent on tokens");

@@ -2,8 +2,13 @@
 
 #include <algorithm>
 #include <array>
+#include <cstring>
 #include <limits>
 #include <string>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "hw/pixel_formats.h"
 
@@ -52,6 +57,100 @@ float factor(BlendFactor f, const glm::vec4& s, const glm::vec4& d, int k) {
   }
   return 0.0f;
 }
+
+#if defined(__SSE2__)
+// The rgba8 path with every channel enabled, the four channels in the four
+// lanes of one register. Each lane performs the spec's operations in the
+// spec's order (IEEE single, no contraction), so every stored byte equals
+// the scalar path's:
+//   - decode: float(v) / 255 (cvtdq2ps, divps);
+//   - factors: the scalar factor() values, one vector per factor;
+//   - encode: nearbyint(clamp01(v) * 255). clamp01 is min(max(v, 0), 1):
+//     maxps/minps return their second operand when the first is NaN, so
+//     NaN -> 0 and -0 -> +0 as in clamp01. The product lies in [0, 255],
+//     where (x + 2^23) - 2^23 rounds to the nearest integer, ties to even,
+//     exactly as nearbyint in the default rounding mode; the result is an
+//     integer, converted exactly.
+__m128 factor_vec(BlendFactor f, __m128 s, __m128 d, const glm::vec4& sv, float dw) {
+  switch (f) {
+    case BlendFactor::zero:
+      return _mm_setzero_ps();
+    case BlendFactor::one:
+      return _mm_set1_ps(1.0f);
+    case BlendFactor::src_color:
+      return s;
+    case BlendFactor::one_minus_src_color:
+      return _mm_sub_ps(_mm_set1_ps(1.0f), s);
+    case BlendFactor::dst_color:
+      return d;
+    case BlendFactor::one_minus_dst_color:
+      return _mm_sub_ps(_mm_set1_ps(1.0f), d);
+    case BlendFactor::src_alpha:
+      return _mm_set1_ps(sv.w);
+    case BlendFactor::one_minus_src_alpha:
+      return _mm_set1_ps(1.0f - sv.w);
+    case BlendFactor::dst_alpha:
+      return _mm_set1_ps(dw);
+    case BlendFactor::one_minus_dst_alpha:
+      return _mm_set1_ps(1.0f - dw);
+    case BlendFactor::src_alpha_saturate: {
+      const float m = std::min(sv.w, 1.0f - dw);
+      return _mm_setr_ps(m, m, m, 1.0f);
+    }
+  }
+  return _mm_setzero_ps();
+}
+
+__m128 load_rgba8(const uint8_t* stored) {
+  uint32_t packed;
+  std::memcpy(&packed, stored, 4);
+  const __m128i zero = _mm_setzero_si128();
+  const __m128i bytes = _mm_cvtsi32_si128(static_cast<int>(packed));
+  const __m128i words = _mm_unpacklo_epi16(_mm_unpacklo_epi8(bytes, zero), zero);
+  return _mm_div_ps(_mm_cvtepi32_ps(words), _mm_set1_ps(255.0f));
+}
+
+void store_rgba8(__m128 v, uint8_t* stored) {
+  const __m128 magic = _mm_set1_ps(8388608.0f);  // 2^23
+  const __m128 c = _mm_min_ps(_mm_max_ps(v, _mm_setzero_ps()), _mm_set1_ps(1.0f));
+  const __m128 r = _mm_sub_ps(_mm_add_ps(_mm_mul_ps(c, _mm_set1_ps(255.0f)), magic), magic);
+  const __m128i q = _mm_cvttps_epi32(r);
+  const __m128i b8 = _mm_packus_epi16(_mm_packs_epi32(q, q), _mm_setzero_si128());
+  const uint32_t out = static_cast<uint32_t>(_mm_cvtsi128_si32(b8));
+  std::memcpy(stored, &out, 4);
+}
+
+// Any blend state, the factors switched per pixel.
+void blend_rgba8(const RenderState& st, const glm::vec4& src, uint8_t* stored) {
+  const __m128 s = _mm_loadu_ps(&src[0]);
+  const __m128 d = load_rgba8(stored);
+  const float dw = _mm_cvtss_f32(_mm_shuffle_ps(d, d, _MM_SHUFFLE(3, 3, 3, 3)));
+  const __m128 a = _mm_mul_ps(s, factor_vec(st.blend_src, s, d, src, dw));
+  const __m128 b = _mm_mul_ps(d, factor_vec(st.blend_dst, s, d, src, dw));
+  __m128 v = s;
+  switch (st.blend_equation) {
+    case BlendEquation::add:
+      v = _mm_add_ps(a, b);
+      break;
+    case BlendEquation::subtract:
+      v = _mm_sub_ps(a, b);
+      break;
+    case BlendEquation::reverse_subtract:
+      v = _mm_sub_ps(b, a);
+      break;
+  }
+  store_rgba8(v, stored);
+}
+
+// The usual transparency state: s * s.a + d * (1 - s.a).
+void blend_rgba8_alpha(const glm::vec4& src, uint8_t* stored) {
+  const __m128 s = _mm_loadu_ps(&src[0]);
+  const __m128 d = load_rgba8(stored);
+  const __m128 a = _mm_mul_ps(s, _mm_set1_ps(src.w));
+  const __m128 b = _mm_mul_ps(d, _mm_set1_ps(1.0f - src.w));
+  store_rgba8(_mm_add_ps(a, b), stored);
+}
+#endif
 
 }  // namespace
 
@@ -128,6 +227,16 @@ void Rop::run() {
   }
 }
 
+// A stamp's pixels outside the framebuffer are a model bug: checked once per
+// stamp, and per pixel only for a stamp that reaches past the framebuffer.
+void Rop::check_pixel(int x, int y, const FramebufferDesc& fb) const {
+  if (x >= fb.width || y >= fb.height) {
+    SC_REPORT_ERROR("gpusim/rop", (std::string(name()) + ": pixel (" + std::to_string(x) + ", " +
+                                   std::to_string(y) + ") outside the framebuffer")
+                                      .c_str());
+  }
+}
+
 void Rop::blend(const ShadedStampBatch& batch, sc_core::sc_time& t) {
   const RasterTriangle& tri = *batch.triangle;
   const RenderState& st = m_frame.draws.at(tri.draw_id).state;
@@ -151,34 +260,30 @@ void Rop::blend(const ShadedStampBatch& batch, sc_core::sc_time& t) {
 
   const ColorFormat format = fb.color_format;
   const bool half = format == ColorFormat::rgba16f;
-  const unsigned stamp_w = m_config.stamp[0];
-  const int tile = static_cast<int>(m_config.tile_size);
-
-  size_t c = 0;  // index into batch.colors
-  for (const Stamp& s : batch.stamps) {
-    const int tx = s.x >> m_tile_shift, ty = s.y >> m_tile_shift;
-    if (s.x < 0 || s.y < 0 || s.x - tx * tile + static_cast<int>(stamp_w) > tile ||
-        s.y - ty * tile + static_cast<int>(m_config.stamp[1]) > tile) {
-      SC_REPORT_ERROR("gpusim/rop", (std::string(name()) + ": stamp at (" + std::to_string(s.x) +
-                                     ", " + std::to_string(s.y) + ") is not inside one tile")
-                                        .c_str());
+  size_t c = 0;  // colours consumed
+#if defined(__SSE2__)
+  // rgba8 with every channel enabled (the common case): one register per
+  // pixel, the blend state's branches taken once per batch.
+  if (!half && mask[0] && mask[1] && mask[2] && mask[3]) {
+    if (!st.blend) {
+      c = for_each_fragment(batch, t, probe, [](const glm::vec4& src, uint8_t* stored) {
+        store_rgba8(_mm_loadu_ps(&src[0]), stored);
+      });
+    } else if (st.blend_src == BlendFactor::src_alpha &&
+               st.blend_dst == BlendFactor::one_minus_src_alpha &&
+               st.blend_equation == BlendEquation::add) {
+      c = for_each_fragment(batch, t, probe, [](const glm::vec4& src, uint8_t* stored) {
+        blend_rgba8_alpha(src, stored);
+      });
+    } else {
+      c = for_each_fragment(batch, t, probe, [&st](const glm::vec4& src, uint8_t* stored) {
+        blend_rgba8(st, src, stored);
+      });
     }
-    const unsigned entry = m_cache.lookup(tx, ty, t);
-    m_cache.mark_dirty(entry);
-    for (uint64_t bits = s.mask; bits != 0; bits &= bits - 1, ++c) {
-      if (c >= batch.colors.size()) {
-        SC_REPORT_ERROR("gpusim/rop",
-                        (std::string(name()) + ": fewer colours than covered pixels").c_str());
-      }
-      const int idx = __builtin_ctzll(bits);
-      const int x = s.x + (idx & static_cast<int>(stamp_w - 1)), y = s.y + (idx >> m_stamp_shift);
-      if (x >= fb.width || y >= fb.height) {
-        SC_REPORT_ERROR("gpusim/rop", (std::string(name()) + ": pixel (" + std::to_string(x) +
-                                       ", " + std::to_string(y) + ") outside the framebuffer")
-                                          .c_str());
-      }
-      const glm::vec4& src = batch.colors[c];
-      uint8_t* stored = m_cache.pixel(entry, x, y);
+  } else
+#endif
+  {
+    c = for_each_fragment(batch, t, probe, [&](const glm::vec4& src, uint8_t* stored) {
       glm::vec4 dst(0.0f);
       if (st.blend) {
         for (int k = 0; k < 4; ++k) dst[k] = decode_color(format, load_channel(stored, half, k));
@@ -204,9 +309,77 @@ void Rop::blend(const ShadedStampBatch& batch, sc_core::sc_time& t) {
         // encode_color clamps rgba8; rgba16f keeps the value unclamped.
         store_channel(stored, half, k, encode_color(format, v));
       }
-      if (m_last_writer) (*m_last_writer)[static_cast<size_t>(y) * fb.width + x] = tri.primitive_id;
+    });
+  }
+  if (c != batch.colors.size()) {
+    SC_REPORT_ERROR("gpusim/rop",
+                    (std::string(name()) + ": more colours than covered pixels").c_str());
+  }
+  m_fragments_written += c;
+  if (st.blend) m_fragments_blended += c;
+}
+
+// The walk over a batch's covered pixels, shared by every blend path:
+// `write(colour, stored bytes)` is inlined into it (a lambda or function, not
+// a std::function). Per stamp: the tile check, one cache lookup and the
+// stamp origin's address; per pixel, a table lookup gives its bytes, and the
+// framebuffer bounds are checked only for stamps reaching past it. Returns
+// the number of colours consumed.
+template <typename Write>
+size_t Rop::for_each_fragment(const ShadedStampBatch& batch, sc_core::sc_time& t,
+                              FragmentProbe* probe, Write&& write) {
+  (void)probe;  // unused in a build without trace hooks
+  const RasterTriangle& tri = *batch.triangle;
+  const FramebufferDesc& fb = m_frame.framebuffer;
+  const ColorFormat format = fb.color_format;
+  const bool half = format == ColorFormat::rgba16f;
+  const unsigned stamp_w = m_config.stamp[0], stamp_h = m_config.stamp[1];
+  const int tile = static_cast<int>(m_config.tile_size);
+  const int w_mask = static_cast<int>(stamp_w - 1);
+  const size_t bpp = color_bytes_per_pixel(format);
+  // Byte offset of stamp pixel p from the stamp origin's inside a tile:
+  // rows of the tile are tile_size pixels apart (TileCache::pixel()).
+  std::array<size_t, 64> offset;
+  for (int p = 0; p < static_cast<int>(stamp_w * stamp_h); ++p) {
+    offset[static_cast<size_t>(p)] =
+        (static_cast<size_t>(p >> m_stamp_shift) * static_cast<size_t>(tile) +
+         static_cast<size_t>(p & w_mask)) *
+        bpp;
+  }
+  std::vector<int64_t>* const last_writer = m_last_writer;
+  const glm::vec4* const colors = batch.colors.data();
+  const size_t n_colors = batch.colors.size();
+
+  size_t c = 0;  // index into batch.colors
+  for (const Stamp& s : batch.stamps) {
+    const int tx = s.x >> m_tile_shift, ty = s.y >> m_tile_shift;
+    if (s.x < 0 || s.y < 0 || s.x - tx * tile + static_cast<int>(stamp_w) > tile ||
+        s.y - ty * tile + static_cast<int>(stamp_h) > tile) {
+      SC_REPORT_ERROR("gpusim/rop", (std::string(name()) + ": stamp at (" + std::to_string(s.x) +
+                                     ", " + std::to_string(s.y) + ") is not inside one tile")
+                                        .c_str());
+    }
+    const bool inside =
+        s.x + static_cast<int>(stamp_w) <= fb.width && s.y + static_cast<int>(stamp_h) <= fb.height;
+    const unsigned entry = m_cache.lookup(tx, ty, t);
+    m_cache.mark_dirty(entry);
+    uint8_t* const origin = m_cache.pixel(entry, s.x, s.y);
+    for (uint64_t bits = s.mask; bits != 0; bits &= bits - 1, ++c) {
+      if (c >= n_colors) {
+        SC_REPORT_ERROR("gpusim/rop",
+                        (std::string(name()) + ": fewer colours than covered pixels").c_str());
+      }
+      const int idx = __builtin_ctzll(bits);
+      if (!inside) check_pixel(s.x + (idx & w_mask), s.y + (idx >> m_stamp_shift), fb);
+      uint8_t* const stored = origin + offset[static_cast<size_t>(idx)];
+      write(colors[c], stored);
+      if (last_writer) {
+        const int x = s.x + (idx & w_mask), y = s.y + (idx >> m_stamp_shift);
+        (*last_writer)[static_cast<size_t>(y) * fb.width + x] = tri.primitive_id;
+      }
       if constexpr (kTraceHooks) {
         if (probe) {
+          const int x = s.x + (idx & w_mask), y = s.y + (idx >> m_stamp_shift);
           RopFragment f{x, y, tri.primitive_id, rop_written, {}};
           for (int k = 0; k < 4; ++k)
             f.value[k] = decode_color(format, load_channel(stored, half, k));
@@ -215,12 +388,7 @@ void Rop::blend(const ShadedStampBatch& batch, sc_core::sc_time& t) {
       }
     }
   }
-  if (c != batch.colors.size()) {
-    SC_REPORT_ERROR("gpusim/rop",
-                    (std::string(name()) + ": more colours than covered pixels").c_str());
-  }
-  m_fragments_written += c;
-  if (st.blend) m_fragments_blended += c;
+  return c;
 }
 
 }  // namespace gpusim

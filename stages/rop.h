@@ -72,6 +72,13 @@ class Rop : public sc_core::sc_module {
  private:
   void run();
   void blend(const ShadedStampBatch& batch, sc_core::sc_time& t);
+  void check_pixel(int x, int y, const FramebufferDesc& fb) const;
+  // Calls write(colour, stored bytes) for every covered pixel of the batch,
+  // in order, with the checks, cache lookups, last-writer record and trace
+  // around it; returns the number of colours consumed.
+  template <typename Write>
+  size_t for_each_fragment(const ShadedStampBatch& batch, sc_core::sc_time& t, FragmentProbe* probe,
+                           Write&& write);
 
   const GpuConfig& m_config;
   const FrameState& m_frame;

@@ -1,7 +1,6 @@
 #include "stages/tile_rasterizer.h"
 
 #include <algorithm>
-#include <bitset>
 #include <stdexcept>
 #include <string>
 
@@ -172,7 +171,9 @@ void TileRasterizer::rasterize(const std::shared_ptr<const RasterTriangle>& tri)
           if (mask == 0) continue;
           m_batch.stamps.push_back(Stamp{sx, sy, mask, e});
           ++m_stamps_emitted;
-          m_fragments += static_cast<uint64_t>(std::bitset<64>(mask).count());
+          // Full stamps need no count (popcount is a libgcc call on baseline x86-64).
+          m_fragments += mask == m_full_mask ? static_cast<uint64_t>(m_stamp_pixels)
+                                             : static_cast<uint64_t>(__builtin_popcountll(mask));
         }
       }
       if (!m_batch.stamps.empty()) emit_batch(tri);
