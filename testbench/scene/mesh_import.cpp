@@ -1,6 +1,9 @@
 #include "testbench/scene/mesh_import.h"
 
+#include <unistd.h>
+
 #include <assimp/material.h>
+#include <assimp/config.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
@@ -9,6 +12,7 @@
 #include <assimp/Importer.hpp>
 #include <assimp/LogStream.hpp>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 
@@ -95,6 +99,50 @@ class LogCapture {
   std::vector<std::string> m_messages;
 };
 
+// What assimp's parsers print to stderr themselves during one import (the
+// OpenGEX parser prints "nullptr returned by creating DDLNode." for
+// OpenGEX/empty_camera.ogex): kept out of the terminal, so that an error
+// stays one line, and reported with assimp's log.
+class StderrCapture {
+ public:
+  StderrCapture() {
+    std::fflush(stderr);
+    m_file = std::tmpfile();
+    m_saved = m_file != nullptr ? dup(STDERR_FILENO) : -1;
+    if (m_saved >= 0) dup2(fileno(m_file), STDERR_FILENO);
+  }
+  ~StderrCapture() { restore(); }
+  StderrCapture(const StderrCapture&) = delete;
+  StderrCapture& operator=(const StderrCapture&) = delete;
+
+  // Restores stderr and returns what was written to it, on one line.
+  std::string take() {
+    restore();
+    std::string text;
+    if (m_file != nullptr) {
+      std::rewind(m_file);
+      char buf[512];
+      size_t n;
+      while ((n = std::fread(buf, 1, sizeof buf, m_file)) > 0 && text.size() < 4096) text.append(buf, n);
+      std::fclose(m_file);
+      m_file = nullptr;
+    }
+    while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) text.pop_back();
+    return one_line(text);
+  }
+
+ private:
+  void restore() {
+    if (m_saved < 0) return;
+    std::fflush(stderr);
+    dup2(m_saved, STDERR_FILENO);
+    close(m_saved);
+    m_saved = -1;
+  }
+  std::FILE* m_file = nullptr;
+  int m_saved = -1;
+};
+
 // Whether the file starts with a UTF-16 byte order mark (assimp's text
 // importers read UTF-8 or ASCII only; box_UTF16BE.obj gives no faces).
 bool starts_utf16(const std::string& file) {
@@ -114,8 +162,21 @@ std::vector<ImportedMesh> import_mesh(const std::string& file) {
                          aiProcess_GenSmoothNormals | aiProcess_PreTransformVertices |
                          aiProcess_SortByPType;
   const LogCapture log;
-  const aiScene* scene = importer.ReadFile(file, flags);
-  if (scene == nullptr) throw MeshImportError(one_line(importer.GetErrorString()));
+  // Read, drop the lights and cameras (a scene file has its own), and
+  // validate before post-processing: assimp's steps assume a valid scene
+  // graph and crash on some importers' output otherwise (RAW/WithColor.raw
+  // leaves a null node: a segfault in PreTransformVertices; a light without
+  // a node in OpenGEX/camera.ogex: an ai_assert abort).
+  importer.SetPropertyInteger(AI_CONFIG_PP_RVC_FLAGS, aiComponent_LIGHTS | aiComponent_CAMERAS);
+  StderrCapture printed;
+  const aiScene* scene = importer.ReadFile(file, aiProcess_RemoveComponent);
+  if (scene != nullptr) scene = importer.ApplyPostProcessing(aiProcess_ValidateDataStructure);
+  if (scene != nullptr) scene = importer.ApplyPostProcessing(flags);
+  const std::string stderr_text = printed.take();
+  if (scene == nullptr) {
+    throw MeshImportError(one_line(importer.GetErrorString()) +
+                          (stderr_text.empty() ? "" : " (assimp printed: " + stderr_text + ")"));
+  }
   // Geometry assimp dropped is not the file's geometry: refuse it.
   const std::string dropped = log.find("out-of-range ind");
   if (!dropped.empty()) throw MeshImportError(dropped);
