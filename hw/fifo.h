@@ -415,11 +415,11 @@ class Fifo : public sc_core::sc_prim_channel, public FifoInIf<T>, public FifoOut
 
   std::vector<T> m_buf;
   std::vector<sc_core::sc_time> m_ready;  // per slot: when the reader may take it
-  size_t m_head = 0;         // oldest item
-  size_t m_tail = 0;         // next free slot
-  size_t m_committed = 0;    // items held at the start of this delta
-  size_t m_num_read = 0;     // in this delta
-  size_t m_num_written = 0;  // in this delta
+  size_t m_head = 0;                      // oldest item
+  size_t m_tail = 0;                      // next free slot
+  size_t m_committed = 0;                 // items held at the start of this delta
+  size_t m_num_read = 0;                  // in this delta
+  size_t m_num_written = 0;               // in this delta
   sc_core::sc_event m_data_written_event;
   sc_core::sc_event m_data_read_event;
   mutable bool m_events_handed_out = false;  // set by data_written/read_event()

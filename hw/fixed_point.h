@@ -11,8 +11,8 @@ namespace gpusim {
 // Window coordinates are snapped to signed fixed point with 8 fractional bits
 // (1/256 pixel), the precision of GL implementations such as llvmpipe.
 constexpr int kSubpixelBits = 8;
-constexpr int32_t kSubpixelOne = 1 << kSubpixelBits;   // one pixel
-constexpr int32_t kSubpixelHalf = kSubpixelOne / 2;    // pixel centre offset
+constexpr int32_t kSubpixelOne = 1 << kSubpixelBits;  // one pixel
+constexpr int32_t kSubpixelHalf = kSubpixelOne / 2;   // pixel centre offset
 
 // Largest framebuffer side. Keeps pixel indices in 14 bits.
 constexpr int kMaxFramebufferSide = 8192;
@@ -54,11 +54,14 @@ inline Subpixel snap_to_subpixel(float x) {
 }
 
 // Pixel (ix, iy) has its centre at subpixel (ix * 256 + 128, iy * 256 + 128).
-inline Subpixel pixel_center(int i) { return i * kSubpixelOne + kSubpixelHalf; }
+inline Subpixel pixel_center(int i) {
+  return i * kSubpixelOne + kSubpixelHalf;
+}
 
 // Floor division by 256 for subpixel -> pixel conversions of negative values.
 inline int32_t floor_div_subpixel(int64_t v) {
-  return static_cast<int32_t>(v >= 0 ? v >> kSubpixelBits : -((-v + kSubpixelOne - 1) >> kSubpixelBits));
+  return static_cast<int32_t>(v >= 0 ? v >> kSubpixelBits
+                                     : -((-v + kSubpixelOne - 1) >> kSubpixelBits));
 }
 
 }  // namespace gpusim

@@ -21,8 +21,12 @@ struct Framebuffer {
 
   Framebuffer() = default;
   Framebuffer(int w, int h, ColorFormat cf, DepthFormat df)
-      : width(w), height(h), color_format(cf), depth_format(df),
-        color(static_cast<size_t>(w) * h * 4), depth(static_cast<size_t>(w) * h) {}
+      : width(w),
+        height(h),
+        color_format(cf),
+        depth_format(df),
+        color(static_cast<size_t>(w) * h * 4),
+        depth(static_cast<size_t>(w) * h) {}
 
   size_t pixel_index(int x, int y) const { return static_cast<size_t>(y) * width + x; }
   ColorChannel* color_at(int x, int y) { return &color[pixel_index(x, y) * 4]; }

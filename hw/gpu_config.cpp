@@ -88,8 +88,8 @@ const std::vector<std::string>& GpuConfig::stage_names() {
 
 const std::vector<std::string>& GpuConfig::fifo_names() {
   static const std::vector<std::string> names{
-      "command_to_fetch",           "fetch_to_shader",       "shader_to_clipper",
-      "clipper_to_setup",           "setup_to_distributor",  "distributor_to_rasterizer",
+      "command_to_fetch",    "fetch_to_shader",       "shader_to_clipper",
+      "clipper_to_setup",    "setup_to_distributor",  "distributor_to_rasterizer",
       "rasterizer_to_depth", "depth_to_interpolator", "interpolator_to_rop"};
   return names;
 }

@@ -41,10 +41,14 @@ inline uint32_t bits_from_float(float f) {
 inline ColorChannel encode_unorm8(float c) {
   return static_cast<ColorChannel>(std::nearbyint(clamp01(c) * 255.0f));
 }
-inline float decode_unorm8(ColorChannel v) { return static_cast<float>(v) / 255.0f; }
+inline float decode_unorm8(ColorChannel v) {
+  return static_cast<float>(v) / 255.0f;
+}
 
 // rgba16f: IEEE binary16, round to nearest even (Imath's float -> half).
-inline ColorChannel encode_half(float c) { return Imath::half(c).bits(); }
+inline ColorChannel encode_half(float c) {
+  return Imath::half(c).bits();
+}
 inline float decode_half(ColorChannel bits) {
   Imath::half h;
   h.setBits(bits);
@@ -60,9 +64,12 @@ inline float decode_color(ColorFormat f, ColorChannel v) {
 
 inline int depth_bits(DepthFormat f) {
   switch (f) {
-    case DepthFormat::unorm16: return 16;
-    case DepthFormat::unorm24: return 24;
-    case DepthFormat::float32: return 32;
+    case DepthFormat::unorm16:
+      return 16;
+    case DepthFormat::unorm24:
+      return 24;
+    case DepthFormat::float32:
+      return 32;
   }
   return 0;
 }
@@ -91,14 +98,22 @@ inline float decode_depth(DepthFormat f, DepthValue v) {
 // comparing the bit patterns as unsigned integers orders them the same way).
 inline bool depth_compare(CompareFunc func, DepthValue fragment, DepthValue stored) {
   switch (func) {
-    case CompareFunc::never: return false;
-    case CompareFunc::less: return fragment < stored;
-    case CompareFunc::equal: return fragment == stored;
-    case CompareFunc::lequal: return fragment <= stored;
-    case CompareFunc::greater: return fragment > stored;
-    case CompareFunc::notequal: return fragment != stored;
-    case CompareFunc::gequal: return fragment >= stored;
-    case CompareFunc::always: return true;
+    case CompareFunc::never:
+      return false;
+    case CompareFunc::less:
+      return fragment < stored;
+    case CompareFunc::equal:
+      return fragment == stored;
+    case CompareFunc::lequal:
+      return fragment <= stored;
+    case CompareFunc::greater:
+      return fragment > stored;
+    case CompareFunc::notequal:
+      return fragment != stored;
+    case CompareFunc::gequal:
+      return fragment >= stored;
+    case CompareFunc::always:
+      return true;
   }
   return false;
 }

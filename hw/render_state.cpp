@@ -14,10 +14,17 @@ constexpr NameTable<CullMode, 3> kCullNames{"none", "back", "front"};
 constexpr NameTable<FrontFace, 2> kFrontFaceNames{"ccw", "cw"};
 constexpr NameTable<CompareFunc, 8> kCompareNames{"never",   "less",     "equal",  "lequal",
                                                   "greater", "notequal", "gequal", "always"};
-constexpr NameTable<BlendFactor, 11> kBlendFactorNames{
-    "zero",      "one",           "src_color", "one_minus_src_color", "dst_color",
-    "one_minus_dst_color", "src_alpha", "one_minus_src_alpha", "dst_alpha",
-    "one_minus_dst_alpha", "src_alpha_saturate"};
+constexpr NameTable<BlendFactor, 11> kBlendFactorNames{"zero",
+                                                       "one",
+                                                       "src_color",
+                                                       "one_minus_src_color",
+                                                       "dst_color",
+                                                       "one_minus_dst_color",
+                                                       "src_alpha",
+                                                       "one_minus_src_alpha",
+                                                       "dst_alpha",
+                                                       "one_minus_dst_alpha",
+                                                       "src_alpha_saturate"};
 constexpr NameTable<BlendEquation, 3> kBlendEquationNames{"add", "subtract", "reverse_subtract"};
 constexpr NameTable<Shading, 2> kShadingNames{"flat", "gouraud"};
 constexpr NameTable<ColorFormat, 2> kColorFormatNames{"rgba8", "rgba16f"};
@@ -26,23 +33,41 @@ constexpr NameTable<DepthFormat, 3> kDepthFormatNames{"unorm16", "unorm24", "flo
 template <typename Enum>
 constexpr const auto& names_of();
 template <>
-constexpr const auto& names_of<PrimitiveType>() { return kPrimitiveNames; }
+constexpr const auto& names_of<PrimitiveType>() {
+  return kPrimitiveNames;
+}
 template <>
-constexpr const auto& names_of<CullMode>() { return kCullNames; }
+constexpr const auto& names_of<CullMode>() {
+  return kCullNames;
+}
 template <>
-constexpr const auto& names_of<FrontFace>() { return kFrontFaceNames; }
+constexpr const auto& names_of<FrontFace>() {
+  return kFrontFaceNames;
+}
 template <>
-constexpr const auto& names_of<CompareFunc>() { return kCompareNames; }
+constexpr const auto& names_of<CompareFunc>() {
+  return kCompareNames;
+}
 template <>
-constexpr const auto& names_of<BlendFactor>() { return kBlendFactorNames; }
+constexpr const auto& names_of<BlendFactor>() {
+  return kBlendFactorNames;
+}
 template <>
-constexpr const auto& names_of<BlendEquation>() { return kBlendEquationNames; }
+constexpr const auto& names_of<BlendEquation>() {
+  return kBlendEquationNames;
+}
 template <>
-constexpr const auto& names_of<Shading>() { return kShadingNames; }
+constexpr const auto& names_of<Shading>() {
+  return kShadingNames;
+}
 template <>
-constexpr const auto& names_of<ColorFormat>() { return kColorFormatNames; }
+constexpr const auto& names_of<ColorFormat>() {
+  return kColorFormatNames;
+}
 template <>
-constexpr const auto& names_of<DepthFormat>() { return kDepthFormatNames; }
+constexpr const auto& names_of<DepthFormat>() {
+  return kDepthFormatNames;
+}
 
 template <typename Enum>
 std::string_view name_of(Enum v) {
@@ -53,15 +78,33 @@ std::string_view name_of(Enum v) {
 
 }  // namespace
 
-std::string_view to_string(PrimitiveType v) { return name_of(v); }
-std::string_view to_string(CullMode v) { return name_of(v); }
-std::string_view to_string(FrontFace v) { return name_of(v); }
-std::string_view to_string(CompareFunc v) { return name_of(v); }
-std::string_view to_string(BlendFactor v) { return name_of(v); }
-std::string_view to_string(BlendEquation v) { return name_of(v); }
-std::string_view to_string(Shading v) { return name_of(v); }
-std::string_view to_string(ColorFormat v) { return name_of(v); }
-std::string_view to_string(DepthFormat v) { return name_of(v); }
+std::string_view to_string(PrimitiveType v) {
+  return name_of(v);
+}
+std::string_view to_string(CullMode v) {
+  return name_of(v);
+}
+std::string_view to_string(FrontFace v) {
+  return name_of(v);
+}
+std::string_view to_string(CompareFunc v) {
+  return name_of(v);
+}
+std::string_view to_string(BlendFactor v) {
+  return name_of(v);
+}
+std::string_view to_string(BlendEquation v) {
+  return name_of(v);
+}
+std::string_view to_string(Shading v) {
+  return name_of(v);
+}
+std::string_view to_string(ColorFormat v) {
+  return name_of(v);
+}
+std::string_view to_string(DepthFormat v) {
+  return name_of(v);
+}
 
 template <typename Enum>
 std::optional<Enum> enum_from_string(std::string_view name) {
@@ -108,8 +151,8 @@ bool RenderState::operator==(const RenderState& o) const {
 std::ostream& operator<<(std::ostream& os, const RenderState& s) {
   os << "{cull=" << to_string(s.cull) << " front_face=" << to_string(s.front_face)
      << " depth=" << (s.depth_test ? to_string(s.depth_func) : "off")
-     << " depth_write=" << s.depth_write << " offset=[" << s.offset_factor << ","
-     << s.offset_units << "] blend=";
+     << " depth_write=" << s.depth_write << " offset=[" << s.offset_factor << "," << s.offset_units
+     << "] blend=";
   if (s.blend) {
     os << to_string(s.blend_src) << "/" << to_string(s.blend_dst) << "/"
        << to_string(s.blend_equation);

@@ -297,7 +297,8 @@ void Gpu::build_views() {
   m_stage_views.push_back(
       {"triangle_setup", &m_setup.stats(), {input(to_setup)}, {to_distributor}});
   const size_t distributor = m_stage_views.size();
-  m_stage_views.push_back({"tile_distributor", &m_distributor.stats(), {input(to_distributor)}, {}});
+  m_stage_views.push_back(
+      {"tile_distributor", &m_distributor.stats(), {input(to_distributor)}, {}});
   for (unsigned u = 0; u < m_units.size(); ++u) {
     Unit& unit = m_units[u];
     const std::string n = std::to_string(u);
@@ -414,21 +415,22 @@ Gpu::Sample Gpu::sample() const {
 
 std::vector<Gpu::StageState> Gpu::stage_states(const Sample& before, const Sample& after) const {
   const auto grew = [](const std::vector<sc_core::sc_time>& a,
-                       const std::vector<sc_core::sc_time>& b, size_t i) {
-    return i < a.size() && i < b.size() && b[i] > a[i];
-  };
+                       const std::vector<sc_core::sc_time>& b,
+                       size_t i) { return i < a.size() && i < b.size() && b[i] > a[i]; };
   std::vector<StageState> states;
   for (const StageView& v : m_stage_views) {
     StageState state = StageState::busy;
     // Blocked reading an empty FIFO: only a write can wake it. (Blocked on a
     // FIFO that holds items: waiting for one still in flight, so busy.)
     for (size_t f : v.inputs) {
-      if (grew(before.reader_blocked, after.reader_blocked, f) && m_fifo_views[f].occupancy() == 0) {
+      if (grew(before.reader_blocked, after.reader_blocked, f) &&
+          m_fifo_views[f].occupancy() == 0) {
         state = StageState::waiting_on_input;
       }
     }
     for (size_t f : v.outputs) {
-      if (grew(before.writer_blocked, after.writer_blocked, f)) state = StageState::waiting_on_output;
+      if (grew(before.writer_blocked, after.writer_blocked, f))
+        state = StageState::waiting_on_output;
     }
     states.push_back(state);
   }
@@ -471,7 +473,8 @@ std::string Gpu::state_report(const Sample& before, const Sample& after) const {
       for (size_t f : v.inputs) text = "waiting on input " + held(f);
     } else if (states[s] == StageState::waiting_on_output) {
       for (size_t f : v.outputs) {
-        if (m_fifo_views[f].occupancy() == m_fifo_views[f].depth) text = "waiting on output " + held(f);
+        if (m_fifo_views[f].occupancy() == m_fifo_views[f].depth)
+          text = "waiting on output " + held(f);
       }
       if (text == "busy") text = "waiting on output";
     }
@@ -490,11 +493,13 @@ std::string Gpu::state_report(const Sample& before, const Sample& after) const {
               " (a stage stuck, or one item costing more than watchdog_cycles, which the "
               "configuration can raise)";
   } else if (all_on_input && all_empty) {
-    verdict = "every stage waits for input and every FIFO is empty: an item was lost (the "
-              "frame's end never reached every ROP)";
+    verdict =
+        "every stage waits for input and every FIFO is empty: an item was lost (the "
+        "frame's end never reached every ROP)";
   } else {
-    verdict = "every stage waits on a FIFO, readers on empty ones and writers on full ones: a "
-              "deadlock";
+    verdict =
+        "every stage waits on a FIFO, readers on empty ones and writers on full ones: a "
+        "deadlock";
   }
   return verdict + "\n" + lines.str() + "\n" + fifo_report();
 }
@@ -525,8 +530,7 @@ void Gpu::watchdog() {
       continue;
     }
     const std::vector<StageState> states = stage_states(previous, current);
-    const bool any_busy =
-        std::find(states.begin(), states.end(), StageState::busy) != states.end();
+    const bool any_busy = std::find(states.begin(), states.end(), StageState::busy) != states.end();
     if (!any_busy) {
       // Every stage waits on a FIFO: only an item moving could change that,
       // and nothing is left to move one. Stop counting so the kernel runs
@@ -580,11 +584,13 @@ class Ledger {
   // "where: <a> = <va>, but <b> = <vb>" unless va == vb.
   void equal(const std::string& where, const std::string& a, uint64_t va, const std::string& b,
              uint64_t vb) {
-    if (va != vb) fail(where, a + " = " + std::to_string(va) + ", but " + b + " = " + std::to_string(vb));
+    if (va != vb)
+      fail(where, a + " = " + std::to_string(va) + ", but " + b + " = " + std::to_string(vb));
   }
   void at_most(const std::string& where, const std::string& a, uint64_t va, const std::string& b,
                uint64_t vb) {
-    if (va > vb) fail(where, a + " = " + std::to_string(va) + " exceeds " + b + " = " + std::to_string(vb));
+    if (va > vb)
+      fail(where, a + " = " + std::to_string(va) + " exceeds " + b + " = " + std::to_string(vb));
   }
   void fail(const std::string& where, const std::string& what) {
     m_errors.push_back(where + ": " + what);
@@ -606,7 +612,8 @@ class Ledger {
     }
     if (j->is_number_unsigned()) return j->get<uint64_t>();
     if (j->is_number_integer() && j->get<int64_t>() >= 0) return j->get<uint64_t>();
-    if (j->is_number_float() && j->get<double>() >= 0.0) return static_cast<uint64_t>(j->get<double>());
+    if (j->is_number_float() && j->get<double>() >= 0.0)
+      return static_cast<uint64_t>(j->get<double>());
     fail(where, "not a count: " + j->dump());
     return 0;
   }
@@ -674,10 +681,12 @@ std::vector<std::string> conservation_errors(const nlohmann::json& stats, const 
   const uint64_t batches = l.stage(vf, "batches");
   l.equal(vf, "draws", l.stage(vf, "draws"), "command_processor.draws", draws);
   l.equal(vf, "tokens_in", l.stage(vf, "tokens_in"), "draws + control tokens", draws + control);
-  l.equal(vf, "tokens_out", l.stage(vf, "tokens_out"), "batches + control tokens", batches + control);
+  l.equal(vf, "tokens_out", l.stage(vf, "tokens_out"), "batches + control tokens",
+          batches + control);
   l.equal(vf, "slots", l.stage(vf, "slots"), "slots of the frame's draws", slots);
-  l.equal(vf, "slots", l.stage(vf, "slots"), "invalid_slots + cache_hits + vertices_fetched",
-          l.stage(vf, "invalid_slots") + l.stage(vf, "cache_hits") + l.stage(vf, "vertices_fetched"));
+  l.equal(
+      vf, "slots", l.stage(vf, "slots"), "invalid_slots + cache_hits + vertices_fetched",
+      l.stage(vf, "invalid_slots") + l.stage(vf, "cache_hits") + l.stage(vf, "vertices_fetched"));
 
   // Vertex shader: every fetched vertex is shaded.
   const std::string vs = "vertex_shader";
@@ -709,8 +718,8 @@ std::vector<std::string> conservation_errors(const nlohmann::json& stats, const 
   const std::string ts = "triangle_setup";
   const uint64_t rasterized = l.stage(ts, "triangles_rasterized");
   const uint64_t offscreen = l.stage(ts, "triangles_offscreen");
-  l.equal(ts, "tokens_in", l.stage(ts, "tokens_in"), "clipper.triangles_after_clip + control tokens",
-          after_clip + control);
+  l.equal(ts, "tokens_in", l.stage(ts, "tokens_in"),
+          "clipper.triangles_after_clip + control tokens", after_clip + control);
   l.equal(ts, "clipper.triangles_after_clip", after_clip,
           "triangles_degenerate + triangles_culled + triangles_rasterized",
           l.stage(ts, "triangles_degenerate") + l.stage(ts, "triangles_culled") + rasterized);
@@ -740,8 +749,8 @@ std::vector<std::string> conservation_errors(const nlohmann::json& stats, const 
             "triangles_sent_unit" + n + " + control tokens", sent_u + control);
 
     // Rasterizer: every triangle sent to the unit is walked.
-    const std::string tr = "tile_rasterizer_" + n, dt = "depth_test_" + n,
-                      ip = "interpolator_" + n, rop = "rop_" + n;
+    const std::string tr = "tile_rasterizer_" + n, dt = "depth_test_" + n, ip = "interpolator_" + n,
+                      rop = "rop_" + n;
     link("", jobs, tr);
     l.equal(tr, "triangles", l.stage(tr, "triangles"), td + ".triangles_sent_unit" + n, sent_u);
     l.at_most(tr, "stamps_emitted", l.stage(tr, "stamps_emitted"),
@@ -752,7 +761,8 @@ std::vector<std::string> conservation_errors(const nlohmann::json& stats, const 
 
     // Depth test: stamps and pixels in are the rasterizer's; the ones that
     // fail are dropped, so at most as many pass.
-    l.equal(dt, "stamps", l.stage(dt, "stamps"), tr + ".stamps_emitted", l.stage(tr, "stamps_emitted"));
+    l.equal(dt, "stamps", l.stage(dt, "stamps"), tr + ".stamps_emitted",
+            l.stage(tr, "stamps_emitted"));
     l.equal(dt, "fragments_in", l.stage(dt, "fragments_in"), tr + ".fragments",
             l.stage(tr, "fragments"));
     l.at_most(dt, "fragments_passed", l.stage(dt, "fragments_passed"), "fragments_in",
@@ -764,7 +774,8 @@ std::vector<std::string> conservation_errors(const nlohmann::json& stats, const 
 
     // Interpolator: shades exactly the pixels that passed.
     l.equal(ip, "tokens_out", l.stage(ip, "tokens_out"), "tokens_in", l.stage(ip, "tokens_in"));
-    l.equal(ip, "stamps", l.stage(ip, "stamps"), dt + ".stamps_passed", l.stage(dt, "stamps_passed"));
+    l.equal(ip, "stamps", l.stage(ip, "stamps"), dt + ".stamps_passed",
+            l.stage(dt, "stamps_passed"));
     l.equal(ip, "fragments", l.stage(ip, "fragments"), dt + ".fragments_passed",
             l.stage(dt, "fragments_passed"));
     link(ip, "interpolator_to_rop_" + n, rop);
@@ -788,7 +799,8 @@ std::vector<std::string> conservation_errors(const nlohmann::json& stats, const 
     for (const auto& c : stats["memory"]["clients"].items()) {
       const uint64_t errors = c.value().value("errors", uint64_t{0});
       if (errors != 0) {
-        l.fail("memory client " + c.key(), std::to_string(errors) + " requests answered with an error");
+        l.fail("memory client " + c.key(),
+               std::to_string(errors) + " requests answered with an error");
       }
     }
   } else {

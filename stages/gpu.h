@@ -200,7 +200,7 @@ class Gpu : public sc_core::sc_module {
 
   Faults m_faults;
   std::vector<std::shared_ptr<void>> m_stand_ins;  // disconnected readers' FIFOs
-  std::map<std::string, size_t> m_stand_in_view;  // FIFO name -> view of its stand-in
+  std::map<std::string, size_t> m_stand_in_view;   // FIFO name -> view of its stand-in
   std::vector<FifoView> m_fifo_views;
   std::vector<StageView> m_stage_views;
   sc_core::sc_event_or_list m_activity_events;

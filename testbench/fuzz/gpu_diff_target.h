@@ -55,13 +55,34 @@ class ByteReader {
   // A coordinate: a grid value (scale * (b - 32) / 16 + offset), a special
   // value, or raw float bits.
   float value(float scale, float offset) {
-    static const float specials[] = {
-        0.0f, -0.0f, 1.0f, -1.0f, 0.5f, std::numeric_limits<float>::quiet_NaN(),
-        std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity(),
-        std::numeric_limits<float>::max(), -std::numeric_limits<float>::max(),
-        std::numeric_limits<float>::denorm_min(), std::numeric_limits<float>::min(), 1e-30f,
-        1e30f, 3e38f, -3e38f, 1e6f, -1e6f, 0x1p-32f, 0x1p-33f, 1.0f + 0x1p-23f, 1.0f - 0x1p-24f,
-        32768.0f, 65536.0f, 1e-7f, 2.0f, -2.0f, 0.999999f};
+    static const float specials[] = {0.0f,
+                                     -0.0f,
+                                     1.0f,
+                                     -1.0f,
+                                     0.5f,
+                                     std::numeric_limits<float>::quiet_NaN(),
+                                     std::numeric_limits<float>::infinity(),
+                                     -std::numeric_limits<float>::infinity(),
+                                     std::numeric_limits<float>::max(),
+                                     -std::numeric_limits<float>::max(),
+                                     std::numeric_limits<float>::denorm_min(),
+                                     std::numeric_limits<float>::min(),
+                                     1e-30f,
+                                     1e30f,
+                                     3e38f,
+                                     -3e38f,
+                                     1e6f,
+                                     -1e6f,
+                                     0x1p-32f,
+                                     0x1p-33f,
+                                     1.0f + 0x1p-23f,
+                                     1.0f - 0x1p-24f,
+                                     32768.0f,
+                                     65536.0f,
+                                     1e-7f,
+                                     2.0f,
+                                     -2.0f,
+                                     0.999999f};
     const uint8_t s = byte();
     if (s < 0x80) return scale * static_cast<float>(static_cast<int>(s) - 32) / 16.0f + offset;
     if (s < 0xC0) return specials[(s - 0x80) % (sizeof specials / sizeof specials[0])];
@@ -112,7 +133,8 @@ class DiffInstance {
     for (unsigned u = 0; u < m_config.units; ++u) {
       const uint64_t frames =
           timing["stages"]["rop_" + std::to_string(u)]["frames"].get<uint64_t>();
-      if (frames != m_frames) return "the frame did not complete (a hang) in unit " + std::to_string(u);
+      if (frames != m_frames)
+        return "the frame did not complete (a hang) in unit " + std::to_string(u);
     }
     const nlohmann::json after = m_gpu->pipeline_counts();
     nlohmann::json counts;
@@ -129,7 +151,8 @@ class DiffInstance {
     for (int y = 0; y < got.height && os.tellp() == 0; ++y) {
       for (int x = 0; x < got.width; ++x) {
         const size_t p = got.pixel_index(x, y);
-        if (std::equal(got.color_at(x, y), got.color_at(x, y) + 4, want.framebuffer.color_at(x, y)) &&
+        if (std::equal(got.color_at(x, y), got.color_at(x, y) + 4,
+                       want.framebuffer.color_at(x, y)) &&
             got.depth[p] == want.framebuffer.depth[p]) {
           continue;
         }
@@ -162,7 +185,8 @@ class DiffInstance {
         sc_core::wait(go);
         Fifo<Command>& q = m_gpu.command_queue();
         q.write(Command{PacketKind::clear, 0});
-        for (size_t i = 0; i < draws; ++i) q.write(Command{PacketKind::work, static_cast<uint32_t>(i)});
+        for (size_t i = 0; i < draws; ++i)
+          q.write(Command{PacketKind::work, static_cast<uint32_t>(i)});
         q.write(Command{PacketKind::end_of_frame, 0});
       }
     }
@@ -173,13 +197,15 @@ class DiffInstance {
     const FramebufferDesc& d = m_frame.framebuffer;
     Framebuffer fb(d.width, d.height, d.color_format, d.depth_format);
     const size_t pixels = static_cast<size_t>(d.width) * d.height;
-    const unsigned cb = color_bytes_per_pixel(d.color_format), db = depth_bytes_per_pixel(d.depth_format);
+    const unsigned cb = color_bytes_per_pixel(d.color_format),
+                   db = depth_bytes_per_pixel(d.depth_format);
     const uint8_t* c = m_gpu->memory().data(m_frame.color_address, pixels * cb);
     const uint8_t* z = m_gpu->memory().data(m_frame.depth_address, pixels * db);
     for (size_t p = 0; p < pixels; ++p) {
       for (int k = 0; k < 4; ++k) {
-        fb.color[p * 4 + k] = cb == 4 ? c[p * 4 + k]
-                                      : static_cast<ColorChannel>(c[p * 8 + k * 2] | c[p * 8 + k * 2 + 1] << 8);
+        fb.color[p * 4 + k] =
+            cb == 4 ? c[p * 4 + k]
+                    : static_cast<ColorChannel>(c[p * 8 + k * 2] | c[p * 8 + k * 2 + 1] << 8);
       }
       DepthValue v = z[p * db] | DepthValue{z[p * db + 1]} << 8;
       if (db == 4) v |= DepthValue{z[p * db + 2]} << 16 | DepthValue{z[p * db + 3]} << 24;
@@ -216,10 +242,14 @@ inline std::vector<std::unique_ptr<DiffInstance>>& diff_instances() {
     d.tile_size = 32;
     d.stamp = {8, 8};
     d.memory = {3, 7};
-    v.push_back(std::make_unique<DiffInstance>("fuzz_gpu0", 1, 1, ColorFormat::rgba8, DepthFormat::unorm24, a));
-    v.push_back(std::make_unique<DiffInstance>("fuzz_gpu1", 13, 7, ColorFormat::rgba16f, DepthFormat::float32, b));
-    v.push_back(std::make_unique<DiffInstance>("fuzz_gpu2", 64, 48, ColorFormat::rgba8, DepthFormat::unorm16, c));
-    v.push_back(std::make_unique<DiffInstance>("fuzz_gpu3", 8192, 2, ColorFormat::rgba16f, DepthFormat::unorm24, d));
+    v.push_back(std::make_unique<DiffInstance>("fuzz_gpu0", 1, 1, ColorFormat::rgba8,
+                                               DepthFormat::unorm24, a));
+    v.push_back(std::make_unique<DiffInstance>("fuzz_gpu1", 13, 7, ColorFormat::rgba16f,
+                                               DepthFormat::float32, b));
+    v.push_back(std::make_unique<DiffInstance>("fuzz_gpu2", 64, 48, ColorFormat::rgba8,
+                                               DepthFormat::unorm16, c));
+    v.push_back(std::make_unique<DiffInstance>("fuzz_gpu3", 8192, 2, ColorFormat::rgba16f,
+                                               DepthFormat::unorm24, d));
     // Run the initialisation phase, so every host waits for `go` before the
     // first frame notifies it.
     sc_core::sc_start(sc_core::SC_ZERO_TIME);
@@ -284,8 +314,8 @@ inline Scene decode_diff_scene(const uint8_t* data, size_t size, size_t& index) 
         d.colors.push_back(c);
       }
     } else {
-      d.material.diffuse = glm::vec4(in.byte() / 255.0f, in.byte() / 255.0f, in.byte() / 255.0f,
-                                     in.byte() / 255.0f);
+      d.material.diffuse =
+          glm::vec4(in.byte() / 255.0f, in.byte() / 255.0f, in.byte() / 255.0f, in.byte() / 255.0f);
     }
     if (indexed) {
       const int m = in.byte() % 40;

@@ -49,8 +49,8 @@ inline std::string check_scene_input(const uint8_t* data, size_t size) {
   }
   uint64_t slots = 0;
   for (const Draw& d : scene.draws) slots += d.vertex_count();
-  const uint64_t pixels =
-      static_cast<uint64_t>(scene.framebuffer.width) * static_cast<uint64_t>(scene.framebuffer.height);
+  const uint64_t pixels = static_cast<uint64_t>(scene.framebuffer.width) *
+                          static_cast<uint64_t>(scene.framebuffer.height);
   if (pixels <= 64 * 64 && slots <= 4096) {
     const golden::Result r = golden::render(scene);
     for (const std::string& e : pipeline_count_errors(r.stats.to_json())) {

@@ -4,11 +4,10 @@
 // pixel exactly. Each step is a free function so tests can check it alone.
 #pragma once
 
-#include <glm/glm.hpp>
-#include <nlohmann/json.hpp>
-
 #include <array>
 #include <cstdint>
+#include <glm/glm.hpp>
+#include <nlohmann/json.hpp>
 #include <vector>
 
 #include "hw/fixed_point.h"
@@ -50,9 +49,9 @@ std::vector<ShadedVertex> clip_triangle(const std::array<ShadedVertex, 3>& tri,
 
 // A vertex in window space, snapped.
 struct WindowVertex {
-  Subpixel x = 0, y = 0;  // 1/256 pixel
-  float z = 0.0f;         // window depth, [0, 1] inside the frustum
-  float inv_w = 0.0f;     // 1 / w_clip
+  Subpixel x = 0, y = 0;         // 1/256 pixel
+  float z = 0.0f;                // window depth, [0, 1] inside the frustum
+  float inv_w = 0.0f;            // 1 / w_clip
   glm::vec4 color_over_w{0.0f};  // colour * (1 / w), for perspective correction
 };
 WindowVertex to_window(const ShadedVertex& v, int width, int height);
@@ -66,17 +65,17 @@ EdgeValue edge_function(const WindowVertex& a, const WindowVertex& b, Subpixel p
 bool edge_owns_boundary(const WindowVertex& a, const WindowVertex& b);
 
 struct Stats {
-  uint64_t triangles_in = 0;             // assembled
-  uint64_t triangles_invalid = 0;        // non-finite position or out-of-range index
-  uint64_t triangles_clipped_away = 0;   // entirely outside the clip volume
-  uint64_t triangles_clipped = 0;        // needed clipping and kept a part
-  uint64_t triangles_after_clip = 0;     // triangles leaving the clipper
-  uint64_t triangles_degenerate = 0;     // zero area after snapping
-  uint64_t triangles_culled = 0;         // removed by face culling
-  uint64_t triangles_rasterized = 0;     // set up and scanned
-  uint64_t fragments_generated = 0;      // covered pixels
+  uint64_t triangles_in = 0;            // assembled
+  uint64_t triangles_invalid = 0;       // non-finite position or out-of-range index
+  uint64_t triangles_clipped_away = 0;  // entirely outside the clip volume
+  uint64_t triangles_clipped = 0;       // needed clipping and kept a part
+  uint64_t triangles_after_clip = 0;    // triangles leaving the clipper
+  uint64_t triangles_degenerate = 0;    // zero area after snapping
+  uint64_t triangles_culled = 0;        // removed by face culling
+  uint64_t triangles_rasterized = 0;    // set up and scanned
+  uint64_t fragments_generated = 0;     // covered pixels
   uint64_t fragments_passed_depth = 0;
-  uint64_t fragments_written = 0;        // passed depth with a colour channel enabled
+  uint64_t fragments_written = 0;  // passed depth with a colour channel enabled
   nlohmann::json to_json() const;
 };
 

@@ -7,8 +7,8 @@
 #include <limits>
 #include <stdexcept>
 
-#include "hw/pixel_formats.h"
 #include "hw/input_error.h"
+#include "hw/pixel_formats.h"
 
 namespace gpusim {
 

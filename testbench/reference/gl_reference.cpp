@@ -20,64 +20,64 @@ namespace {
 
 // The OpenGL entry points used, all resolved through eglGetProcAddress
 // (Mesa resolves core functions too: EGL_KHR_get_all_proc_addresses).
-#define GPUSIM_GL_FUNCTIONS(X)                                        \
-  X(PFNGLGETSTRINGPROC, glGetString)                                  \
-  X(PFNGLGETERRORPROC, glGetError)                                    \
-  X(PFNGLGETINTEGERVPROC, glGetIntegerv)                              \
-  X(PFNGLENABLEPROC, glEnable)                                        \
-  X(PFNGLDISABLEPROC, glDisable)                                      \
-  X(PFNGLVIEWPORTPROC, glViewport)                                    \
-  X(PFNGLCLIPCONTROLPROC, glClipControl)                              \
-  X(PFNGLDEPTHRANGEPROC, glDepthRange)                                \
-  X(PFNGLCLEARCOLORPROC, glClearColor)                                \
-  X(PFNGLCLEARDEPTHPROC, glClearDepth)                                \
-  X(PFNGLCLEARPROC, glClear)                                          \
-  X(PFNGLCOLORMASKPROC, glColorMask)                                  \
-  X(PFNGLDEPTHMASKPROC, glDepthMask)                                  \
-  X(PFNGLDEPTHFUNCPROC, glDepthFunc)                                  \
-  X(PFNGLCULLFACEPROC, glCullFace)                                    \
-  X(PFNGLFRONTFACEPROC, glFrontFace)                                  \
-  X(PFNGLPOLYGONOFFSETPROC, glPolygonOffset)                          \
-  X(PFNGLBLENDFUNCPROC, glBlendFunc)                                  \
-  X(PFNGLBLENDEQUATIONPROC, glBlendEquation)                          \
-  X(PFNGLPROVOKINGVERTEXPROC, glProvokingVertex)                      \
-  X(PFNGLPIXELSTOREIPROC, glPixelStorei)                              \
-  X(PFNGLREADPIXELSPROC, glReadPixels)                                \
-  X(PFNGLFINISHPROC, glFinish)                                        \
-  X(PFNGLGENFRAMEBUFFERSPROC, glGenFramebuffers)                      \
-  X(PFNGLDELETEFRAMEBUFFERSPROC, glDeleteFramebuffers)                \
-  X(PFNGLBINDFRAMEBUFFERPROC, glBindFramebuffer)                      \
-  X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, glCheckFramebufferStatus)        \
-  X(PFNGLFRAMEBUFFERRENDERBUFFERPROC, glFramebufferRenderbuffer)      \
-  X(PFNGLGENRENDERBUFFERSPROC, glGenRenderbuffers)                    \
-  X(PFNGLDELETERENDERBUFFERSPROC, glDeleteRenderbuffers)              \
-  X(PFNGLBINDRENDERBUFFERPROC, glBindRenderbuffer)                    \
-  X(PFNGLRENDERBUFFERSTORAGEPROC, glRenderbufferStorage)              \
-  X(PFNGLGENVERTEXARRAYSPROC, glGenVertexArrays)                      \
-  X(PFNGLDELETEVERTEXARRAYSPROC, glDeleteVertexArrays)                \
-  X(PFNGLBINDVERTEXARRAYPROC, glBindVertexArray)                      \
-  X(PFNGLGENBUFFERSPROC, glGenBuffers)                                \
-  X(PFNGLDELETEBUFFERSPROC, glDeleteBuffers)                          \
-  X(PFNGLBINDBUFFERPROC, glBindBuffer)                                \
-  X(PFNGLBUFFERDATAPROC, glBufferData)                                \
-  X(PFNGLVERTEXATTRIBPOINTERPROC, glVertexAttribPointer)              \
-  X(PFNGLENABLEVERTEXATTRIBARRAYPROC, glEnableVertexAttribArray)      \
-  X(PFNGLDRAWARRAYSPROC, glDrawArrays)                                \
-  X(PFNGLDRAWELEMENTSPROC, glDrawElements)                            \
-  X(PFNGLCREATESHADERPROC, glCreateShader)                            \
-  X(PFNGLSHADERSOURCEPROC, glShaderSource)                            \
-  X(PFNGLCOMPILESHADERPROC, glCompileShader)                          \
-  X(PFNGLGETSHADERIVPROC, glGetShaderiv)                              \
-  X(PFNGLGETSHADERINFOLOGPROC, glGetShaderInfoLog)                    \
-  X(PFNGLDELETESHADERPROC, glDeleteShader)                            \
-  X(PFNGLCREATEPROGRAMPROC, glCreateProgram)                          \
-  X(PFNGLATTACHSHADERPROC, glAttachShader)                            \
-  X(PFNGLLINKPROGRAMPROC, glLinkProgram)                              \
-  X(PFNGLGETPROGRAMIVPROC, glGetProgramiv)                            \
-  X(PFNGLGETPROGRAMINFOLOGPROC, glGetProgramInfoLog)                  \
-  X(PFNGLDELETEPROGRAMPROC, glDeleteProgram)                          \
-  X(PFNGLUSEPROGRAMPROC, glUseProgram)                                \
-  X(PFNGLGETUNIFORMLOCATIONPROC, glGetUniformLocation)                \
+#define GPUSIM_GL_FUNCTIONS(X)                                   \
+  X(PFNGLGETSTRINGPROC, glGetString)                             \
+  X(PFNGLGETERRORPROC, glGetError)                               \
+  X(PFNGLGETINTEGERVPROC, glGetIntegerv)                         \
+  X(PFNGLENABLEPROC, glEnable)                                   \
+  X(PFNGLDISABLEPROC, glDisable)                                 \
+  X(PFNGLVIEWPORTPROC, glViewport)                               \
+  X(PFNGLCLIPCONTROLPROC, glClipControl)                         \
+  X(PFNGLDEPTHRANGEPROC, glDepthRange)                           \
+  X(PFNGLCLEARCOLORPROC, glClearColor)                           \
+  X(PFNGLCLEARDEPTHPROC, glClearDepth)                           \
+  X(PFNGLCLEARPROC, glClear)                                     \
+  X(PFNGLCOLORMASKPROC, glColorMask)                             \
+  X(PFNGLDEPTHMASKPROC, glDepthMask)                             \
+  X(PFNGLDEPTHFUNCPROC, glDepthFunc)                             \
+  X(PFNGLCULLFACEPROC, glCullFace)                               \
+  X(PFNGLFRONTFACEPROC, glFrontFace)                             \
+  X(PFNGLPOLYGONOFFSETPROC, glPolygonOffset)                     \
+  X(PFNGLBLENDFUNCPROC, glBlendFunc)                             \
+  X(PFNGLBLENDEQUATIONPROC, glBlendEquation)                     \
+  X(PFNGLPROVOKINGVERTEXPROC, glProvokingVertex)                 \
+  X(PFNGLPIXELSTOREIPROC, glPixelStorei)                         \
+  X(PFNGLREADPIXELSPROC, glReadPixels)                           \
+  X(PFNGLFINISHPROC, glFinish)                                   \
+  X(PFNGLGENFRAMEBUFFERSPROC, glGenFramebuffers)                 \
+  X(PFNGLDELETEFRAMEBUFFERSPROC, glDeleteFramebuffers)           \
+  X(PFNGLBINDFRAMEBUFFERPROC, glBindFramebuffer)                 \
+  X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, glCheckFramebufferStatus)   \
+  X(PFNGLFRAMEBUFFERRENDERBUFFERPROC, glFramebufferRenderbuffer) \
+  X(PFNGLGENRENDERBUFFERSPROC, glGenRenderbuffers)               \
+  X(PFNGLDELETERENDERBUFFERSPROC, glDeleteRenderbuffers)         \
+  X(PFNGLBINDRENDERBUFFERPROC, glBindRenderbuffer)               \
+  X(PFNGLRENDERBUFFERSTORAGEPROC, glRenderbufferStorage)         \
+  X(PFNGLGENVERTEXARRAYSPROC, glGenVertexArrays)                 \
+  X(PFNGLDELETEVERTEXARRAYSPROC, glDeleteVertexArrays)           \
+  X(PFNGLBINDVERTEXARRAYPROC, glBindVertexArray)                 \
+  X(PFNGLGENBUFFERSPROC, glGenBuffers)                           \
+  X(PFNGLDELETEBUFFERSPROC, glDeleteBuffers)                     \
+  X(PFNGLBINDBUFFERPROC, glBindBuffer)                           \
+  X(PFNGLBUFFERDATAPROC, glBufferData)                           \
+  X(PFNGLVERTEXATTRIBPOINTERPROC, glVertexAttribPointer)         \
+  X(PFNGLENABLEVERTEXATTRIBARRAYPROC, glEnableVertexAttribArray) \
+  X(PFNGLDRAWARRAYSPROC, glDrawArrays)                           \
+  X(PFNGLDRAWELEMENTSPROC, glDrawElements)                       \
+  X(PFNGLCREATESHADERPROC, glCreateShader)                       \
+  X(PFNGLSHADERSOURCEPROC, glShaderSource)                       \
+  X(PFNGLCOMPILESHADERPROC, glCompileShader)                     \
+  X(PFNGLGETSHADERIVPROC, glGetShaderiv)                         \
+  X(PFNGLGETSHADERINFOLOGPROC, glGetShaderInfoLog)               \
+  X(PFNGLDELETESHADERPROC, glDeleteShader)                       \
+  X(PFNGLCREATEPROGRAMPROC, glCreateProgram)                     \
+  X(PFNGLATTACHSHADERPROC, glAttachShader)                       \
+  X(PFNGLLINKPROGRAMPROC, glLinkProgram)                         \
+  X(PFNGLGETPROGRAMIVPROC, glGetProgramiv)                       \
+  X(PFNGLGETPROGRAMINFOLOGPROC, glGetProgramInfoLog)             \
+  X(PFNGLDELETEPROGRAMPROC, glDeleteProgram)                     \
+  X(PFNGLUSEPROGRAMPROC, glUseProgram)                           \
+  X(PFNGLGETUNIFORMLOCATIONPROC, glGetUniformLocation)           \
   X(PFNGLUNIFORM1IPROC, glUniform1i)
 
 struct Gl {
@@ -86,8 +86,8 @@ struct Gl {
 #undef GPUSIM_GL_MEMBER
 
   void load() {
-#define GPUSIM_GL_LOAD(type, name)                                                   \
-  name = reinterpret_cast<type>(eglGetProcAddress(#name));                           \
+#define GPUSIM_GL_LOAD(type, name)                         \
+  name = reinterpret_cast<type>(eglGetProcAddress(#name)); \
   if (name == nullptr) throw ReferenceError("eglGetProcAddress(\"" #name "\") failed");
     GPUSIM_GL_FUNCTIONS(GPUSIM_GL_LOAD)
 #undef GPUSIM_GL_LOAD
@@ -149,49 +149,74 @@ struct GlVertex {
 
 GLenum gl_primitive(PrimitiveType p) {
   switch (p) {
-    case PrimitiveType::triangles: return GL_TRIANGLES;
-    case PrimitiveType::triangle_strip: return GL_TRIANGLE_STRIP;
-    case PrimitiveType::triangle_fan: return GL_TRIANGLE_FAN;
+    case PrimitiveType::triangles:
+      return GL_TRIANGLES;
+    case PrimitiveType::triangle_strip:
+      return GL_TRIANGLE_STRIP;
+    case PrimitiveType::triangle_fan:
+      return GL_TRIANGLE_FAN;
   }
   return GL_TRIANGLES;
 }
 
 GLenum gl_compare(CompareFunc f) {
   switch (f) {
-    case CompareFunc::never: return GL_NEVER;
-    case CompareFunc::less: return GL_LESS;
-    case CompareFunc::equal: return GL_EQUAL;
-    case CompareFunc::lequal: return GL_LEQUAL;
-    case CompareFunc::greater: return GL_GREATER;
-    case CompareFunc::notequal: return GL_NOTEQUAL;
-    case CompareFunc::gequal: return GL_GEQUAL;
-    case CompareFunc::always: return GL_ALWAYS;
+    case CompareFunc::never:
+      return GL_NEVER;
+    case CompareFunc::less:
+      return GL_LESS;
+    case CompareFunc::equal:
+      return GL_EQUAL;
+    case CompareFunc::lequal:
+      return GL_LEQUAL;
+    case CompareFunc::greater:
+      return GL_GREATER;
+    case CompareFunc::notequal:
+      return GL_NOTEQUAL;
+    case CompareFunc::gequal:
+      return GL_GEQUAL;
+    case CompareFunc::always:
+      return GL_ALWAYS;
   }
   return GL_LESS;
 }
 
 GLenum gl_blend_factor(BlendFactor f) {
   switch (f) {
-    case BlendFactor::zero: return GL_ZERO;
-    case BlendFactor::one: return GL_ONE;
-    case BlendFactor::src_color: return GL_SRC_COLOR;
-    case BlendFactor::one_minus_src_color: return GL_ONE_MINUS_SRC_COLOR;
-    case BlendFactor::dst_color: return GL_DST_COLOR;
-    case BlendFactor::one_minus_dst_color: return GL_ONE_MINUS_DST_COLOR;
-    case BlendFactor::src_alpha: return GL_SRC_ALPHA;
-    case BlendFactor::one_minus_src_alpha: return GL_ONE_MINUS_SRC_ALPHA;
-    case BlendFactor::dst_alpha: return GL_DST_ALPHA;
-    case BlendFactor::one_minus_dst_alpha: return GL_ONE_MINUS_DST_ALPHA;
-    case BlendFactor::src_alpha_saturate: return GL_SRC_ALPHA_SATURATE;
+    case BlendFactor::zero:
+      return GL_ZERO;
+    case BlendFactor::one:
+      return GL_ONE;
+    case BlendFactor::src_color:
+      return GL_SRC_COLOR;
+    case BlendFactor::one_minus_src_color:
+      return GL_ONE_MINUS_SRC_COLOR;
+    case BlendFactor::dst_color:
+      return GL_DST_COLOR;
+    case BlendFactor::one_minus_dst_color:
+      return GL_ONE_MINUS_DST_COLOR;
+    case BlendFactor::src_alpha:
+      return GL_SRC_ALPHA;
+    case BlendFactor::one_minus_src_alpha:
+      return GL_ONE_MINUS_SRC_ALPHA;
+    case BlendFactor::dst_alpha:
+      return GL_DST_ALPHA;
+    case BlendFactor::one_minus_dst_alpha:
+      return GL_ONE_MINUS_DST_ALPHA;
+    case BlendFactor::src_alpha_saturate:
+      return GL_SRC_ALPHA_SATURATE;
   }
   return GL_ONE;
 }
 
 GLenum gl_blend_equation(BlendEquation e) {
   switch (e) {
-    case BlendEquation::add: return GL_FUNC_ADD;
-    case BlendEquation::subtract: return GL_FUNC_SUBTRACT;
-    case BlendEquation::reverse_subtract: return GL_FUNC_REVERSE_SUBTRACT;
+    case BlendEquation::add:
+      return GL_FUNC_ADD;
+    case BlendEquation::subtract:
+      return GL_FUNC_SUBTRACT;
+    case BlendEquation::reverse_subtract:
+      return GL_FUNC_REVERSE_SUBTRACT;
   }
   return GL_FUNC_ADD;
 }
@@ -242,9 +267,11 @@ struct GlReference::Impl {
 
     auto get_platform_display = reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(
         eglGetProcAddress("eglGetPlatformDisplayEXT"));
-    if (get_platform_display == nullptr) throw ReferenceError("EGL has no eglGetPlatformDisplayEXT");
+    if (get_platform_display == nullptr)
+      throw ReferenceError("EGL has no eglGetPlatformDisplayEXT");
     display = get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
-    if (display == EGL_NO_DISPLAY) throw ReferenceError("no EGL surfaceless display (Mesa's EGL missing?)");
+    if (display == EGL_NO_DISPLAY)
+      throw ReferenceError("no EGL surfaceless display (Mesa's EGL missing?)");
     EGLint major = 0, minor = 0;
     if (!eglInitialize(display, &major, &minor)) {
       display = EGL_NO_DISPLAY;  // nothing to terminate
@@ -259,9 +286,13 @@ struct GlReference::Impl {
     if (!eglChooseConfig(display, config_attribs, &config, 1, &configs) || configs < 1) {
       config = nullptr;  // EGL_NO_CONFIG_KHR: fine for a context used with FBOs only
     }
-    const EGLint context_attribs[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5,
+    const EGLint context_attribs[] = {EGL_CONTEXT_MAJOR_VERSION,
+                                      4,
+                                      EGL_CONTEXT_MINOR_VERSION,
+                                      5,
                                       EGL_CONTEXT_OPENGL_PROFILE_MASK,
-                                      EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+                                      EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                                      EGL_NONE};
     context = eglCreateContext(display, config, EGL_NO_CONTEXT, context_attribs);
     if (context == EGL_NO_CONTEXT) throw ReferenceError("cannot create an OpenGL 4.5 core context");
     if (!eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, context)) {
@@ -397,7 +428,8 @@ struct GlReference::Impl {
     const double x = v.clip.x, y = v.clip.y, z = v.clip.z, w = v.clip.w;
     GlVertex out{};
     out.position[0] = static_cast<float>(x * (width / 2.0) / half + w * (width / 2.0 - tx) / half);
-    out.position[1] = static_cast<float>(y * (height / 2.0) / half + w * (height / 2.0 - ty) / half);
+    out.position[1] =
+        static_cast<float>(y * (height / 2.0) / half + w * (height / 2.0 - ty) / half);
     out.position[2] = static_cast<float>((z + w) * 0.5);
     out.position[3] = v.clip.w;
     for (int k = 0; k < 4; ++k) out.color[k] = v.color[k];
@@ -603,8 +635,8 @@ struct GlReference::Impl {
     gl.glGenRenderbuffers(1, &color_rb);
     gl.glBindRenderbuffer(GL_RENDERBUFFER, color_rb);
     gl.glRenderbufferStorage(GL_RENDERBUFFER,
-                             desc.color_format == ColorFormat::rgba8 ? GL_RGBA8 : GL_RGBA16F,
-                             width, height);
+                             desc.color_format == ColorFormat::rgba8 ? GL_RGBA8 : GL_RGBA16F, width,
+                             height);
     gl.glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, color_rb);
     gl.glGenRenderbuffers(1, &depth_rb);
     gl.glBindRenderbuffer(GL_RENDERBUFFER, depth_rb);
@@ -715,14 +747,22 @@ struct GlReference::Impl {
   }
 };
 
-GlReference::GlReference() : m_impl(std::make_unique<Impl>()) { m_impl->init(); }
+GlReference::GlReference() : m_impl(std::make_unique<Impl>()) {
+  m_impl->init();
+}
 GlReference::~GlReference() = default;
 
 ReferenceResult GlReference::render(const Scene& scene, int repeat) {
   return m_impl->render(scene, repeat);
 }
-std::string GlReference::renderer() const { return m_impl->renderer; }
-std::string GlReference::version() const { return m_impl->version; }
-int GlReference::viewport_side() const { return m_impl->viewport_side; }
+std::string GlReference::renderer() const {
+  return m_impl->renderer;
+}
+std::string GlReference::version() const {
+  return m_impl->version;
+}
+int GlReference::viewport_side() const {
+  return m_impl->viewport_side;
+}
 
 }  // namespace gpusim::reference

@@ -14,7 +14,6 @@
 // Exit status: 0 done, 2 bad input (one line naming the file and the
 // problem), 3 no usable OpenGL (no EGL, no llvmpipe, a GL error).
 #include <CLI/CLI.hpp>
-
 #include <algorithm>
 #include <cstdio>
 #include <fstream>
@@ -88,16 +87,17 @@ void render_job(reference::GlReference& gl, const Job& job, int repeat) {
   }
   files.commit();
   const reference::ReferenceStats& s = result.stats;
-  std::printf("reference: %s -> %s: %llu triangles (%llu exact, %llu clipped by OpenGL, %llu invalid, "
-              "%llu beyond the viewport)\n",
-              job.scene.c_str(), job.exr.c_str(), static_cast<unsigned long long>(s.triangles),
-              static_cast<unsigned long long>(s.triangles_exact),
-              static_cast<unsigned long long>(s.triangles_clipped),
-              static_cast<unsigned long long>(s.triangles_invalid),
-              static_cast<unsigned long long>(s.triangles_beyond_viewport));
+  std::printf(
+      "reference: %s -> %s: %llu triangles (%llu exact, %llu clipped by OpenGL, %llu invalid, "
+      "%llu beyond the viewport)\n",
+      job.scene.c_str(), job.exr.c_str(), static_cast<unsigned long long>(s.triangles),
+      static_cast<unsigned long long>(s.triangles_exact),
+      static_cast<unsigned long long>(s.triangles_clipped),
+      static_cast<unsigned long long>(s.triangles_invalid),
+      static_cast<unsigned long long>(s.triangles_beyond_viewport));
   if (repeat > 1) {
-    std::printf("  rendered %d times in %.4f s median (first %.4f s), prepared in %.4f s\n",
-                repeat, median(result.render_seconds), result.render_seconds.front(),
+    std::printf("  rendered %d times in %.4f s median (first %.4f s), prepared in %.4f s\n", repeat,
+                median(result.render_seconds), result.render_seconds.front(),
                 result.prepare_seconds);
   }
 }
@@ -131,11 +131,13 @@ int main_with_errors(int argc, char** argv) {
   bool info = false;
   int repeat = 1;
   app.add_option("scene", job.scene, "Scene file (JSON, docs/scene-format.md)");
-  app.add_option("--out", job.exr, "Output EXR (R, G, B, A half; Z float), like gpusim golden's frame.exr");
+  app.add_option("--out", job.exr,
+                 "Output EXR (R, G, B, A half; Z float), like gpusim golden's frame.exr");
   app.add_option("--png", job.png, "Also write an 8-bit PNG preview");
   app.add_option("--stats", job.stats, "Also write how the triangles were handed to OpenGL (JSON)");
-  app.add_option("--batch", batch,
-                 "Render every line \"SCENE OUT.exr [OUT.png [STATS.json]]\" of this file (\"-\": no PNG)");
+  app.add_option(
+      "--batch", batch,
+      "Render every line \"SCENE OUT.exr [OUT.png [STATS.json]]\" of this file (\"-\": no PNG)");
   app.add_flag("--info", info, "Print GL_RENDERER and GL_VERSION and exit");
   app.add_option("--repeat", repeat,
                  "Draw each frame N times in one context and record each render's time "
@@ -159,7 +161,8 @@ int main_with_errors(int argc, char** argv) {
     }
     jobs.push_back(job);
   } else if (!info) {
-    std::cerr << "gpusim_reference: give a scene, --batch LIST or --info (see gpusim_reference --help)\n";
+    std::cerr
+        << "gpusim_reference: give a scene, --batch LIST or --info (see gpusim_reference --help)\n";
     return kExitError;
   }
 
@@ -193,4 +196,6 @@ int sc_main(int argc, char* argv[]) {
 
 // libsystemc (linked through gpusim_hw) owns main() otherwise; this tool runs
 // no simulation, so it calls sc_main directly.
-int main(int argc, char* argv[]) { return sc_main(argc, argv); }
+int main(int argc, char* argv[]) {
+  return sc_main(argc, argv);
+}

@@ -1,11 +1,10 @@
 #include "testbench/scene/mesh_import.h"
 
-#include <unistd.h>
-
-#include <assimp/material.h>
 #include <assimp/config.h>
+#include <assimp/material.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <assimp/DefaultLogger.hpp>
@@ -123,7 +122,8 @@ class StderrCapture {
       std::rewind(m_file);
       char buf[512];
       size_t n;
-      while ((n = std::fread(buf, 1, sizeof buf, m_file)) > 0 && text.size() < 4096) text.append(buf, n);
+      while ((n = std::fread(buf, 1, sizeof buf, m_file)) > 0 && text.size() < 4096)
+        text.append(buf, n);
       std::fclose(m_file);
       m_file = nullptr;
     }

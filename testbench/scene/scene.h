@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "hw/draw_state.h"
-#include "hw/render_state.h"
 #include "hw/input_error.h"
+#include "hw/render_state.h"
 
 namespace gpusim {
 

@@ -313,8 +313,8 @@ Scene SceneReader::read() {
 }
 
 Scene SceneReader::read_text(const std::string& text) {
-  if (text.size() >= 2 && ((text[0] == '\xFE' && text[1] == '\xFF') ||
-                           (text[0] == '\xFF' && text[1] == '\xFE'))) {
+  if (text.size() >= 2 &&
+      ((text[0] == '\xFE' && text[1] == '\xFF') || (text[0] == '\xFF' && text[1] == '\xFE'))) {
     fail("", "is UTF-16 encoded; scene files are UTF-8 JSON");
   }
   // nlohmann reads a NUL byte as the end of the input: say what it is.

@@ -250,11 +250,11 @@ GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOp
     // A stage's SC_REPORT_ERROR: a model bug, reported with where items were.
     std::string what = e.what();
     while (!what.empty() && (what.back() == '\n' || what.back() == ' ')) what.pop_back();
-    throw SimulationError(SimulationError::Kind::model_error,
-                          "model error at cycle " +
-                              std::to_string(static_cast<uint64_t>(sc_core::sc_time_stamp() /
-                                                                   config.cycle())) +
-                              ": " + what + "\n" + gpu.fifo_report());
+    throw SimulationError(
+        SimulationError::Kind::model_error,
+        "model error at cycle " +
+            std::to_string(static_cast<uint64_t>(sc_core::sc_time_stamp() / config.cycle())) +
+            ": " + what + "\n" + gpu.fifo_report());
   }
   result.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -287,8 +287,8 @@ GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOp
   for (std::string& e : pipeline_count_errors(result.counts)) errors.push_back("pipeline: " + e);
   if (!errors.empty()) {
     std::string report = "conservation: the stages' counters do not balance (" +
-                         std::to_string(errors.size()) + " rule" +
-                         (errors.size() == 1 ? "" : "s") + " violated):";
+                         std::to_string(errors.size()) + " rule" + (errors.size() == 1 ? "" : "s") +
+                         " violated):";
     for (const std::string& e : errors) report += "\n  " + e;
     throw SimulationError(SimulationError::Kind::conservation, report);
   }
@@ -332,12 +332,12 @@ std::vector<std::string> pipeline_count_errors(const nlohmann::json& counts) {
          std::to_string(degenerate + culled + rasterized));
   }
   if (passed > generated) {
-    fail("fragments_passed_depth = " + std::to_string(passed) + " exceeds fragments_generated = " +
-         std::to_string(generated));
+    fail("fragments_passed_depth = " + std::to_string(passed) +
+         " exceeds fragments_generated = " + std::to_string(generated));
   }
   if (written > passed) {
-    fail("fragments_written = " + std::to_string(written) + " exceeds fragments_passed_depth = " +
-         std::to_string(passed));
+    fail("fragments_written = " + std::to_string(written) +
+         " exceeds fragments_passed_depth = " + std::to_string(passed));
   }
   return errors;
 }

@@ -15,7 +15,9 @@ namespace {
 
 constexpr uint64_t kAlignment = 64;  // as load_frame() lays buffers out
 
-uint64_t align(uint64_t v) { return (v + kAlignment - 1) / kAlignment * kAlignment; }
+uint64_t align(uint64_t v) {
+  return (v + kAlignment - 1) / kAlignment * kAlignment;
+}
 
 uint64_t pixels(const Scene& s) {
   return static_cast<uint64_t>(s.framebuffer.width) * static_cast<uint64_t>(s.framebuffer.height);
@@ -66,7 +68,9 @@ uint64_t gpu_image_bytes(const Scene& s) {
 }
 
 // frame.exr (four half channels and float depth) and frame.png (rgba8).
-uint64_t output_bytes(const Scene& s) { return pixels(s) * (4 * 2 + 4 + 4); }
+uint64_t output_bytes(const Scene& s) {
+  return pixels(s) * (4 * 2 + 4 + 4);
+}
 
 uint64_t read_number(const char* path) {
   std::ifstream in(path);
@@ -140,8 +144,8 @@ MemoryEstimate estimate_cycle_memory(const Scene& scene, const GpuConfig& config
   if (check) {
     e.parts.push_back({"per-pixel last writer (x2, --check)", 2 * pixels(scene) * sizeof(int64_t)});
     e.parts.push_back({"golden framebuffer (--check)", framebuffer_bytes(scene)});
-    e.parts.push_back({"largest draw's shaded vertices and triangles (--check)",
-                       golden_draw_bytes(scene)});
+    e.parts.push_back(
+        {"largest draw's shaded vertices and triangles (--check)", golden_draw_bytes(scene)});
   }
   e.parts.push_back({"output images", output_bytes(scene)});
   return e;

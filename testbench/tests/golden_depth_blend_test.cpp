@@ -211,9 +211,15 @@ TEST(GoldenDepth, SlopedDepthIsThePlaneThroughTheVertices) {
         const double z = 0.25 + (x - 4) / 32.0 + (y - 4) / 64.0;
         uint32_t want = 0;
         switch (f) {
-          case DepthFormat::unorm16: want = static_cast<uint32_t>(std::nearbyint(z * 65535.0)); break;
-          case DepthFormat::unorm24: want = static_cast<uint32_t>(std::nearbyint(z * 16777215.0)); break;
-          case DepthFormat::float32: want = bits_from_float(static_cast<float>(z)); break;
+          case DepthFormat::unorm16:
+            want = static_cast<uint32_t>(std::nearbyint(z * 65535.0));
+            break;
+          case DepthFormat::unorm24:
+            want = static_cast<uint32_t>(std::nearbyint(z * 16777215.0));
+            break;
+          case DepthFormat::float32:
+            want = bits_from_float(static_cast<float>(z));
+            break;
         }
         EXPECT_EQ(r.framebuffer.depth[p], want) << to_string(f) << " pixel " << x << ", " << y;
         ++checked;

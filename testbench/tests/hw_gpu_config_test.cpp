@@ -80,11 +80,11 @@ TEST(GpuConfig, CycleFollowsClock) {
 }
 
 TEST(GpuConfig, PartialOverridesKeepOtherDefaults) {
-  const GpuConfig c =
-      gpu_config_from_json(json::parse(R"({"fifo_depth": 8, "fifo_depths": {"interpolator_to_rop": 2},
+  const GpuConfig c = gpu_config_from_json(
+      json::parse(R"({"fifo_depth": 8, "fifo_depths": {"interpolator_to_rop": 2},
                       "stages": {"clipper": {"latency": 30}},
                       "memory": {"bytes_per_cycle": 16}})"),
-                           "gpu.json");
+      "gpu.json");
   EXPECT_EQ(c.fifo_depth_of("interpolator_to_rop"), 2u);
   EXPECT_EQ(c.fifo_depth_of("fetch_to_shader"), 8u);
   EXPECT_EQ(c.stage("clipper"), (StageCost{2, 30}));  // ii keeps its default 2

@@ -65,7 +65,9 @@ TEST(StatRegistry, DumpsEveryGroupAndCallback) {
   StatRegistry reg;
   reg.add(setup);
   reg.add(rop);
-  reg.add("fifo.interpolator_to_rop", [] { return json{{"max_occupancy", 3}, {"nested", {{"x", 1}}}}; });
+  reg.add("fifo.interpolator_to_rop", [] {
+    return json{{"max_occupancy", 3}, {"nested", {{"x", 1}}}};
+  });
   EXPECT_THROW(reg.add(rop), std::invalid_argument);
   EXPECT_THROW(reg.add("setup", [] { return json(); }), std::invalid_argument);
 

@@ -74,7 +74,9 @@ struct BadCase {
   std::vector<std::string> expect;
 };
 
-std::ostream& operator<<(std::ostream& os, const BadCase& c) { return os << c.name; }
+std::ostream& operator<<(std::ostream& os, const BadCase& c) {
+  return os << c.name;
+}
 
 const char* kTriangle = R"({"draws": [{"positions": [[-1,-1,0],[1,-1,0],[0,1,0]]}]})";
 
@@ -130,12 +132,10 @@ std::vector<BadCase> cases() {
   scene("too_wide", R"({"framebuffer": {"width": 8193}})", {"framebuffer.width", "8193"});
   scene("clear_depth_above_one", R"({"framebuffer": {"clear_depth": 2}})",
         {"framebuffer.clear_depth: expected 0..1"});
-  scene("fovy_180",
-        R"({"camera": {"type": "perspective", "fovy": 180, "near": 1, "far": 10}})",
+  scene("fovy_180", R"({"camera": {"type": "perspective", "fovy": 180, "near": 1, "far": 10}})",
         {"camera.fovy"});
   scene("far_before_near",
-        R"({"camera": {"type": "perspective", "fovy": 60, "near": 10, "far": 1}})",
-        {"camera.far"});
+        R"({"camera": {"type": "perspective", "fovy": 60, "near": 10, "far": 1}})", {"camera.far"});
   scene("shininess_200", R"({"draws": [{"positions": [], "material": {"shininess": 200}}]})",
         {"draws[0].material.shininess"});
   scene("negative_index", R"({"draws": [{"positions": [[0,0,0]], "indices": [0, -1, 0]}]})",
@@ -145,8 +145,8 @@ std::vector<BadCase> cases() {
         {"draws[0].indices[0]"});
   scene("beyond_float", R"({"ambient": [1e39, 0, 0, 1]})", {"ambient[0]", "float range"});
   scene("beyond_double", R"({"ambient": [1e400, 0, 0, 1]})", {"1e400"});
-  scene("zero_direction",
-        R"({"lights": [{"type": "directional", "direction": [0, 0, 0]}]})", {"lights[0].direction"});
+  scene("zero_direction", R"({"lights": [{"type": "directional", "direction": [0, 0, 0]}]})",
+        {"lights[0].direction"});
   scene("colours_per_position",
         R"({"draws": [{"positions": [[0,0,0]], "colors": [[1,1,1,1],[1,1,1,1]]}]})",
         {"draws[0].colors: expected an array of 1 colours"});
@@ -171,12 +171,12 @@ std::vector<BadCase> cases() {
                "scene.json",
                "",
                {"cannot read \"lines.obj\": the file has no triangles"}});
-  c.push_back({"mesh_bad_face_index",
-               {{"scene.json", mesh_scene("bad.obj")},
-                {"bad.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 9\n"}},
-               "scene.json",
-               "",
-               {"cannot read \"bad.obj\""}});
+  c.push_back(
+      {"mesh_bad_face_index",
+       {{"scene.json", mesh_scene("bad.obj")}, {"bad.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 9\n"}},
+       "scene.json",
+       "",
+       {"cannot read \"bad.obj\""}});
   c.push_back({"mesh_empty_file",
                {{"scene.json", mesh_scene("empty.obj")}, {"empty.obj", ""}},
                "scene.json",
@@ -218,7 +218,10 @@ std::vector<BadCase> cases() {
   // GPU configurations (run only).
   const auto config = [&](const std::string& name, const std::string& json,
                           std::vector<std::string> expect) {
-    c.push_back({name, {{"scene.json", kTriangle}, {"gpu.json", json}}, "scene.json", "gpu.json",
+    c.push_back({name,
+                 {{"scene.json", kTriangle}, {"gpu.json", json}},
+                 "scene.json",
+                 "gpu.json",
                  std::move(expect)});
   };
   config("config_malformed", R"({"units": 4,,})", {"gpu.json: line 1"});
@@ -226,10 +229,12 @@ std::vector<BadCase> cases() {
   config("config_utf16", std::string("\xfe\xff\0{\0}", 6), {"gpu.json: is UTF-16"});
   config("config_unknown_key", R"({"stages": {"rasterizr": {"ii": 1}}})",
          {"gpu.json: stages.rasterizr: unknown key"});
-  config("config_wrong_type", R"({"units": "4"})", {"gpu.json: units: expected an integer, got string"});
+  config("config_wrong_type", R"({"units": "4"})",
+         {"gpu.json: units: expected an integer, got string"});
   config("config_zero_units", R"({"units": 0})", {"gpu.json: units: 0 is out of range 1..64"});
   config("config_too_many_units", R"({"units": 65})", {"gpu.json: units: 65 is out of range"});
-  config("config_zero_depth_fifos", R"({"fifo_depth": 0})", {"gpu.json: fifo_depth: 0 is out of range"});
+  config("config_zero_depth_fifos", R"({"fifo_depth": 0})",
+         {"gpu.json: fifo_depth: 0 is out of range"});
   config("config_zero_depth_fifo", R"({"fifo_depths": {"clipper_to_setup": 0}})",
          {"gpu.json: fifo_depths.clipper_to_setup: 0 is out of range"});
   config("config_unknown_fifo", R"({"fifo_depths": {"clipper_to_rop": 4}})",
@@ -247,10 +252,16 @@ std::vector<BadCase> cases() {
          {"gpu.json: watchdog_cycles: 0 is out of range"});
   config("config_zero_bus", R"({"memory": {"bytes_per_cycle": 0}})",
          {"gpu.json: memory.bytes_per_cycle: 0 is out of range"});
-  c.push_back({"config_missing", {{"scene.json", kTriangle}}, "scene.json", "nothing.json",
+  c.push_back({"config_missing",
+               {{"scene.json", kTriangle}},
+               "scene.json",
+               "nothing.json",
                {"nothing.json: cannot open file"}});
-  c.push_back({"config_is_directory", {{"scene.json", kTriangle}, {"confdir/x", "x"}}, "scene.json",
-               "confdir", {"confdir: is a directory"}});
+  c.push_back({"config_is_directory",
+               {{"scene.json", kTriangle}, {"confdir/x", "x"}},
+               "scene.json",
+               "confdir",
+               {"confdir: is a directory"}});
   return c;
 }
 
@@ -320,18 +331,22 @@ TEST_P(BadInput, FailsWithOneLineAndExitTwoLeavingOutputsIntact) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Files, BadInput, ::testing::ValuesIn(cases()),
-                         [](const ::testing::TestParamInfo<BadCase>& info) { return info.param.name; });
+                         [](const ::testing::TestParamInfo<BadCase>& info) {
+                           return info.param.name;
+                         });
 
 // assimp's post-processing aborted (ai_assert) on lights without a node in
 // these OpenGEX files; gpusim drops lights and cameras before it and renders
 // the meshes.
 TEST(AssimpModels, LightsWithoutNodesLoad) {
-  const fs::path dir = fs::path(::testing::TempDir()) / ("gpusim_robust_ogex_" + std::to_string(getpid()));
+  const fs::path dir =
+      fs::path(::testing::TempDir()) / ("gpusim_robust_ogex_" + std::to_string(getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
   for (const char* model : {"OpenGEX/camera.ogex", "OpenGEX/collada.ogex"}) {
     std::ofstream(dir / "scene.json") << mesh_scene(kModels + model);
-    const Output r = gpusim("golden " + (dir / "scene.json").string() + " --out " + (dir / "out").string(), dir);
+    const Output r =
+        gpusim("golden " + (dir / "scene.json").string() + " --out " + (dir / "out").string(), dir);
     EXPECT_EQ(r.status, 0) << model << ": " << r.err;
   }
   fs::remove_all(dir);
@@ -353,14 +368,15 @@ TEST_F(Cli, UnreadableFiles) {
   if (geteuid() == 0) GTEST_SKIP() << "root can read a file without read permission";
   std::ofstream(dir_ / "scene.json") << kTriangle;
   chmod((dir_ / "scene.json").c_str(), 0);
-  Output r = gpusim("golden " + (dir_ / "scene.json").string() + " --out " + (dir_ / "o").string(),
-                    dir_);
+  Output r =
+      gpusim("golden " + (dir_ / "scene.json").string() + " --out " + (dir_ / "o").string(), dir_);
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("cannot open: Permission denied"), std::string::npos) << r.err;
   std::ofstream(dir_ / "mesh_scene.json") << mesh_scene("m.obj");
   std::ofstream(dir_ / "m.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
   chmod((dir_ / "m.obj").c_str(), 0);
-  r = gpusim("run " + (dir_ / "mesh_scene.json").string() + " --out " + (dir_ / "o").string(), dir_);
+  r = gpusim("run " + (dir_ / "mesh_scene.json").string() + " --out " + (dir_ / "o").string(),
+             dir_);
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("cannot read \"m.obj\""), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(dir_ / "o"));

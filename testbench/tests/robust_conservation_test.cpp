@@ -124,7 +124,8 @@ TEST_F(Doctored, EveryMismatchIsCaught) {
       {"stages", "vertex_shader", "vertices_shaded", -1, "vertex_shader: vertices_shaded"},
       {"stages", "clipper", "triangles_in", +1, "clipper: triangles_in"},
       {"stages", "clipper", "triangles_after_clip", -1, "clipper"},
-      {"stages", "triangle_setup", "triangles_culled", +1, "triangle_setup: clipper.triangles_after_clip"},
+      {"stages", "triangle_setup", "triangles_culled", +1,
+       "triangle_setup: clipper.triangles_after_clip"},
       {"stages", "triangle_setup", "triangles_degenerate", -1, "triangle_setup"},
       {"stages", "triangle_setup", "tokens_out", -1, "triangle_setup: tokens_out"},
       {"stages", "tile_distributor", "triangles_sent_unit1", +1, "tile_distributor"},
@@ -173,7 +174,8 @@ TEST(PipelineCounts, DoctoredGoldenCountsAreCaught) {
   }
   nlohmann::json missing = good;
   missing.erase("triangles_in");
-  EXPECT_NE(joined(pipeline_count_errors(missing)).find("triangles_in: missing"), std::string::npos);
+  EXPECT_NE(joined(pipeline_count_errors(missing)).find("triangles_in: missing"),
+            std::string::npos);
 }
 
 }  // namespace

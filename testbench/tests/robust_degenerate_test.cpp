@@ -112,7 +112,9 @@ nlohmann::json expect_models_agree(const Scene& scene) {
   return want.stats.to_json();
 }
 
-uint64_t count(const nlohmann::json& s, const char* k) { return s.at(k).get<uint64_t>(); }
+uint64_t count(const nlohmann::json& s, const char* k) {
+  return s.at(k).get<uint64_t>();
+}
 
 TEST(Degenerate, NaNCoordinatesAreInvalid) {
   std::vector<glm::vec4> v;
@@ -148,8 +150,8 @@ TEST(Degenerate, InfiniteCoordinatesAreInvalid) {
 // Finite positions and a finite matrix whose product overflows to infinity
 // (or gives NaN from inf - inf): invalid too, in both models.
 TEST(Degenerate, MatrixOverflowIsInvalid) {
-  Draw d = draw_of(with_good({{3e38f, 0.0f, 0.0f, 1.0f}, {-3e38f, 0.5f, 0.0f, 1.0f},
-                              {0.0f, 3e38f, 0.0f, 1.0f}}));
+  Draw d = draw_of(with_good(
+      {{3e38f, 0.0f, 0.0f, 1.0f}, {-3e38f, 0.5f, 0.0f, 1.0f}, {0.0f, 3e38f, 0.0f, 1.0f}}));
   Draw big = d;
   big.mvp = glm::mat4(4.0f);  // x, y, z scaled by 4: 1.2e39 overflows
   big.mvp[3][3] = 1.0f;
@@ -185,20 +187,36 @@ TEST(Degenerate, NonFiniteColoursClampToZero) {
 TEST(Degenerate, ZeroAndNegativeW) {
   const std::vector<glm::vec4> v = {
       // One vertex at w = 0 (at infinity): clipped by the w plane.
-      {-0.5f, -0.5f, 0.0f, 1.0f}, {0.5f, -0.5f, 0.0f, 1.0f}, {0.2f, 0.9f, 0.0f, 0.0f},
+      {-0.5f, -0.5f, 0.0f, 1.0f},
+      {0.5f, -0.5f, 0.0f, 1.0f},
+      {0.2f, 0.9f, 0.0f, 0.0f},
       // All three at w = 0, and all at the origin: clipped away.
-      {1.0f, 0.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f, 0.0f}, {-1.0f, -1.0f, 0.0f, 0.0f},
-      {0.0f, 0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f, 0.0f},
+      {1.0f, 0.0f, 0.0f, 0.0f},
+      {0.0f, 1.0f, 0.0f, 0.0f},
+      {-1.0f, -1.0f, 0.0f, 0.0f},
+      {0.0f, 0.0f, 0.0f, 0.0f},
+      {0.0f, 0.0f, 0.0f, 0.0f},
+      {0.0f, 0.0f, 0.0f, 0.0f},
       // Negative zero.
-      {-0.5f, -0.5f, 0.0f, -0.0f}, {0.5f, -0.5f, 0.0f, 1.0f}, {0.2f, 0.9f, 0.0f, 1.0f},
+      {-0.5f, -0.5f, 0.0f, -0.0f},
+      {0.5f, -0.5f, 0.0f, 1.0f},
+      {0.2f, 0.9f, 0.0f, 1.0f},
       // All behind the eye (w < 0): clipped away, even though x/w, y/w land
       // on screen.
-      {0.5f, 0.5f, -0.5f, -1.0f}, {-0.5f, 0.5f, -0.5f, -1.0f}, {0.0f, -0.5f, -0.5f, -1.0f},
+      {0.5f, 0.5f, -0.5f, -1.0f},
+      {-0.5f, 0.5f, -0.5f, -1.0f},
+      {0.0f, -0.5f, -0.5f, -1.0f},
       // Crossing w = 0: a part kept.
-      {-0.5f, -0.5f, 0.1f, 1.0f}, {0.5f, -0.5f, 0.1f, -1.0f}, {0.0f, 0.5f, 0.1f, 1.0f},
-      {-0.5f, -0.5f, 0.1f, -2.0f}, {0.5f, 0.5f, 0.1f, 0.5f}, {0.9f, -0.8f, 0.1f, -0.001f},
+      {-0.5f, -0.5f, 0.1f, 1.0f},
+      {0.5f, -0.5f, 0.1f, -1.0f},
+      {0.0f, 0.5f, 0.1f, 1.0f},
+      {-0.5f, -0.5f, 0.1f, -2.0f},
+      {0.5f, 0.5f, 0.1f, 0.5f},
+      {0.9f, -0.8f, 0.1f, -0.001f},
       // w just above 0: enormous x/w, within the guard band only after clipping.
-      {-0.5f, -0.5f, 0.0f, 1e-30f}, {0.5f, -0.5f, 0.0f, 1.0f}, {0.0f, 0.5f, 0.0f, kDenorm},
+      {-0.5f, -0.5f, 0.0f, 1e-30f},
+      {0.5f, -0.5f, 0.0f, 1.0f},
+      {0.0f, 0.5f, 0.0f, kDenorm},
   };
   const nlohmann::json s = expect_models_agree(scene_of(64, 48, {draw_of(v)}));
   EXPECT_EQ(count(s, "triangles_in"), 8u);
@@ -211,15 +229,22 @@ TEST(Degenerate, FarBeyondTheGuardBand) {
   std::vector<glm::vec4> v;
   for (float far : {1e5f, 1e6f, 1e10f, 1e20f, 1e30f, 1e38f, 3e38f, kMax}) {
     // A vertex far away beside two on screen, in x and in y, both signs.
-    v.insert(v.end(), {{-0.5f, -0.5f, 0.3f, 1.0f}, {0.5f, -0.5f, 0.3f, 1.0f}, {far, 0.2f, 0.3f, 1.0f}});
-    v.insert(v.end(), {{-0.5f, -0.5f, 0.3f, 1.0f}, {-far, 0.5f, 0.3f, 1.0f}, {0.5f, 0.5f, 0.3f, 1.0f}});
-    v.insert(v.end(), {{-0.5f, 0.5f, 0.3f, 1.0f}, {0.5f, -0.5f, 0.3f, 1.0f}, {0.1f, far, 0.3f, 1.0f}});
-    v.insert(v.end(), {{-0.5f, 0.5f, 0.3f, 1.0f}, {0.1f, -far, 0.3f, 1.0f}, {0.5f, 0.5f, 0.3f, 1.0f}});
+    v.insert(v.end(),
+             {{-0.5f, -0.5f, 0.3f, 1.0f}, {0.5f, -0.5f, 0.3f, 1.0f}, {far, 0.2f, 0.3f, 1.0f}});
+    v.insert(v.end(),
+             {{-0.5f, -0.5f, 0.3f, 1.0f}, {-far, 0.5f, 0.3f, 1.0f}, {0.5f, 0.5f, 0.3f, 1.0f}});
+    v.insert(v.end(),
+             {{-0.5f, 0.5f, 0.3f, 1.0f}, {0.5f, -0.5f, 0.3f, 1.0f}, {0.1f, far, 0.3f, 1.0f}});
+    v.insert(v.end(),
+             {{-0.5f, 0.5f, 0.3f, 1.0f}, {0.1f, -far, 0.3f, 1.0f}, {0.5f, 0.5f, 0.3f, 1.0f}});
     // Far on both sides at once, and far in depth.
     v.insert(v.end(), {{-far, -far, 0.3f, 1.0f}, {far, -far, 0.3f, 1.0f}, {0.0f, far, 0.3f, 1.0f}});
-    v.insert(v.end(), {{-0.5f, -0.5f, far, 1.0f}, {0.5f, -0.5f, -far, 1.0f}, {0.0f, 0.5f, 0.0f, 1.0f}});
+    v.insert(v.end(),
+             {{-0.5f, -0.5f, far, 1.0f}, {0.5f, -0.5f, -far, 1.0f}, {0.0f, 0.5f, 0.0f, 1.0f}});
     // Huge w with huge x: on screen.
-    v.insert(v.end(), {{-far, -far, 0.0f, far}, {far * 0.5f, -far, 0.0f, far}, {0.0f, far * 0.5f, 0.0f, far}});
+    v.insert(
+        v.end(),
+        {{-far, -far, 0.0f, far}, {far * 0.5f, -far, 0.0f, far}, {0.0f, far * 0.5f, 0.0f, far}});
   }
   Draw lines = draw_of(v);
   Draw culled = draw_of(v);
@@ -241,7 +266,8 @@ TEST(Degenerate, ClipRoundingOnExtremeInputs) {
   std::vector<glm::vec4> v;
   for (float x : {1e4f, 1e6f, 3.3e7f, 1e8f, 3e10f, 1e20f}) {
     for (float w : {-1e-3f, -0.7f, -3.0f}) {
-      v.insert(v.end(), {{x, 0.3f * x, 0.1f, 1.0f}, {-0.7f * x, x, 0.2f, w}, {0.1f, -x, 0.3f, 1.0f}});
+      v.insert(v.end(),
+               {{x, 0.3f * x, 0.1f, 1.0f}, {-0.7f * x, x, 0.2f, w}, {0.1f, -x, 0.3f, 1.0f}});
       v.insert(v.end(), {{0.25f, 0.5f, 0.0f, 1.0f}, {x, -x, 0.0f, w}, {-x, 0.75f, 0.0f, 0.5f}});
     }
   }
@@ -258,17 +284,28 @@ TEST(Degenerate, ZeroAreaAndCollinear) {
   const float e = 1.0f / 65536.0f;  // 1/8 subpixel on a 64-pixel screen
   const std::vector<glm::vec4> v = {
       // All three vertices equal.
-      {0.1f, 0.1f, 0.0f, 1.0f}, {0.1f, 0.1f, 0.0f, 1.0f}, {0.1f, 0.1f, 0.0f, 1.0f},
+      {0.1f, 0.1f, 0.0f, 1.0f},
+      {0.1f, 0.1f, 0.0f, 1.0f},
+      {0.1f, 0.1f, 0.0f, 1.0f},
       // Collinear, along a diagonal and along an axis.
-      {-0.5f, -0.5f, 0.0f, 1.0f}, {0.0f, 0.0f, 0.0f, 1.0f}, {0.5f, 0.5f, 0.0f, 1.0f},
-      {-0.5f, 0.25f, 0.0f, 1.0f}, {0.5f, 0.25f, 0.0f, 1.0f}, {0.0f, 0.25f, 0.0f, 1.0f},
+      {-0.5f, -0.5f, 0.0f, 1.0f},
+      {0.0f, 0.0f, 0.0f, 1.0f},
+      {0.5f, 0.5f, 0.0f, 1.0f},
+      {-0.5f, 0.25f, 0.0f, 1.0f},
+      {0.5f, 0.25f, 0.0f, 1.0f},
+      {0.0f, 0.25f, 0.0f, 1.0f},
       // Distinct, but collinear once snapped to 1/256 pixel.
-      {-0.5f, -0.5f, 0.0f, 1.0f}, {0.5f, 0.5f, 0.0f, 1.0f}, {0.0f, e, 0.0f, 1.0f},
+      {-0.5f, -0.5f, 0.0f, 1.0f},
+      {0.5f, 0.5f, 0.0f, 1.0f},
+      {0.0f, e, 0.0f, 1.0f},
       // A sliver one subpixel wide, exactly through pixel centres.
-      {-1.0f, 0.015625f, 0.0f, 1.0f}, {1.0f, 0.015625f, 0.0f, 1.0f},
+      {-1.0f, 0.015625f, 0.0f, 1.0f},
+      {1.0f, 0.015625f, 0.0f, 1.0f},
       {1.0f, 0.015625f + 1.0f / 8192.0f, 0.0f, 1.0f},
       // Two vertices equal.
-      {-0.5f, -0.5f, 0.0f, 1.0f}, {-0.5f, -0.5f, 0.0f, 1.0f}, {0.5f, 0.5f, 0.0f, 1.0f},
+      {-0.5f, -0.5f, 0.0f, 1.0f},
+      {-0.5f, -0.5f, 0.0f, 1.0f},
+      {0.5f, 0.5f, 0.0f, 1.0f},
   };
   for (PrimitiveType type :
        {PrimitiveType::triangles, PrimitiveType::triangle_strip, PrimitiveType::triangle_fan}) {
@@ -303,11 +340,11 @@ TEST(Degenerate, OutOfRangeIndices) {
 
 TEST(Degenerate, EmptyAndShortDraws) {
   std::vector<Draw> draws;
-  draws.push_back(draw_of({}));                                           // nothing
-  draws.push_back(draw_of({{0, 0, 0, 1}}));                               // one vertex
+  draws.push_back(draw_of({}));              // nothing
+  draws.push_back(draw_of({{0, 0, 0, 1}}));  // one vertex
   draws.push_back(draw_of({{0, 0, 0, 1}, {1, 0, 0, 1}}, PrimitiveType::triangle_strip));
   draws.push_back(draw_of({{0, 0, 0, 1}, {1, 0, 0, 1}}, PrimitiveType::triangle_fan));
-  draws.push_back(draw_of(good_triangle(), PrimitiveType::triangles, {0, 1}));  // 2 indices
+  draws.push_back(draw_of(good_triangle(), PrimitiveType::triangles, {0, 1}));    // 2 indices
   draws.push_back(draw_of(with_good({{0, 0, 0, 1}}), PrimitiveType::triangles));  // 4: partial
   draws.push_back(draw_of(good_triangle(), PrimitiveType::triangles, {}));
   const nlohmann::json s = expect_models_agree(scene_of(16, 16, draws));
@@ -322,11 +359,11 @@ TEST(Degenerate, TinyFramebuffers) {
   // Triangles that cover a pixel's centre, miss it, and have an edge exactly
   // through it (fill rule), on 1x1, 1xN, Nx1 and 2x3 framebuffers.
   const std::vector<glm::vec4> v = {
-      {-1, -1, 0.5f, 1}, {3, -1, 0.5f, 1}, {-1, 3, 0.5f, 1},       // covers everything
+      {-1, -1, 0.5f, 1}, {3, -1, 0.5f, 1},     {-1, 3, 0.5f, 1},      // covers everything
       {-1, -1, 0.2f, 1}, {-0.5f, -1, 0.2f, 1}, {-1, -0.5f, 0.2f, 1},  // misses the centre
-      {0, -1, 0.1f, 1}, {1, -1, 0.1f, 1}, {0, 1, 0.1f, 1},          // edge through x = 0
-      {-1, 0, 0.0f, 1}, {1, 0, 0.0f, 1}, {0, 1, 0.0f, 1},           // edge through y = 0
-      {-2, -2, 0.3f, 1}, {2, -2, 0.3f, 1}, {0, 2, 0.3f, 1},         // beyond the screen
+      {0, -1, 0.1f, 1},  {1, -1, 0.1f, 1},     {0, 1, 0.1f, 1},       // edge through x = 0
+      {-1, 0, 0.0f, 1},  {1, 0, 0.0f, 1},      {0, 1, 0.0f, 1},       // edge through y = 0
+      {-2, -2, 0.3f, 1}, {2, -2, 0.3f, 1},     {0, 2, 0.3f, 1},       // beyond the screen
   };
   for (const auto& [w, h] : std::vector<std::pair<int, int>>{{1, 1}, {1, 7}, {7, 1}, {2, 3}}) {
     SCOPED_TRACE(std::to_string(w) + "x" + std::to_string(h));
@@ -343,10 +380,18 @@ TEST(Degenerate, TinyFramebuffers) {
 TEST(Degenerate, LargestFramebuffer) {
   const float p = 2.0f / 8192.0f;  // one pixel in NDC
   const std::vector<glm::vec4> v = {
-      {1 - 3 * p, 1 - 3 * p, 0.5f, 1}, {1, 1 - 3 * p, 0.5f, 1}, {1, 1, 0.5f, 1},       // top right
-      {-1, -1, 0.5f, 1}, {-1 + 3 * p, -1, 0.5f, 1}, {-1, -1 + 3 * p, 0.5f, 1},         // bottom left
-      {-0.01f, -0.01f, 0.4f, 1}, {0.01f, -0.01f, 0.4f, 1}, {0.0f, 0.01f, 0.4f, 1},     // middle
-      {0.99f, -2.0f, 0.3f, 1}, {3.0f, -2.0f, 0.3f, 1}, {0.99f, -0.99f, 0.3f, 1},       // edges
+      {1 - 3 * p, 1 - 3 * p, 0.5f, 1},
+      {1, 1 - 3 * p, 0.5f, 1},
+      {1, 1, 0.5f, 1},  // top right
+      {-1, -1, 0.5f, 1},
+      {-1 + 3 * p, -1, 0.5f, 1},
+      {-1, -1 + 3 * p, 0.5f, 1},  // bottom left
+      {-0.01f, -0.01f, 0.4f, 1},
+      {0.01f, -0.01f, 0.4f, 1},
+      {0.0f, 0.01f, 0.4f, 1},  // middle
+      {0.99f, -2.0f, 0.3f, 1},
+      {3.0f, -2.0f, 0.3f, 1},
+      {0.99f, -0.99f, 0.3f, 1},  // edges
   };
   const nlohmann::json s = expect_models_agree(scene_of(8192, 8192, {draw_of(v)}));
   EXPECT_EQ(count(s, "triangles_rasterized"), 4u);
@@ -362,8 +407,8 @@ TEST(Degenerate, RandomSoupOfSpecialValues) {
     z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
     return z ^ (z >> 31);
   };
-  const float specials[] = {0.0f, -0.0f, 1.0f, -1.0f, 0.5f, kNaN, kInf, -kInf, kMax, -kMax,
-                            kDenorm, 1e-30f, 1e30f, 3e38f, -3e38f, 1e6f, 2.0f, 1e-7f};
+  const float specials[] = {0.0f,  -0.0f,   1.0f,   -1.0f, 0.5f,  kNaN,   kInf, -kInf, kMax,
+                            -kMax, kDenorm, 1e-30f, 1e30f, 3e38f, -3e38f, 1e6f, 2.0f,  1e-7f};
   const auto value = [&] {
     const uint64_t r = next();
     if (r % 4 == 0) return specials[(r >> 8) % (sizeof specials / sizeof specials[0])];

@@ -32,7 +32,8 @@ class SameBytes : public ::testing::TestWithParam<const char*> {
     dir_ = fs::path(::testing::TempDir()) / ("gpusim_det_" + std::to_string(getpid()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
-    std::ofstream(dir_ / "gpu.json") << R"({"units": 3, "tile_size": 8, "stamp": [2, 2], "fifo_depth": 2})";
+    std::ofstream(dir_ / "gpu.json")
+        << R"({"units": 3, "tile_size": 8, "stamp": [2, 2], "fifo_depth": 2})";
   }
   void TearDown() override { fs::remove_all(dir_); }
 
@@ -70,8 +71,7 @@ INSTANTIATE_TEST_SUITE_P(Scenes, SameBytes,
 // Twice in one process (a fresh SystemC context each time), with random
 // stalls at every FIFO: identical frames, counters and timing statistics.
 TEST(SameResults, TwiceInOneProcess) {
-  const Scene scene =
-      load_scene(std::string(GPUSIM_SOURCE_DIR) + "/testbench/scenes/default.json");
+  const Scene scene = load_scene(std::string(GPUSIM_SOURCE_DIR) + "/testbench/scenes/default.json");
   GpuRunOptions options;
   options.record_last_writer = true;
   options.stall_probability = 0.1;

@@ -82,8 +82,8 @@ TEST(Limits, RequestBeyondTheLimitFailsWithTheFigures) {
 
 TEST(Limits, DefaultLimitIsTheMachinesMemory) {
   const MemoryLimit limit = default_memory_limit();
-  const uint64_t physical =
-      static_cast<uint64_t>(sysconf(_SC_PHYS_PAGES)) * static_cast<uint64_t>(sysconf(_SC_PAGE_SIZE));
+  const uint64_t physical = static_cast<uint64_t>(sysconf(_SC_PHYS_PAGES)) *
+                            static_cast<uint64_t>(sysconf(_SC_PAGE_SIZE));
   EXPECT_GT(limit.bytes, 64ull << 20);
   EXPECT_LE(limit.bytes, physical);
   EXPECT_FALSE(limit.source.empty());

@@ -47,7 +47,8 @@ std::string failure(const Scene& scene, const GpuConfig& config, const GpuRunOpt
   } catch (const SimulationError& e) {
     EXPECT_EQ(static_cast<int>(e.kind()), static_cast<int>(kind)) << e.what();
     // Stopping costs no wall time: the kernel jumps over idle cycles.
-    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 30.0);
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
+              30.0);
     return e.what();
   }
   ADD_FAILURE() << "the run completed";
@@ -85,7 +86,10 @@ TEST(Watchdog, LostEndOfFrameIsReportedAsALostItem) {
   const std::string r =
       failure(strip_scene(20), GpuConfig{}, options, SimulationError::Kind::deadlock);
   EXPECT_EQ(r.rfind("deadlock: every process is blocked and the frame is not complete (seen at "
-                    "cycle ", 0), 0u) << r;
+                    "cycle ",
+                    0),
+            0u)
+      << r;
   EXPECT_TRUE(has(r, "every stage waits for input and every FIFO is empty: an item was lost")) << r;
   EXPECT_TRUE(has(r, "clipper: waiting on input shader_to_clipper (0/16)")) << r;
   EXPECT_TRUE(has(r, "rop_3: waiting on input interpolator_to_rop_3 (0/16)")) << r;
@@ -175,8 +179,8 @@ TEST(Watchdog, CommandLineExitsWithThree) {
   std::ofstream(dir / "gpu.json") << R"({"watchdog_cycles": 1})";
   const std::string cmd = std::string(GPUSIM_BINARY_DIR) + "/gpusim run " +
                           (dir / "scene.json").string() + " --config " +
-                          (dir / "gpu.json").string() + " --out " + (dir / "out").string() +
-                          " >" + (dir / "stdout").string() + " 2>" + (dir / "stderr").string();
+                          (dir / "gpu.json").string() + " --out " + (dir / "out").string() + " >" +
+                          (dir / "stdout").string() + " 2>" + (dir / "stderr").string();
   const int st = std::system(cmd.c_str());
   ASSERT_TRUE(WIFEXITED(st));
   EXPECT_EQ(WEXITSTATUS(st), 3);
