@@ -131,14 +131,63 @@ struct SplitMix64 {
 
 }  // namespace fifo_detail
 
+// A FIFO seen through its type-independent parts: what the netlist
+// (stages/topology.h), the statistics, the watchdog and stall injection need,
+// whatever packet the FIFO carries.
+class FifoChannel : public sc_core::sc_prim_channel {
+ public:
+  explicit FifoChannel(const char* name) : sc_core::sc_prim_channel(name) {}
+  virtual size_t capacity() const = 0;
+  // Items held, readable or not.
+  virtual size_t occupancy() const = 0;
+  virtual FifoStats stats() const = 0;
+  // Times in cycles of `cycle` (fractional if not whole cycles).
+  virtual nlohmann::json stats_json(sc_core::sc_time cycle) const = 0;
+  // The stats_json() fields: {name: {"unit", "description"}}.
+  static nlohmann::json descriptions();
+  virtual void inject_random_stalls(uint64_t seed, double probability, unsigned max_cycles,
+                                    sc_core::sc_time cycle) = 0;
+  virtual const sc_core::sc_event& written_event() const = 0;
+  virtual const sc_core::sc_event& read_event() const = 0;
+
+  // Test-only fault (docs/robustness.md, "Watchdog"): from now on the reader
+  // never sees an item, as if its port were bound to a FIFO nobody writes.
+  void withhold_from_reader() { m_withheld = true; }
+  bool withheld() const { return m_withheld; }
+
+ protected:
+  bool m_withheld = false;
+};
+
+inline nlohmann::json FifoChannel::descriptions() {
+  const auto d = [](const char* unit, const char* text) {
+    return nlohmann::json{{"unit", unit}, {"description", text}};
+  };
+  return {
+      {"depth", d("items", "slots")},
+      {"written", d("items", "items written")},
+      {"read", d("items", "items read")},
+      {"max_occupancy", d("items", "most items held at once")},
+      {"mean_occupancy", d("items", "items held, averaged over the frame")},
+      {"full_cycles", d("cycles", "cycles holding depth items")},
+      {"empty_cycles", d("cycles", "cycles holding no item")},
+      {"writer_blocked_cycles", d("cycles", "cycles its writer waited for a free slot (stall)")},
+      {"reader_blocked_cycles",
+       d("cycles", "cycles its reader waited for a readable item (starve)")},
+      {"injected_stalls", d("events", "reads and writes delayed by random stall injection")},
+      {"injected_stall_cycles", d("cycles", "delay added by random stall injection")},
+      {"observed_cycles", d("cycles", "the window every figure above covers")},
+  };
+}
+
 template <typename T>
-class Fifo : public sc_core::sc_prim_channel, public FifoInIf<T>, public FifoOutIf<T> {
+class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
  public:
   // T must be default-constructible, copy-assignable and swappable: the ring
   // holds `depth` values from construction on, so a write is one assignment
   // (or one swap).
   Fifo(const char* name, size_t depth)
-      : sc_core::sc_prim_channel(name),
+      : FifoChannel(name),
         m_buf(depth),
         m_ready(depth),
         m_data_written_event((std::string(name) + "_written").c_str()),
@@ -220,7 +269,7 @@ class Fifo : public sc_core::sc_prim_channel, public FifoInIf<T>, public FifoOut
   }
 
   // Items the reader can take now (written before this delta, not yet read).
-  size_t size() const override { return m_committed - m_num_read; }
+  size_t size() const override { return m_withheld ? 0 : m_committed - m_num_read; }
   // Slots a writer can fill now (slots freed in this delta count from the next).
   size_t num_free() const override { return m_buf.size() - m_committed - m_num_written; }
   size_t depth() const override { return m_buf.size(); }
@@ -247,7 +296,7 @@ class Fifo : public sc_core::sc_prim_channel, public FifoInIf<T>, public FifoOut
   // draw from separate streams derived from `seed`, so a run is reproducible.
   // Used to prove that results do not depend on timing (as MatchLib does).
   void inject_random_stalls(uint64_t seed, double probability, unsigned max_cycles,
-                            sc_core::sc_time cycle) {
+                            sc_core::sc_time cycle) override {
     if (!(probability >= 0.0 && probability <= 1.0) || max_cycles == 0 ||
         cycle == sc_core::SC_ZERO_TIME) {
       throw std::invalid_argument(std::string("Fifo ") + name() +
@@ -261,7 +310,13 @@ class Fifo : public sc_core::sc_prim_channel, public FifoInIf<T>, public FifoOut
     m_read_rng.state = seed ^ 0xD1B54A32D192ED03ull;
   }
 
-  FifoStats stats() const {
+  size_t capacity() const override { return m_buf.size(); }
+  // As depth() - num_free(): a slot read in this delta is free only from the next.
+  size_t occupancy() const override { return m_committed + m_num_written; }
+  const sc_core::sc_event& written_event() const override { return data_written_event(); }
+  const sc_core::sc_event& read_event() const override { return data_read_event(); }
+
+  FifoStats stats() const override {
     const uint64_t now = this->now();
     const uint64_t dt = now - m_occupancy.since;
     FifoStats s;
@@ -280,8 +335,7 @@ class Fifo : public sc_core::sc_prim_channel, public FifoInIf<T>, public FifoOut
     return s;
   }
 
-  // Times in cycles of `cycle` (fractional if not whole cycles).
-  nlohmann::json stats_json(sc_core::sc_time cycle) const {
+  nlohmann::json stats_json(sc_core::sc_time cycle) const override {
     const FifoStats s = stats();
     const auto cycles = [&](sc_core::sc_time t) { return t / cycle; };
     return {

@@ -44,13 +44,17 @@ class Reader {
     if (!j.is_object()) fail(path, std::string("expected an object, got ") + j.type_name());
   }
 
-  // Every key of `j` must be one of `known`.
+  // Every key of `j` must be one of `known`; the error lists them, as the
+  // scene loader's do.
   void check_keys(const nlohmann::json& j, const std::string& path,
                   const std::vector<std::string>& known) const {
     for (const auto& item : j.items()) {
       bool found = false;
       for (const auto& k : known) found = found || k == item.key();
-      if (!found) fail(join(path, item.key()), "unknown key");
+      if (found) continue;
+      std::string list;
+      for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+      fail(join(path, item.key()), "unknown key (allowed: " + list + ")");
     }
   }
 
@@ -80,35 +84,52 @@ class Reader {
 }  // namespace
 
 const std::vector<std::string>& GpuConfig::stage_names() {
-  static const std::vector<std::string> names{
-      "command_processor", "vertex_fetch", "vertex_shader", "clipper",    "triangle_setup",
-      "tile_distributor",  "rasterizer",   "interpolator",  "depth_test", "rop"};
+  // The stages are the ones with a default cost; pipeline order.
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> n;
+    for (const auto& [name, cost] : default_stage_cost_list()) n.push_back(name);
+    return n;
+  }();
   return names;
 }
 
+// The FIFOs of the netlist (stages/gpu.cpp), each a key of fifo_depths;
+// pipeline order. A test checks this against the elaborated topology.
 const std::vector<std::string>& GpuConfig::fifo_names() {
-  static const std::vector<std::string> names{
-      "command_to_fetch",    "fetch_to_shader",       "shader_to_clipper",
-      "clipper_to_setup",    "setup_to_distributor",  "distributor_to_rasterizer",
-      "rasterizer_to_depth", "depth_to_interpolator", "interpolator_to_rop"};
+  static const std::vector<std::string> names{"commands",
+                                              "command_to_fetch",
+                                              "fetch_to_shader",
+                                              "shader_to_clipper",
+                                              "clipper_to_setup",
+                                              "setup_to_distributor",
+                                              "distributor_to_rasterizer",
+                                              "rasterizer_to_depth",
+                                              "depth_to_interpolator",
+                                              "interpolator_to_rop"};
   return names;
 }
 
 // Defaults model a fully pipelined fixed-function part at 1 GHz; the
-// reasoning for each value is in docs/gpu-config.md.
-std::map<std::string, StageCost, std::less<>> GpuConfig::default_stage_costs() {
-  return {
+// reasoning for each value is in docs/gpu-config.md. Pipeline order.
+const std::vector<std::pair<std::string, StageCost>>& GpuConfig::default_stage_cost_list() {
+  static const std::vector<std::pair<std::string, StageCost>> list{
       {"command_processor", {1, 2}},  // decode one command
       {"vertex_fetch", {1, 2}},       // per vertex, plus the memory's own delay
       {"vertex_shader", {4, 24}},     // per vertex: 4 shared multiply-add ranks, T&L
       {"clipper", {2, 8}},            // per triangle: assembly, clip test, divide, viewport
       {"triangle_setup", {4, 16}},    // per triangle: edge and attribute plane equations
       {"tile_distributor", {1, 2}},   // per triangle-tile pair
-      {"rasterizer", {1, 2}},         // per stamp
-      {"interpolator", {1, 6}},       // per stamp: perspective-correct reciprocal and products
+      {"tile_rasterizer", {1, 2}},    // per stamp
       {"depth_test", {1, 2}},         // per stamp, plus the memory's own delay
+      {"interpolator", {1, 6}},       // per stamp: perspective-correct reciprocal and products
       {"rop", {1, 4}},                // per stamp: blend and mask, plus the memory's delay
   };
+  return list;
+}
+
+std::map<std::string, StageCost, std::less<>> GpuConfig::default_stage_costs() {
+  const auto& list = default_stage_cost_list();
+  return {list.begin(), list.end()};
 }
 
 const StageCost& GpuConfig::stage(std::string_view name) const {

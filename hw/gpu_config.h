@@ -13,6 +13,7 @@
 #include <string>
 #include <string_view>
 #include <systemc>
+#include <utility>
 #include <vector>
 
 #include "hw/input_error.h"
@@ -58,9 +59,12 @@ struct GpuConfig {
   unsigned tile_cache_entries = 16;    // framebuffer tiles cached per unit, per buffer
   uint64_t watchdog_cycles = 1000000;  // no stage progress for this long stops the run
 
-  // The fixed names of the pipeline stages and FIFOs, in pipeline order.
+  // The configurable stages and FIFOs, in pipeline order: the kinds of the
+  // netlist (stages/topology.h), which checks them when the GPU is
+  // elaborated; the stages are those of default_stage_cost_list().
   static const std::vector<std::string>& stage_names();
   static const std::vector<std::string>& fifo_names();
+  static const std::vector<std::pair<std::string, StageCost>>& default_stage_cost_list();
   static std::map<std::string, StageCost, std::less<>> default_stage_costs();
 
   // Lookups by a name of stage_names() / fifo_names(); an unknown name is a

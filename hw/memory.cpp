@@ -157,6 +157,28 @@ nlohmann::json Memory::stats_json() const {
   };
 }
 
+nlohmann::json Memory::descriptions() {
+  const auto d = [](const char* unit, const char* text) {
+    return nlohmann::json{{"unit", unit}, {"description", text}};
+  };
+  return {
+      {"size_bytes", d("bytes", "memory size")},
+      {"latency", d("cycles", "from the end of a bus transfer to its completion")},
+      {"bytes_per_cycle", d("bytes", "data bus width")},
+      {"busy_cycles", d("cycles", "cycles the bus moved data")},
+      {"utilization", d("ratio", "busy_cycles over the cycles elapsed")},
+      {"clients",
+       {{"requests", d("requests", "successful reads and writes")},
+        {"reads", d("requests", "reads")},
+        {"writes", d("requests", "writes")},
+        {"bytes_read", d("bytes", "bytes read")},
+        {"bytes_written", d("bytes", "bytes written")},
+        {"busy_cycles", d("cycles", "bus cycles its requests occupied")},
+        {"queued_cycles", d("cycles", "summed waits for the bus")},
+        {"errors", d("requests", "requests answered with an error")}}},
+  };
+}
+
 MemoryPort::MemoryPort(const char* name) : m_socket(name) {}
 
 void MemoryPort::bind(Memory& memory) {

@@ -80,6 +80,8 @@ class Memory : public sc_core::sc_module {
   //  busy_cycles, queued_cycles, errors}}}; utilization is busy cycles over
   // the cycles elapsed so far.
   nlohmann::json stats_json() const;
+  // What each stats_json() field means: {name: {"unit", "description"}}.
+  static nlohmann::json descriptions();
 
  private:
   struct Client {

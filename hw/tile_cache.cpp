@@ -9,13 +9,14 @@ namespace gpusim {
 TileCache::TileCache(MemoryPort& mem, StatGroup& stats, unsigned entries)
     : m_mem(mem),
       m_entries(std::max(entries, 1u)),
-      m_hits(stats.counter("cache_hits", "tile lookups that found the tile cached")),
-      m_misses(stats.counter("cache_misses", "tile lookups that read the tile from memory")),
-      m_clear_fills(stats.counter("cache_clear_fills",
+      m_hits(stats.counter("cache_hits", "tiles", "tile lookups that found the tile cached")),
+      m_misses(
+          stats.counter("cache_misses", "tiles", "tile lookups that read the tile from memory")),
+      m_clear_fills(stats.counter("cache_clear_fills", "tiles",
                                   "tile lookups filled from the fast-clear value, no read")),
-      m_writebacks(stats.counter("cache_writebacks", "tiles written back to memory")),
-      m_bytes_read(stats.counter("bytes_read", "bytes read from memory")),
-      m_bytes_written(stats.counter("bytes_written", "bytes written to memory")) {}
+      m_writebacks(stats.counter("cache_writebacks", "tiles", "tiles written back to memory")),
+      m_bytes_read(stats.counter("bytes_read", "bytes", "bytes read from memory")),
+      m_bytes_written(stats.counter("bytes_written", "bytes", "bytes written to memory")) {}
 
 void TileCache::configure(const Layout& layout) {
   m_layout = layout;

@@ -53,19 +53,20 @@ class FragmentProbe {
   virtual void rop_wrote(unsigned unit, const RopFragment& f) = 0;
 };
 
-// The GPU's stages and FIFOs as the trace files number them: stats.json's
-// names, in pipeline order (the front end, then each unit's stages).
-struct TraceTables {
+// The GPU's netlist (stages/topology.h) as the trace files number it:
+// stats.json's names, in pipeline order (the front end, then each unit's
+// stages).
+struct NetlistTables {
   static constexpr int kHost = -1;  // the writer of "commands"
   struct Stage {
-    std::string name;  // "triangle_setup", "depth_test_2"
-    std::string kind;  // the name without the unit suffix
-    int unit = -1;     // -1: front end
-    int input = -1;    // index into fifos
-    std::vector<int> outputs;
+    std::string name;                  // "triangle_setup", "depth_test_2"
+    std::string kind;                  // the name without the unit suffix
+    int unit = -1;                     // -1: front end
+    std::vector<int> inputs, outputs;  // indices into fifos
   };
   struct Fifo {
     std::string name;
+    std::string kind;  // the name without the unit suffix
     size_t depth = 0;
     int writer = kHost;  // index into stages, or kHost
     int reader = -1;
@@ -93,7 +94,7 @@ template <typename T>
 struct ProbeTag {};
 
 // A recorder as the GPU sees it (Gpu::attach_trace): one probe per FIFO,
-// by index into TraceTables::fifos (nullptr: that FIFO is not traced), and
+// by index into NetlistTables::fifos (nullptr: that FIFO is not traced), and
 // one fragment probe (nullptr: none).
 class TraceProbes {
  public:

@@ -18,14 +18,11 @@ bool is_finite(const glm::vec4& v) {
 }  // namespace
 
 Clipper::Clipper(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame)
-    : sc_core::sc_module(name),
+    : PipelineStage(name, "clipper", -1, config, frame, "batches and control tokens read",
+                    "triangles and control tokens written"),
       in("in"),
       out("out"),
-      m_config(config),
-      m_frame(frame),
-      m_cost(config.stage("clipper")),
-      m_cycle(config.cycle().value()),
-      m_latency(clock_cycles(m_cost.latency)),
+
       m_cache(config.vertex_cache_entries) {
   const float width = static_cast<float>(frame.framebuffer.width);
   const float height = static_cast<float>(frame.framebuffer.height);
@@ -49,8 +46,7 @@ Clipper::Clipper(sc_core::sc_module_name name, const GpuConfig& config, const Fr
 
 void Clipper::run() {
   for (;;) {
-    const ShadedBatch batch = in->read();
-    ++m_tokens_in;
+    const ShadedBatch batch = receive(in);
     m_out.clear();
     uint64_t busy = m_cost.ii;
     if (batch.kind == PacketKind::work) {
@@ -60,12 +56,8 @@ void Clipper::run() {
       token.kind = batch.kind;
       m_out.push_back(token);
     }
-    m_busy_cycles += busy;
-    if (busy > 0) sc_core::wait(clock_cycles(busy));
-    for (const ClippedTriangle& t : m_out) {
-      out->write(t, sc_core::sc_time_stamp() + m_latency);
-      ++m_tokens_out;
-    }
+    work(busy);
+    for (const ClippedTriangle& t : m_out) emit(out, t);
   }
 }
 

@@ -37,19 +37,28 @@
 #include "hw/fifo.h"
 #include "hw/gpu_config.h"
 #include "hw/packets.h"
+#include "hw/pipeline_stage.h"
 #include "hw/stats.h"
 #include "hw/vertex_packets.h"
 
 namespace gpusim {
 
-class Clipper : public sc_core::sc_module {
+class Clipper : public PipelineStage {
  public:
   FifoInPort<ShadedBatch> in;
   FifoOutPort<ClippedTriangle> out;
 
   Clipper(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame);
 
-  const StatGroup& stats() const { return m_stats; }
+  uint64_t triangles_in() const { return m_in; }
+  // The golden model's clipping counters (docs/pipeline-spec.md, section 13).
+  nlohmann::json pipeline_counts() const {
+    return {{"triangles_in", m_in},
+            {"triangles_invalid", m_invalid},
+            {"triangles_clipped_away", m_clipped_away},
+            {"triangles_clipped", m_clipped},
+            {"triangles_after_clip", m_after_clip}};
+  }
 
  private:
   static constexpr int kPlanes = 7;
@@ -71,17 +80,6 @@ class Clipper : public sc_core::sc_module {
   float distance(int plane, const glm::vec4& c) const;
   ClippedVertex to_window(const ShadedVertex& v) const;
 
-  const GpuConfig& m_config;
-  const FrameState& m_frame;
-  const StageCost m_cost;
-  // The clock period in SystemC time units, kept: GpuConfig::cycles() converts
-  // it from the MHz double on every call, a cost paid per token otherwise.
-  const uint64_t m_cycle;
-  sc_core::sc_time clock_cycles(uint64_t n) const {
-    return sc_core::sc_time::from_value(m_cycle * n);
-  }
-  // latency(stage) cycles: an output is readable this long after it is written.
-  const sc_core::sc_time m_latency;
   // Guard-band factors (spec section 4): x >= -m_gl * w, x <= m_gr * w, ...
   float m_gl = 0.0f, m_gr = 0.0f, m_gb = 0.0f, m_gt = 0.0f;
   float m_half_width = 0.0f, m_half_height = 0.0f;
@@ -98,22 +96,19 @@ class Clipper : public sc_core::sc_module {
   std::vector<ClippedVertex> m_window;
   std::vector<ClippedTriangle> m_out;
 
-  StatGroup m_stats{name()};
-  uint64_t& m_busy_cycles =
-      m_stats.counter("busy_cycles", "cycles spent on triangles and control tokens");
-  uint64_t& m_tokens_in = m_stats.counter("tokens_in", "batches and control tokens read");
-  uint64_t& m_tokens_out = m_stats.counter("tokens_out", "triangles and control tokens written");
   uint64_t& m_cache_writes =
-      m_stats.counter("cache_writes", "shaded vertices stored in the vertex cache");
-  uint64_t& m_cache_reads =
-      m_stats.counter("cache_reads", "shaded vertices read from the vertex cache (hits)");
-  uint64_t& m_in = m_stats.counter("triangles_in", "triangles assembled");
-  uint64_t& m_invalid =
-      m_stats.counter("triangles_invalid", "dropped: index out of range or non-finite position");
+      m_stats.counter("cache_writes", "vertices", "shaded vertices stored in the vertex cache");
+  uint64_t& m_cache_reads = m_stats.counter("cache_reads", "vertices",
+                                            "shaded vertices read from the vertex cache (hits)");
+  uint64_t& m_in = m_stats.counter("triangles_in", "triangles", "triangles assembled");
+  uint64_t& m_invalid = m_stats.counter("triangles_invalid", "triangles",
+                                        "dropped: index out of range or non-finite position");
   uint64_t& m_clipped_away =
-      m_stats.counter("triangles_clipped_away", "nothing left inside the clip volume");
-  uint64_t& m_clipped = m_stats.counter("triangles_clipped", "cut by a plane, a part kept");
-  uint64_t& m_after_clip = m_stats.counter("triangles_after_clip", "triangles written to setup");
+      m_stats.counter("triangles_clipped_away", "triangles", "nothing left inside the clip volume");
+  uint64_t& m_clipped =
+      m_stats.counter("triangles_clipped", "triangles", "cut by a plane, a part kept");
+  uint64_t& m_after_clip =
+      m_stats.counter("triangles_after_clip", "triangles", "triangles written to setup");
 };
 
 }  // namespace gpusim

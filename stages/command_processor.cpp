@@ -6,22 +6,17 @@ namespace gpusim {
 
 CommandProcessor::CommandProcessor(sc_core::sc_module_name name, const GpuConfig& config,
                                    const FrameState& frame)
-    : sc_core::sc_module(name),
+    : PipelineStage(name, "command_processor", -1, config, frame, "commands read",
+                    "commands forwarded to vertex fetch"),
       in("in"),
-      out("out"),
-      m_config(config),
-      m_frame(frame),
-      m_cost(config.stage("command_processor")),
-      m_cycle(config.cycle().value()),
-      m_latency(clock_cycles(m_cost.latency)) {
+      out("out") {
   SC_HAS_PROCESS(CommandProcessor);
   SC_THREAD(run);
 }
 
 void CommandProcessor::run() {
   for (;;) {
-    const Command cmd = in->read();
-    ++m_tokens_in;
+    const Command cmd = receive(in);
     switch (cmd.kind) {
       case PacketKind::work:
         // A draw id outside the frame's registers is a driver bug: stop here
@@ -41,10 +36,8 @@ void CommandProcessor::run() {
         ++m_frames;
         break;
     }
-    m_busy_cycles += m_cost.ii;
-    sc_core::wait(clock_cycles(m_cost.ii));
-    out->write(cmd, sc_core::sc_time_stamp() + m_latency);
-    ++m_tokens_out;
+    work(m_cost.ii);
+    emit(out, cmd);
   }
 }
 

@@ -50,16 +50,13 @@ constexpr CompareFunc kAnyFunc = CompareFunc::never;
 
 DepthTest::DepthTest(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame,
                      unsigned unit)
-    : sc_core::sc_module(name),
+    : PipelineStage(name, "depth_test", static_cast<int>(unit), config, frame,
+                    "stamp batches and control tokens read",
+                    "stamp batches and control tokens forwarded"),
       in("in"),
       out("out"),
       mem("mem"),
-      m_config(config),
-      m_frame(frame),
-      m_unit(unit),
-      m_cost(config.stage("depth_test")),
-      m_cycle(config.cycle().value()),
-      m_latency(clock_cycles(m_cost.latency)),
+
       m_tile_shift(log2_side(config.tile_size)),
       m_stamp_shift(log2_side(config.stamp[0])),
       m_cache(mem, m_stats, config.tile_cache_entries) {
@@ -96,8 +93,7 @@ void DepthTest::run() {
   // buffers (hw/fifo.h), so no batch allocates.
   StampBatch batch;
   for (;;) {
-    in->read(batch);
-    ++m_tokens_in;
+    receive(in, batch);
     sc_core::sc_time t = sc_core::SC_ZERO_TIME;  // memory stall, local offset
     uint64_t cycles = m_cost.ii;
     sc_core::sc_time ready_after = m_latency;
@@ -126,12 +122,8 @@ void DepthTest::run() {
       stall = stall > cycles ? stall - cycles : 0;
     }
     m_memory_stall_cycles += stall;
-    m_busy_cycles += cycles + stall;
-    sc_core::wait(clock_cycles(cycles + stall));
-    if (forward) {
-      out->write(std::move(batch), sc_core::sc_time_stamp() + ready_after);
-      ++m_tokens_out;
-    }
+    work(cycles + stall);
+    if (forward) emit_at(out, std::move(batch), sc_core::sc_time_stamp() + ready_after);
   }
 }
 

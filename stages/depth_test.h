@@ -44,13 +44,14 @@
 #include "hw/gpu_config.h"
 #include "hw/memory.h"
 #include "hw/packets.h"
+#include "hw/pipeline_stage.h"
 #include "hw/stats.h"
 #include "hw/tile_cache.h"
 #include "hw/trace_probe.h"
 
 namespace gpusim {
 
-class DepthTest : public sc_core::sc_module {
+class DepthTest : public PipelineStage {
  public:
   FifoInPort<StampBatch> in;
   FifoOutPort<StampBatch> out;
@@ -59,12 +60,12 @@ class DepthTest : public sc_core::sc_module {
   DepthTest(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame,
             unsigned unit);
 
-  const StatGroup& stats() const { return m_stats; }
-
   // Tracing: every tested fragment is reported to `probe` (nullptr: none).
   void set_fragment_probe(FragmentProbe* probe) {
     if constexpr (kTraceHooks) m_probe = probe;  // a build without hooks ignores it
   }
+
+  uint64_t fragments_passed() const { return m_fragments_passed; }
 
  private:
   void run();
@@ -83,18 +84,6 @@ class DepthTest : public sc_core::sc_module {
   // Fills m_offset for the triangle's edge steps (kept while they are unchanged).
   void update_offsets(const RasterTriangle& tri);
 
-  const GpuConfig& m_config;
-  const FrameState& m_frame;
-  const unsigned m_unit;
-  const StageCost m_cost;
-  // The clock period in SystemC time units, kept: GpuConfig::cycles() converts
-  // it from the MHz double on every call, a cost paid per token otherwise.
-  const uint64_t m_cycle;
-  sc_core::sc_time clock_cycles(uint64_t n) const {
-    return sc_core::sc_time::from_value(m_cycle * n);
-  }
-  // latency(stage) cycles: an output is readable this long after it is written.
-  const sc_core::sc_time m_latency;
   // log2 of the tile side and of the stamp width (powers of two): a stamp's
   // tile is its origin >> m_tile_shift, a mask bit's row is bit >> m_stamp_shift.
   const int m_tile_shift, m_stamp_shift;
@@ -110,19 +99,14 @@ class DepthTest : public sc_core::sc_module {
   bool m_offset_valid = false;
   std::array<size_t, 64> m_pixel_offset{};
 
-  StatGroup m_stats{name()};
-  uint64_t& m_busy_cycles =
-      m_stats.counter("busy_cycles", "cycles spent on tokens, memory stalls included");
-  uint64_t& m_tokens_in = m_stats.counter("tokens_in", "stamp batches and control tokens read");
-  uint64_t& m_tokens_out =
-      m_stats.counter("tokens_out", "stamp batches and control tokens forwarded");
-  uint64_t& m_stamps = m_stats.counter("stamps", "stamps tested");
-  uint64_t& m_stamps_passed = m_stats.counter("stamps_passed", "stamps with a pixel left");
-  uint64_t& m_fragments_in = m_stats.counter("fragments_in", "covered pixels tested");
-  uint64_t& m_fragments_passed =
-      m_stats.counter("fragments_passed", "pixels passing the depth test (all when it is off)");
+  uint64_t& m_stamps = m_stats.counter("stamps", "stamps", "stamps tested");
+  uint64_t& m_stamps_passed =
+      m_stats.counter("stamps_passed", "stamps", "stamps with a pixel left");
+  uint64_t& m_fragments_in = m_stats.counter("fragments_in", "fragments", "covered pixels tested");
+  uint64_t& m_fragments_passed = m_stats.counter(
+      "fragments_passed", "fragments", "pixels passing the depth test (all when it is off)");
   uint64_t& m_memory_stall_cycles = m_stats.counter(
-      "memory_stall_cycles",
+      "memory_stall_cycles", "cycles",
       "cycles of busy_cycles beyond ii per stamp or token: tile reads, or at end_of_frame "
       "the drain and write-back");
   TileCache m_cache;

@@ -13,15 +13,12 @@ namespace gpusim {
 
 Interpolator::Interpolator(sc_core::sc_module_name name, const GpuConfig& config,
                            const FrameState& frame, unsigned unit)
-    : sc_core::sc_module(name),
+    : PipelineStage(name, "interpolator", static_cast<int>(unit), config, frame,
+                    "stamp batches and control tokens read",
+                    "shaded batches and control tokens written"),
       in("in"),
       out("out"),
-      m_config(config),
-      m_frame(frame),
-      m_unit(unit),
-      m_cost(config.stage("interpolator")),
-      m_cycle(config.cycle().value()),
-      m_latency(clock_cycles(m_cost.latency)),
+
       m_stamp_shift(log2_side(config.stamp[0])),
       m_stamp_pixels(static_cast<int>(config.stamp[0] * config.stamp[1])) {
   SC_HAS_PROCESS(Interpolator);
@@ -34,8 +31,7 @@ void Interpolator::run() {
   StampBatch batch;
   ShadedStampBatch result;
   for (;;) {
-    in->read(batch);
-    ++m_tokens_in;
+    receive(in, batch);
     result.kind = batch.kind;
     result.stamps.clear();
     // A work batch's colours are resized by shade(): the stale packet's
@@ -50,10 +46,8 @@ void Interpolator::run() {
       m_fragments += result.colors.size();
     }
     result.triangle.swap(batch.triangle);
-    m_busy_cycles += cycles;
-    sc_core::wait(clock_cycles(cycles));
-    out->write(std::move(result), sc_core::sc_time_stamp() + m_latency);
-    ++m_tokens_out;
+    work(cycles);
+    emit(out, std::move(result));
   }
 }
 

@@ -24,11 +24,12 @@
 #include "hw/fifo.h"
 #include "hw/gpu_config.h"
 #include "hw/packets.h"
+#include "hw/pipeline_stage.h"
 #include "hw/stats.h"
 
 namespace gpusim {
 
-class Interpolator : public sc_core::sc_module {
+class Interpolator : public PipelineStage {
  public:
   FifoInPort<StampBatch> in;
   FifoOutPort<ShadedStampBatch> out;
@@ -36,26 +37,12 @@ class Interpolator : public sc_core::sc_module {
   Interpolator(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame,
                unsigned unit);
 
-  const StatGroup& stats() const { return m_stats; }
-
  private:
   void run();
   void shade(const StampBatch& batch, ShadedStampBatch& result);
   // Fills m_offset for the triangle's edge steps (kept while they are unchanged).
   void update_offsets(const RasterTriangle& tri);
 
-  const GpuConfig& m_config;
-  const FrameState& m_frame;
-  const unsigned m_unit;
-  const StageCost m_cost;
-  // The clock period in SystemC time units, kept: GpuConfig::cycles() converts
-  // it from the MHz double on every call, a cost paid per token otherwise.
-  const uint64_t m_cycle;
-  sc_core::sc_time clock_cycles(uint64_t n) const {
-    return sc_core::sc_time::from_value(m_cycle * n);
-  }
-  // latency(stage) cycles: an output is readable this long after it is written.
-  const sc_core::sc_time m_latency;
   const int m_stamp_shift;  // log2 of the stamp width: a mask bit's row is bit >> shift
   const int m_stamp_pixels;
 
@@ -67,15 +54,10 @@ class Interpolator : public sc_core::sc_module {
   std::array<EdgeValue, 3> m_step_x{}, m_step_y{};
   bool m_offset_valid = false;
 
-  StatGroup m_stats{name()};
-  uint64_t& m_busy_cycles = m_stats.counter("busy_cycles", "cycles spent on tokens");
-  uint64_t& m_tokens_in = m_stats.counter("tokens_in", "stamp batches and control tokens read");
-  uint64_t& m_tokens_out =
-      m_stats.counter("tokens_out", "shaded batches and control tokens written");
-  uint64_t& m_stamps = m_stats.counter("stamps", "stamps interpolated");
-  uint64_t& m_fragments = m_stats.counter("fragments", "pixels given a colour");
-  uint64_t& m_flat_fragments =
-      m_stats.counter("flat_fragments", "pixels of flat-shaded triangles (no interpolation)");
+  uint64_t& m_stamps = m_stats.counter("stamps", "stamps", "stamps interpolated");
+  uint64_t& m_fragments = m_stats.counter("fragments", "fragments", "pixels given a colour");
+  uint64_t& m_flat_fragments = m_stats.counter(
+      "flat_fragments", "fragments", "pixels of flat-shaded triangles (no interpolation)");
 };
 
 }  // namespace gpusim

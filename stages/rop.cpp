@@ -156,15 +156,12 @@ void blend_rgba8_alpha(const glm::vec4& src, uint8_t* stored) {
 
 Rop::Rop(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame,
          unsigned unit)
-    : sc_core::sc_module(name),
+    : PipelineStage(name, "rop", static_cast<int>(unit), config, frame,
+                    "shaded batches and control tokens read",
+                    "tokens retired (their writes done or posted)"),
       in("in"),
       mem("mem"),
-      m_config(config),
-      m_frame(frame),
-      m_unit(unit),
-      m_cost(config.stage("rop")),
-      m_cycle(config.cycle().value()),
-      m_latency(clock_cycles(m_cost.latency)),
+
       m_tile_shift(log2_side(config.tile_size)),
       m_stamp_shift(log2_side(config.stamp[0])),
       m_cache(mem, m_stats, config.tile_cache_entries) {
@@ -188,8 +185,7 @@ void Rop::run() {
   // Read into one packet object: the FIFO recycles its buffers (hw/fifo.h).
   ShadedStampBatch batch;
   for (;;) {
-    in->read(batch);
-    ++m_tokens_in;
+    receive(in, batch);
     m_frame_done = false;
     sc_core::sc_time t = sc_core::SC_ZERO_TIME;  // memory stall, local offset
     uint64_t cycles = m_cost.ii;
@@ -216,9 +212,8 @@ void Rop::run() {
     // end_of_frame: the write-back overlaps the token's own ii.
     if (batch.kind == PacketKind::end_of_frame) stall = stall > cycles ? stall - cycles : 0;
     m_memory_stall_cycles += stall;
-    m_busy_cycles += cycles + stall;
-    sc_core::wait(clock_cycles(cycles + stall));
-    ++m_tokens_out;
+    work(cycles + stall);
+    retire();
     if (batch.kind == PacketKind::end_of_frame) {
       ++m_frames;
       m_frame_done = true;

@@ -40,21 +40,20 @@
 #include "hw/gpu_config.h"
 #include "hw/memory.h"
 #include "hw/packets.h"
+#include "hw/pipeline_stage.h"
 #include "hw/stats.h"
 #include "hw/tile_cache.h"
 #include "hw/trace_probe.h"
 
 namespace gpusim {
 
-class Rop : public sc_core::sc_module {
+class Rop : public PipelineStage {
  public:
   FifoInPort<ShadedStampBatch> in;
   MemoryPort mem;
 
   Rop(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame,
       unsigned unit);
-
-  const StatGroup& stats() const { return m_stats; }
 
   // True once an end_of_frame has been flushed to memory, until the next
   // token arrives; the event is notified (delta) when it becomes true.
@@ -69,6 +68,8 @@ class Rop : public sc_core::sc_module {
     if constexpr (kTraceHooks) m_probe = probe;  // a build without hooks ignores it
   }
 
+  uint64_t fragments_written() const { return m_fragments_written; }
+
  private:
   void run();
   void blend(const ShadedStampBatch& batch, sc_core::sc_time& t);
@@ -80,18 +81,6 @@ class Rop : public sc_core::sc_module {
   size_t for_each_fragment(const ShadedStampBatch& batch, sc_core::sc_time& t, FragmentProbe* probe,
                            Write&& write);
 
-  const GpuConfig& m_config;
-  const FrameState& m_frame;
-  const unsigned m_unit;
-  const StageCost m_cost;
-  // The clock period in SystemC time units, kept: GpuConfig::cycles() converts
-  // it from the MHz double on every call, a cost paid per token otherwise.
-  const uint64_t m_cycle;
-  sc_core::sc_time clock_cycles(uint64_t n) const {
-    return sc_core::sc_time::from_value(m_cycle * n);
-  }
-  // latency(stage) cycles: an output is readable this long after it is written.
-  const sc_core::sc_time m_latency;
   // log2 of the tile side and of the stamp width (powers of two): a stamp's
   // tile is its origin >> m_tile_shift, a mask bit's row is bit >> m_stamp_shift.
   const int m_tile_shift, m_stamp_shift;
@@ -100,22 +89,18 @@ class Rop : public sc_core::sc_module {
   std::vector<int64_t>* m_last_writer = nullptr;
   FragmentProbe* m_probe = nullptr;
 
-  StatGroup m_stats{name()};
-  uint64_t& m_busy_cycles =
-      m_stats.counter("busy_cycles", "cycles spent on tokens, memory stalls included");
-  uint64_t& m_tokens_in = m_stats.counter("tokens_in", "shaded batches and control tokens read");
-  uint64_t& m_tokens_out =
-      m_stats.counter("tokens_out", "tokens retired (their writes done or posted)");
-  uint64_t& m_stamps = m_stats.counter("stamps", "stamps received");
-  uint64_t& m_fragments_in = m_stats.counter("fragments_in", "pixels received");
-  uint64_t& m_fragments_written = m_stats.counter(
-      "fragments_written", "pixels written: passed depth, at least one channel enabled");
-  uint64_t& m_fragments_blended = m_stats.counter("fragments_blended", "written with blending");
+  uint64_t& m_stamps = m_stats.counter("stamps", "stamps", "stamps received");
+  uint64_t& m_fragments_in = m_stats.counter("fragments_in", "fragments", "pixels received");
+  uint64_t& m_fragments_written =
+      m_stats.counter("fragments_written", "fragments",
+                      "pixels written: passed depth, at least one channel enabled");
+  uint64_t& m_fragments_blended =
+      m_stats.counter("fragments_blended", "fragments", "written with blending");
   uint64_t& m_memory_stall_cycles = m_stats.counter(
-      "memory_stall_cycles",
+      "memory_stall_cycles", "cycles",
       "cycles of busy_cycles beyond ii per stamp or token: tile reads, or at end_of_frame "
       "the drain and write-back");
-  uint64_t& m_frames = m_stats.counter("frames", "end_of_frame tokens flushed");
+  uint64_t& m_frames = m_stats.counter("frames", "frames", "end_of_frame tokens flushed");
   TileCache m_cache;
 };
 

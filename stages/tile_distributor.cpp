@@ -7,20 +7,17 @@ namespace gpusim {
 
 TileDistributor::TileDistributor(sc_core::sc_module_name name, const GpuConfig& config,
                                  const FrameState& frame)
-    : sc_core::sc_module(name),
+    : PipelineStage(name, "tile_distributor", -1, config, frame, "setup packets read",
+                    "packets written, summed over units"),
       in("in"),
       out("out", config.units),
-      m_config(config),
-      m_frame(frame),
-      m_cost(config.stage("tile_distributor")),
-      m_cycle(config.cycle().value()),
-      m_latency(clock_cycles(m_cost.latency)),
+
       m_tile_shift(log2_side(config.tile_size)),
       m_targets(config.units, false) {
   for (unsigned u = 0; u < config.units; ++u) {
     const std::string n = std::to_string(u);
     m_unit_triangles.push_back(
-        &m_stats.counter("triangles_sent_unit" + n, "triangles sent to unit " + n));
+        &m_stats.counter("triangles_sent_unit" + n, "triangles", "triangles sent to unit " + n));
   }
   SC_HAS_PROCESS(TileDistributor);
   SC_THREAD(run);
@@ -51,8 +48,7 @@ unsigned TileDistributor::target_units(const RasterTriangle& t, std::vector<bool
 void TileDistributor::run() {
   const unsigned units = m_config.units;
   for (;;) {
-    SetupPacket p = in->read();
-    ++m_tokens_in;
+    SetupPacket p = receive(in);
     const PacketKind kind = p.kind;
     unsigned sends = units;
     if (kind == PacketKind::work) {
@@ -62,8 +58,7 @@ void TileDistributor::run() {
     }
     const uint64_t busy =
         uint64_t{m_cost.ii} * (kind == PacketKind::work ? std::max(1u, sends) : 1u);
-    sc_core::wait(clock_cycles(busy));
-    m_busy_cycles += busy;
+    work(busy);
     const sc_core::sc_time ready = sc_core::sc_time_stamp() + m_latency;
     // The last unit sent to takes the packet itself (a moving write leaves p
     // stale), the others a copy: one reference count update less.
@@ -73,12 +68,13 @@ void TileDistributor::run() {
     }
     for (unsigned u = 0; u < units; ++u) {
       if (!m_targets[u]) continue;
+      // Every copy is ready at the same time: a unit's full FIFO delays only
+      // the copies after it, by the time it blocked (Fifo::write).
       if (u == last) {
-        out[u]->write(std::move(p), ready);
+        emit_at(out[u], std::move(p), ready);
       } else {
-        out[u]->write(p, ready);
+        emit_at(out[u], p, ready);
       }
-      ++m_tokens_out;
       if (kind == PacketKind::work) {
         ++m_triangles_sent;
         ++*m_unit_triangles[u];

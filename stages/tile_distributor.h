@@ -19,44 +19,28 @@
 #include "hw/fifo.h"
 #include "hw/gpu_config.h"
 #include "hw/packets.h"
+#include "hw/pipeline_stage.h"
 #include "hw/stats.h"
 
 namespace gpusim {
 
-class TileDistributor : public sc_core::sc_module {
+class TileDistributor : public PipelineStage {
  public:
   FifoInPort<SetupPacket> in;
   sc_core::sc_vector<FifoOutPort<SetupPacket>> out;  // one per unit
 
   TileDistributor(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame);
 
-  const StatGroup& stats() const { return m_stats; }
-
  private:
   void run();
   // targets[u]: unit u owns a tile of the triangle's box; returns how many do.
   unsigned target_units(const RasterTriangle& t, std::vector<bool>& targets) const;
 
-  const GpuConfig& m_config;
-  const FrameState& m_frame;
-  const StageCost m_cost;
-  // The clock period in SystemC time units, kept: GpuConfig::cycles() converts
-  // it from the MHz double on every call, a cost paid per token otherwise.
-  const uint64_t m_cycle;
-  sc_core::sc_time clock_cycles(uint64_t n) const {
-    return sc_core::sc_time::from_value(m_cycle * n);
-  }
-  // latency(stage) cycles: an output is readable this long after it is written.
-  const sc_core::sc_time m_latency;
   const int m_tile_shift;  // log2(tile_size): a pixel's tile is x >> m_tile_shift
   std::vector<bool> m_targets;
 
-  StatGroup m_stats{name()};
-  uint64_t& m_busy_cycles = m_stats.counter("busy_cycles", "cycles spent on input tokens");
-  uint64_t& m_tokens_in = m_stats.counter("tokens_in", "setup packets read");
-  uint64_t& m_tokens_out = m_stats.counter("tokens_out", "packets written, summed over units");
-  uint64_t& m_triangles_sent =
-      m_stats.counter("triangles_sent", "(triangle, unit) pairs sent, summed over units");
+  uint64_t& m_triangles_sent = m_stats.counter("triangles_sent", "triangles",
+                                               "(triangle, unit) pairs sent, summed over units");
   std::vector<uint64_t*> m_unit_triangles;  // triangles_sent_unit<u>
 };
 

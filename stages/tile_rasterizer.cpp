@@ -24,15 +24,11 @@ int stamp_pixels(const GpuConfig& c) {
 
 TileRasterizer::TileRasterizer(sc_core::sc_module_name name, const GpuConfig& config,
                                const FrameState& frame, unsigned unit)
-    : sc_core::sc_module(name),
+    : PipelineStage(name, "tile_rasterizer", static_cast<int>(unit), config, frame,
+                    "setup packets read", "stamp batches and control tokens written"),
       in("in"),
       out("out"),
-      m_config(config),
-      m_frame(frame),
-      m_unit(unit),
-      m_cost(config.stage("rasterizer")),
-      m_cycle(config.cycle().value()),
-      m_latency(clock_cycles(m_cost.latency)),
+
       m_tile(static_cast<int>(config.tile_size)),
       m_stamp_w(static_cast<int>(config.stamp[0])),
       m_stamp_h(static_cast<int>(config.stamp[1])),
@@ -51,39 +47,28 @@ TileRasterizer::TileRasterizer(sc_core::sc_module_name name, const GpuConfig& co
 
 void TileRasterizer::run() {
   for (;;) {
-    SetupPacket p = in->read();
-    ++m_tokens_in;
+    SetupPacket p = receive(in);
     if (p.kind != PacketKind::work) {
-      sc_core::wait(clock_cycles(m_cost.ii));
-      m_busy_cycles += m_cost.ii;
-      StampBatch b;
-      b.kind = p.kind;
-      out->write(b, sc_core::sc_time_stamp() + m_latency);
-      ++m_tokens_out;
+      forward_control(out, p.kind);
       continue;
     }
     ++m_triangles;
     rasterize(p.triangle);
     // Cycles of trailing tiles that produced no batch.
-    if (m_pending_cycles > 0) {
-      sc_core::wait(clock_cycles(m_pending_cycles));
-      m_busy_cycles += m_pending_cycles;
-      m_pending_cycles = 0;
-    }
+    work(m_pending_cycles);
+    m_pending_cycles = 0;
   }
 }
 
 void TileRasterizer::emit_batch(const std::shared_ptr<const RasterTriangle>& tri) {
-  sc_core::wait(clock_cycles(m_pending_cycles));
-  m_busy_cycles += m_pending_cycles;
+  work(m_pending_cycles);
   m_pending_cycles = 0;
   m_batch.kind = PacketKind::work;
   m_batch.triangle = tri;
   m_batch.depth.clear();
   // Moved in: m_batch comes back holding the slot's stale packet, whose
   // stamp buffer the next tile refills (hw/fifo.h).
-  out->write(std::move(m_batch), sc_core::sc_time_stamp() + m_latency);
-  ++m_tokens_out;
+  emit(out, std::move(m_batch));
 }
 
 void TileRasterizer::rasterize(const std::shared_ptr<const RasterTriangle>& tri) {

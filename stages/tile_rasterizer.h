@@ -57,11 +57,12 @@
 #include "hw/fifo.h"
 #include "hw/gpu_config.h"
 #include "hw/packets.h"
+#include "hw/pipeline_stage.h"
 #include "hw/stats.h"
 
 namespace gpusim {
 
-class TileRasterizer : public sc_core::sc_module {
+class TileRasterizer : public PipelineStage {
  public:
   FifoInPort<SetupPacket> in;
   FifoOutPort<StampBatch> out;
@@ -72,7 +73,9 @@ class TileRasterizer : public sc_core::sc_module {
   TileRasterizer(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame,
                  unsigned unit);
 
-  const StatGroup& stats() const { return m_stats; }
+  uint64_t tiles_visited() const { return m_tiles_visited; }
+  uint64_t stamps_emitted() const { return m_stamps_emitted; }
+  uint64_t fragments() const { return m_fragments; }
 
  private:
   static constexpr int kMaxStampPixels = 64;
@@ -86,18 +89,6 @@ class TileRasterizer : public sc_core::sc_module {
   // stamps of one tile) as the batch of `tri`.
   void emit_batch(const std::shared_ptr<const RasterTriangle>& tri);
 
-  const GpuConfig& m_config;
-  const FrameState& m_frame;
-  const unsigned m_unit;
-  const StageCost m_cost;
-  // The clock period in SystemC time units, kept: GpuConfig::cycles() converts
-  // it from the MHz double on every call, a cost paid per token otherwise.
-  const uint64_t m_cycle;
-  sc_core::sc_time clock_cycles(uint64_t n) const {
-    return sc_core::sc_time::from_value(m_cycle * n);
-  }
-  // latency(stage) cycles: an output is readable this long after it is written.
-  const sc_core::sc_time m_latency;
   const int m_tile;                // tile side, pixels
   const int m_stamp_w, m_stamp_h;  // stamp, pixels
   const int m_stamp_pixels;
@@ -116,21 +107,20 @@ class TileRasterizer : public sc_core::sc_module {
   uint64_t m_pending_cycles = 0;  // walked but not yet waited
   StampBatch m_batch;             // the tile's stamps; buffers recycled through the FIFO
 
-  StatGroup m_stats{name()};
-  uint64_t& m_busy_cycles = m_stats.counter("busy_cycles", "cycles of tile tests and stamps");
-  uint64_t& m_tokens_in = m_stats.counter("tokens_in", "setup packets read");
-  uint64_t& m_tokens_out =
-      m_stats.counter("tokens_out", "stamp batches and control tokens written");
-  uint64_t& m_triangles = m_stats.counter("triangles", "triangles walked");
-  uint64_t& m_tiles_visited = m_stats.counter("tiles_visited", "own tiles in a triangle's box");
-  uint64_t& m_tiles_rejected = m_stats.counter("tiles_rejected", "tiles trivially rejected");
-  uint64_t& m_tiles_accepted = m_stats.counter("tiles_accepted", "tiles trivially accepted");
+  uint64_t& m_triangles = m_stats.counter("triangles", "triangles", "triangles walked");
+  uint64_t& m_tiles_visited =
+      m_stats.counter("tiles_visited", "tiles", "own tiles in a triangle's box");
+  uint64_t& m_tiles_rejected =
+      m_stats.counter("tiles_rejected", "tiles", "tiles trivially rejected");
+  uint64_t& m_tiles_accepted =
+      m_stats.counter("tiles_accepted", "tiles", "tiles trivially accepted");
   uint64_t& m_stamps_evaluated =
-      m_stats.counter("stamps_evaluated", "stamps tested per pixel in partial tiles");
-  uint64_t& m_stamps_accepted =
-      m_stats.counter("stamps_accepted", "stamps emitted from accepted tiles without tests");
-  uint64_t& m_stamps_emitted = m_stats.counter("stamps_emitted", "non-empty stamps written");
-  uint64_t& m_fragments = m_stats.counter("fragments", "covered pixels");
+      m_stats.counter("stamps_evaluated", "stamps", "stamps tested per pixel in partial tiles");
+  uint64_t& m_stamps_accepted = m_stats.counter("stamps_accepted", "stamps",
+                                                "stamps emitted from accepted tiles without tests");
+  uint64_t& m_stamps_emitted =
+      m_stats.counter("stamps_emitted", "stamps", "non-empty stamps written");
+  uint64_t& m_fragments = m_stats.counter("fragments", "fragments", "covered pixels");
 };
 
 }  // namespace gpusim

@@ -31,14 +31,10 @@ float polygon_offset(const RasterTriangle& t, const RenderState& st, DepthFormat
 
 TriangleSetup::TriangleSetup(sc_core::sc_module_name name, const GpuConfig& config,
                              const FrameState& frame)
-    : sc_core::sc_module(name),
+    : PipelineStage(name, "triangle_setup", -1, config, frame, "triangles and control tokens read",
+                    "setup packets written"),
       in("in"),
-      out("out"),
-      m_config(config),
-      m_frame(frame),
-      m_cost(config.stage("triangle_setup")),
-      m_cycle(config.cycle().value()),
-      m_latency(clock_cycles(m_cost.latency)) {
+      out("out") {
   SC_HAS_PROCESS(TriangleSetup);
   SC_THREAD(run);
 }
@@ -117,11 +113,8 @@ std::shared_ptr<RasterTriangle> TriangleSetup::setup(const ClippedTriangle& in_t
 
 void TriangleSetup::run() {
   for (;;) {
-    const ClippedTriangle tri = in->read();
-    ++m_tokens_in;
-    sc_core::wait(clock_cycles(m_cost.ii));
-    m_busy_cycles += m_cost.ii;
-    const sc_core::sc_time ready = sc_core::sc_time_stamp() + m_latency;
+    const ClippedTriangle tri = receive(in);
+    work(m_cost.ii);
 
     SetupPacket p;
     p.kind = tri.kind;
@@ -134,8 +127,7 @@ void TriangleSetup::run() {
       }
       p.triangle = std::move(t);
     }
-    out->write(std::move(p), ready);
-    ++m_tokens_out;
+    emit(out, std::move(p));
   }
 }
 

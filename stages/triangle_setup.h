@@ -23,18 +23,24 @@
 #include "hw/fifo.h"
 #include "hw/gpu_config.h"
 #include "hw/packets.h"
+#include "hw/pipeline_stage.h"
 #include "hw/stats.h"
 
 namespace gpusim {
 
-class TriangleSetup : public sc_core::sc_module {
+class TriangleSetup : public PipelineStage {
  public:
   FifoInPort<ClippedTriangle> in;
   FifoOutPort<SetupPacket> out;
 
   TriangleSetup(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame);
 
-  const StatGroup& stats() const { return m_stats; }
+  // The golden model's setup counters (docs/pipeline-spec.md, section 13).
+  nlohmann::json pipeline_counts() const {
+    return {{"triangles_degenerate", m_degenerate},
+            {"triangles_culled", m_culled},
+            {"triangles_rasterized", m_rasterized}};
+  }
 
  private:
   void run();
@@ -43,30 +49,16 @@ class TriangleSetup : public sc_core::sc_module {
   // with an empty box (x0 > x1 or y0 > y1) is returned all the same.
   std::shared_ptr<RasterTriangle> setup(const ClippedTriangle& t);
 
-  const GpuConfig& m_config;
-  const FrameState& m_frame;
-  const StageCost m_cost;
-  // The clock period in SystemC time units, kept: GpuConfig::cycles() converts
-  // it from the MHz double on every call, a cost paid per token otherwise.
-  const uint64_t m_cycle;
-  sc_core::sc_time clock_cycles(uint64_t n) const {
-    return sc_core::sc_time::from_value(m_cycle * n);
-  }
-  // latency(stage) cycles: an output is readable this long after it is written.
-  const sc_core::sc_time m_latency;
-
-  StatGroup m_stats{name()};
-  uint64_t& m_busy_cycles = m_stats.counter("busy_cycles", "cycles spent on input tokens");
-  uint64_t& m_tokens_in = m_stats.counter("tokens_in", "triangles and control tokens read");
-  uint64_t& m_tokens_out = m_stats.counter("tokens_out", "setup packets written");
   uint64_t& m_degenerate =
-      m_stats.counter("triangles_degenerate", "zero area after snapping, dropped");
-  uint64_t& m_culled = m_stats.counter("triangles_culled", "removed by face culling");
-  uint64_t& m_rasterized =
-      m_stats.counter("triangles_rasterized", "set up for rasterization (incl. off screen)");
-  uint64_t& m_offscreen = m_stats.counter(
-      "triangles_offscreen", "rasterized triangles whose box holds no pixel centre, not sent");
-  uint64_t& m_swapped = m_stats.counter("triangles_swapped", "clockwise, made counter-clockwise");
+      m_stats.counter("triangles_degenerate", "triangles", "zero area after snapping, dropped");
+  uint64_t& m_culled = m_stats.counter("triangles_culled", "triangles", "removed by face culling");
+  uint64_t& m_rasterized = m_stats.counter("triangles_rasterized", "triangles",
+                                           "set up for rasterization (incl. off screen)");
+  uint64_t& m_offscreen =
+      m_stats.counter("triangles_offscreen", "triangles",
+                      "rasterized triangles whose box holds no pixel centre, not sent");
+  uint64_t& m_swapped =
+      m_stats.counter("triangles_swapped", "triangles", "clockwise, made counter-clockwise");
 };
 
 }  // namespace gpusim

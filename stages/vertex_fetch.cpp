@@ -18,18 +18,15 @@ static_assert(sizeof(glm::vec4) == kPositionBytes && sizeof(glm::vec3) == kNorma
 
 VertexFetch::VertexFetch(sc_core::sc_module_name name, const GpuConfig& config,
                          const FrameState& frame)
-    : sc_core::sc_module(name),
+    : PipelineStage(name, "vertex_fetch", -1, config, frame, "commands read",
+                    "batches and control tokens written"),
       in("in"),
       out("out"),
       mem("mem"),
-      m_config(config),
-      m_frame(frame),
-      m_cost(config.stage("vertex_fetch")),
-      m_cycle(config.cycle().value()),
-      m_latency(clock_cycles(m_cost.latency)),
+
       m_cache_entries(config.vertex_cache_entries),
       m_tag(config.vertex_cache_entries, kNoTag) {
-  m_stats.formula("cache_hit_rate", "cache_hits / cache_lookups",
+  m_stats.formula("cache_hit_rate", "lookups", "cache_hits / cache_lookups",
                   [this] { return static_cast<double>(m_hits) / static_cast<double>(m_lookups); });
   SC_HAS_PROCESS(VertexFetch);
   SC_THREAD(run);
@@ -37,23 +34,13 @@ VertexFetch::VertexFetch(sc_core::sc_module_name name, const GpuConfig& config,
 
 void VertexFetch::run() {
   for (;;) {
-    const Command cmd = in->read();
-    ++m_tokens_in;
+    const Command cmd = receive(in);
     if (cmd.kind == PacketKind::work) {
       fetch_draw(cmd.draw_id);
     } else {
-      forward(cmd);
+      forward_control(out, cmd.kind);
     }
   }
-}
-
-void VertexFetch::forward(const Command& cmd) {
-  m_busy_cycles += m_cost.ii;
-  sc_core::wait(clock_cycles(m_cost.ii));
-  VertexBatch token;
-  token.kind = cmd.kind;
-  out->write(token, sc_core::sc_time_stamp() + m_latency);
-  ++m_tokens_out;
 }
 
 void VertexFetch::fetch_draw(uint32_t draw_id) {
@@ -78,12 +65,10 @@ void VertexFetch::fetch_draw(uint32_t draw_id) {
     const sc_core::sc_time ready =
         sc_core::sc_time_stamp() + clock_cycles(std::max(busy, memory_cycles) + m_cost.latency);
     m_memory_cycles += memory_cycles;
-    m_busy_cycles += busy;
     m_slots += batch.slot_count;
-    sc_core::wait(clock_cycles(busy));
-    out->write(batch, ready);
+    work(busy);
+    emit_at(out, batch, ready);
     ++m_batches;
-    ++m_tokens_out;
   }
 }
 

@@ -36,20 +36,19 @@
 #include "hw/gpu_config.h"
 #include "hw/memory.h"
 #include "hw/packets.h"
+#include "hw/pipeline_stage.h"
 #include "hw/stats.h"
 #include "hw/vertex_packets.h"
 
 namespace gpusim {
 
-class VertexFetch : public sc_core::sc_module {
+class VertexFetch : public PipelineStage {
  public:
   FifoInPort<Command> in;
   FifoOutPort<VertexBatch> out;
   MemoryPort mem;
 
   VertexFetch(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame);
-
-  const StatGroup& stats() const { return m_stats; }
 
  private:
   void run();
@@ -59,19 +58,7 @@ class VertexFetch : public sc_core::sc_module {
   // Cache tags: the entry now holding vertex `index`, or the one it takes.
   bool cache_lookup(uint32_t index, uint32_t& entry);
   void cache_flush();
-  void forward(const Command& cmd);
 
-  const GpuConfig& m_config;
-  const FrameState& m_frame;
-  const StageCost m_cost;
-  // The clock period in SystemC time units, kept: GpuConfig::cycles() converts
-  // it from the MHz double on every call, a cost paid per token otherwise.
-  const uint64_t m_cycle;
-  sc_core::sc_time clock_cycles(uint64_t n) const {
-    return sc_core::sc_time::from_value(m_cycle * n);
-  }
-  // latency(stage) cycles: an output is readable this long after it is written.
-  const sc_core::sc_time m_latency;
   const uint32_t m_cache_entries;
 
   // FIFO replacement: entries are filled in order 0, 1, ... and then reused
@@ -83,27 +70,23 @@ class VertexFetch : public sc_core::sc_module {
   std::array<uint32_t, kVertexBatchSlots> m_fetch_index{};  // per fetched vertex
   VertexBatch m_batch;
 
-  StatGroup m_stats{name()};
-  uint64_t& m_busy_cycles =
-      m_stats.counter("busy_cycles", "cycles spent on commands and generating batch addresses");
-  uint64_t& m_tokens_in = m_stats.counter("tokens_in", "commands read");
-  uint64_t& m_tokens_out = m_stats.counter("tokens_out", "batches and control tokens written");
-  uint64_t& m_draws = m_stats.counter("draws", "draw commands");
-  uint64_t& m_batches = m_stats.counter("batches", "vertex batches written");
-  uint64_t& m_slots = m_stats.counter("slots", "vertex slots walked");
+  uint64_t& m_draws = m_stats.counter("draws", "commands", "draw commands");
+  uint64_t& m_batches = m_stats.counter("batches", "batches", "vertex batches written");
+  uint64_t& m_slots = m_stats.counter("slots", "slots", "vertex slots walked");
   uint64_t& m_invalid =
-      m_stats.counter("invalid_slots", "slots whose index is not below the vertex count");
+      m_stats.counter("invalid_slots", "slots", "slots whose index is not below the vertex count");
   uint64_t& m_lookups =
-      m_stats.counter("cache_lookups", "indexed slots looked up in the vertex cache");
-  uint64_t& m_hits = m_stats.counter("cache_hits", "lookups that hit");
-  uint64_t& m_misses = m_stats.counter("cache_misses", "lookups that missed");
-  uint64_t& m_fetched = m_stats.counter(
-      "vertices_fetched", "vertices read from memory (cache misses and non-indexed slots)");
-  uint64_t& m_requests =
-      m_stats.counter("memory_requests", "memory reads: index blocks and attribute bursts");
-  uint64_t& m_bytes = m_stats.counter("bytes_read", "bytes read from memory");
-  uint64_t& m_memory_cycles =
-      m_stats.counter("memory_wait_cycles", "memory time of the batches (overlapping busy_cycles)");
+      m_stats.counter("cache_lookups", "lookups", "indexed slots looked up in the vertex cache");
+  uint64_t& m_hits = m_stats.counter("cache_hits", "lookups", "lookups that hit");
+  uint64_t& m_misses = m_stats.counter("cache_misses", "lookups", "lookups that missed");
+  uint64_t& m_fetched =
+      m_stats.counter("vertices_fetched", "vertices",
+                      "vertices read from memory (cache misses and non-indexed slots)");
+  uint64_t& m_requests = m_stats.counter("memory_requests", "requests",
+                                         "memory reads: index blocks and attribute bursts");
+  uint64_t& m_bytes = m_stats.counter("bytes_read", "bytes", "bytes read from memory");
+  uint64_t& m_memory_cycles = m_stats.counter(
+      "memory_wait_cycles", "cycles", "memory time of the batches (overlapping busy_cycles)");
 };
 
 }  // namespace gpusim

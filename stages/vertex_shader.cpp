@@ -47,14 +47,10 @@ float max0(float v) {
 
 VertexShader::VertexShader(sc_core::sc_module_name name, const GpuConfig& config,
                            const FrameState& frame)
-    : sc_core::sc_module(name),
+    : PipelineStage(name, "vertex_shader", -1, config, frame, "batches and control tokens read",
+                    "batches and control tokens written"),
       in("in"),
-      out("out"),
-      m_config(config),
-      m_frame(frame),
-      m_cost(config.stage("vertex_shader")),
-      m_cycle(config.cycle().value()),
-      m_latency(clock_cycles(m_cost.latency)) {
+      out("out") {
   SC_HAS_PROCESS(VertexShader);
   SC_THREAD(run);
 }
@@ -117,8 +113,7 @@ glm::vec4 VertexShader::light(const DrawState& draw, const glm::vec4& position,
 
 void VertexShader::run() {
   for (;;) {
-    const VertexBatch batch = in->read();
-    ++m_tokens_in;
+    const VertexBatch batch = receive(in);
     ShadedBatch& o = m_out;
     static_cast<BatchHeader&>(o) = batch;
     uint64_t busy = m_cost.ii;  // control tokens
@@ -140,10 +135,8 @@ void VertexShader::run() {
       if (lit) m_lit += batch.vertex_count;
       busy = uint64_t{m_cost.ii} * batch.vertex_count;
     }
-    m_busy_cycles += busy;
-    if (busy > 0) sc_core::wait(clock_cycles(busy));
-    out->write(o, sc_core::sc_time_stamp() + m_latency);
-    ++m_tokens_out;
+    work(busy);
+    emit(out, o);
   }
 }
 

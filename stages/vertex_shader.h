@@ -17,19 +17,18 @@
 #include "hw/draw_state.h"
 #include "hw/fifo.h"
 #include "hw/gpu_config.h"
+#include "hw/pipeline_stage.h"
 #include "hw/stats.h"
 #include "hw/vertex_packets.h"
 
 namespace gpusim {
 
-class VertexShader : public sc_core::sc_module {
+class VertexShader : public PipelineStage {
  public:
   FifoInPort<VertexBatch> in;
   FifoOutPort<ShadedBatch> out;
 
   VertexShader(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame);
-
-  const StatGroup& stats() const { return m_stats; }
 
  private:
   // Per-draw lighting constants, loaded when a batch of a new draw arrives:
@@ -46,30 +45,15 @@ class VertexShader : public sc_core::sc_module {
   void load_draw(uint32_t draw_id);
   glm::vec4 light(const DrawState& draw, const glm::vec4& position, const glm::vec3& normal) const;
 
-  const GpuConfig& m_config;
-  const FrameState& m_frame;
-  const StageCost m_cost;
-  // The clock period in SystemC time units, kept: GpuConfig::cycles() converts
-  // it from the MHz double on every call, a cost paid per token otherwise.
-  const uint64_t m_cycle;
-  sc_core::sc_time clock_cycles(uint64_t n) const {
-    return sc_core::sc_time::from_value(m_cycle * n);
-  }
-  // latency(stage) cycles: an output is readable this long after it is written.
-  const sc_core::sc_time m_latency;
   ShadedBatch m_out;
   bool m_loaded = false;
   uint32_t m_draw_id = 0;
   glm::vec3 m_base_color{0.0f};  // emission + global_ambient * material.ambient
   std::vector<LightTerms> m_light_terms;
 
-  StatGroup m_stats{name()};
-  uint64_t& m_busy_cycles =
-      m_stats.counter("busy_cycles", "cycles spent shading and on control tokens");
-  uint64_t& m_tokens_in = m_stats.counter("tokens_in", "batches and control tokens read");
-  uint64_t& m_tokens_out = m_stats.counter("tokens_out", "batches and control tokens written");
-  uint64_t& m_vertices = m_stats.counter("vertices_shaded", "vertices transformed");
-  uint64_t& m_lit = m_stats.counter("vertices_lit", "vertices lit (of vertices_shaded)");
+  uint64_t& m_vertices = m_stats.counter("vertices_shaded", "vertices", "vertices transformed");
+  uint64_t& m_lit =
+      m_stats.counter("vertices_lit", "vertices", "vertices lit (of vertices_shaded)");
 };
 
 }  // namespace gpusim

@@ -71,7 +71,7 @@ TraceFilter TraceFilter::parse(const std::string& stages, const std::string& win
   return f;
 }
 
-std::vector<bool> TraceFilter::stages_kept(const TraceTables& tables) const {
+std::vector<bool> TraceFilter::stages_kept(const NetlistTables& tables) const {
   std::vector<bool> kept(tables.stages.size(), m_stages.empty());
   for (const std::string& name : m_stages) {
     bool found = false;
@@ -84,7 +84,7 @@ std::vector<bool> TraceFilter::stages_kept(const TraceTables& tables) const {
     if (!found) {
       std::vector<std::string> kinds;
       std::string known;
-      for (const TraceTables::Stage& s : tables.stages) {
+      for (const NetlistTables::Stage& s : tables.stages) {
         if (std::find(kinds.begin(), kinds.end(), s.kind) != kinds.end()) continue;
         kinds.push_back(s.kind);
         known += (known.empty() ? "" : ", ") + s.kind;
@@ -96,7 +96,7 @@ std::vector<bool> TraceFilter::stages_kept(const TraceTables& tables) const {
   return kept;
 }
 
-nlohmann::json TraceFilter::to_json(const TraceTables& tables,
+nlohmann::json TraceFilter::to_json(const NetlistTables& tables,
                                     const std::vector<bool>& kept) const {
   nlohmann::json j;
   if (m_stages.empty()) {

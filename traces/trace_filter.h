@@ -24,7 +24,7 @@ class TraceFilter {
 
   // Per stage of `tables`, whether it is traced. Throws InputError naming an
   // unknown stage or kind.
-  std::vector<bool> stages_kept(const TraceTables& tables) const;
+  std::vector<bool> stages_kept(const NetlistTables& tables) const;
 
   // The item's interval [in, out) meets the window [start, end); an empty
   // interval counts as the instant `in`.
@@ -40,7 +40,7 @@ class TraceFilter {
   uint64_t window_end() const { return m_end; }
 
   // manifest.json's "filters": stages kept (null when all), window, prims.
-  nlohmann::json to_json(const TraceTables& tables, const std::vector<bool>& kept) const;
+  nlohmann::json to_json(const NetlistTables& tables, const std::vector<bool>& kept) const;
 
  private:
   std::vector<std::string> m_stages;  // as given; empty: all

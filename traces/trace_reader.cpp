@@ -15,7 +15,9 @@ namespace {
 constexpr size_t kHeaderBytes = 16;
 constexpr size_t kTransactionBytes = 48;
 constexpr size_t kFragmentBytes = 48;
-constexpr uint32_t kVersion = 1;
+constexpr uint32_t kVersion = 1;  // of the binary record files
+// Of manifest.json; 2: stages list their `inputs`, FIFOs their `kind`.
+constexpr uint32_t kManifestVersion = 2;
 // Records per read: 48 KiB buffers keep streaming cheap and memory flat.
 constexpr size_t kChunkRecords = 1024;
 
@@ -115,8 +117,9 @@ TraceManifest parse_manifest(const std::string& file) {
     p.fail("format", "expected \"gpusim-trace\", got " + j["format"].dump());
   }
   const uint64_t version = p.unsigned_int(p.field(j, "", "version"), "version");
-  if (version != kVersion) {
-    p.fail("version", std::to_string(version) + " (this reader knows version 1)");
+  if (version != kManifestVersion) {
+    p.fail("version", std::to_string(version) + " (this reader knows version " +
+                          std::to_string(kManifestVersion) + ")");
   }
   m.scene = p.string(p.field(j, "", "scene"), "scene");
   m.config = p.field(j, "", "config");
@@ -173,8 +176,10 @@ TraceManifest parse_manifest(const std::string& file) {
     st.name = p.string(p.field(s, w, "name"), w + ".name");
     st.kind = p.string(p.field(s, w, "kind"), w + ".kind");
     st.unit = p.optional_unit(p.field(s, w, "unit"), w + ".unit");
-    const nlohmann::json& input = p.field(s, w, "input");
-    if (!input.is_null()) st.input = p.string(input, w + ".input");
+    const nlohmann::json& inputs = p.array(s, w, "inputs");
+    for (size_t k = 0; k < inputs.size(); ++k) {
+      st.inputs.push_back(p.string(inputs[k], w + ".inputs[" + std::to_string(k) + "]"));
+    }
     const nlohmann::json& outputs = p.array(s, w, "outputs");
     for (size_t k = 0; k < outputs.size(); ++k) {
       st.outputs.push_back(p.string(outputs[k], w + ".outputs[" + std::to_string(k) + "]"));
@@ -188,6 +193,7 @@ TraceManifest parse_manifest(const std::string& file) {
     TraceFifo fi;
     fi.index = p.position(f, w, i);
     fi.name = p.string(p.field(f, w, "name"), w + ".name");
+    fi.kind = p.string(p.field(f, w, "kind"), w + ".kind");
     fi.depth = p.unsigned_int(p.field(f, w, "depth"), w + ".depth");
     fi.writer = p.string(p.field(f, w, "writer"), w + ".writer");
     fi.reader = p.string(p.field(f, w, "reader"), w + ".reader");

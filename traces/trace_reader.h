@@ -24,17 +24,17 @@ namespace gpusim {
 // One entry of manifest.json's `stages`.
 struct TraceStage {
   size_t index = 0;
-  std::string name;  // "tile_rasterizer_2"
-  std::string kind;  // "tile_rasterizer"
-  int unit = -1;     // -1: a front-end stage
-  std::string input;
-  std::vector<std::string> outputs;
+  std::string name;                          // "tile_rasterizer_2"
+  std::string kind;                          // "tile_rasterizer"
+  int unit = -1;                             // -1: a front-end stage
+  std::vector<std::string> inputs, outputs;  // FIFO names
 };
 
 // One entry of manifest.json's `fifos`.
 struct TraceFifo {
   size_t index = 0;
   std::string name;
+  std::string kind;  // "rasterizer_to_depth": the configuration's name (fifo_depths)
   uint64_t depth = 0;
   std::string writer;  // a stage name, or "host"
   std::string reader;

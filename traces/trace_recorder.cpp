@@ -57,7 +57,7 @@ class TraceRecorder::Probe final : public FifoProbe<T>, public ProbeHolder {
   bool m_outputs_counted;
 };
 
-TraceRecorder::TraceRecorder(const TraceTables& tables, const GpuConfig& config,
+TraceRecorder::TraceRecorder(const NetlistTables& tables, const GpuConfig& config,
                              const FrameState& frame, const TraceFilter& filter, const Paths& paths,
                              const std::string& scene)
     : m_tables(tables),
@@ -84,7 +84,7 @@ TraceRecorder::TraceRecorder(const TraceTables& tables, const GpuConfig& config,
   m_depth_stage.assign(config.units, -1);
   m_rop_stage.assign(config.units, -1);
   for (size_t i = 0; i < tables.stages.size(); ++i) {
-    const TraceTables::Stage& t = tables.stages[i];
+    const NetlistTables::Stage& t = tables.stages[i];
     Stage& s = m_stages[i];
     s.kept = m_kept[i];
     s.counts_outputs = t.kind == "tile_rasterizer";
@@ -102,7 +102,7 @@ TraceRecorder::TraceRecorder(const TraceTables& tables, const GpuConfig& config,
   }
   m_fifos.resize(tables.fifos.size());
   for (size_t i = 0; i < tables.fifos.size(); ++i) {
-    const TraceTables::Fifo& t = tables.fifos[i];
+    const NetlistTables::Fifo& t = tables.fifos[i];
     Fifo& f = m_fifos[i];
     // A FIFO's signal belongs to the stages it joins: kept with either.
     f.kept = (t.reader >= 0 && m_kept[t.reader]) || (t.writer >= 0 && m_kept[t.writer]);
@@ -124,7 +124,7 @@ void TraceRecorder::write_metadata() {
   }
   for (size_t i = 0; i < m_stages.size(); ++i) {
     if (!m_stages[i].kept) continue;
-    const TraceTables::Stage& t = m_tables.stages[i];
+    const NetlistTables::Stage& t = m_tables.stages[i];
     m_timeline.thread_name(m_stages[i].pid, m_stages[i].tid, t.unit < 0 ? t.name : t.kind,
                            static_cast<int>(i));
   }
@@ -132,7 +132,7 @@ void TraceRecorder::write_metadata() {
 
 template <typename T>
 FifoProbe<T>* TraceRecorder::make_probe(size_t fifo) {
-  const TraceTables::Fifo& t = m_tables.fifos.at(fifo);
+  const NetlistTables::Fifo& t = m_tables.fifos.at(fifo);
   const bool reader = t.reader >= 0 && m_kept[t.reader];
   const bool writer = t.writer >= 0 && m_kept[t.writer];
   if (!reader && !writer) return nullptr;
@@ -424,22 +424,24 @@ void TraceRecorder::write_manifest(uint64_t cycles) {
   const int tile = static_cast<int>(m_config.tile_size);
   json stages = json::array();
   for (size_t i = 0; i < m_tables.stages.size(); ++i) {
-    const TraceTables::Stage& s = m_tables.stages[i];
-    json outputs = json::array();
+    const NetlistTables::Stage& s = m_tables.stages[i];
+    json inputs = json::array(), outputs = json::array();
+    for (int i : s.inputs) inputs.push_back(m_tables.fifos[i].name);
     for (int o : s.outputs) outputs.push_back(m_tables.fifos[o].name);
     stages.push_back({{"index", i},
                       {"name", s.name},
                       {"kind", s.kind},
                       {"unit", s.unit < 0 ? json(nullptr) : json(s.unit)},
-                      {"input", s.input < 0 ? json(nullptr) : json(m_tables.fifos[s.input].name)},
+                      {"inputs", inputs},
                       {"outputs", outputs}});
   }
   json fifos = json::array();
   for (size_t i = 0; i < m_tables.fifos.size(); ++i) {
-    const TraceTables::Fifo& f = m_tables.fifos[i];
+    const NetlistTables::Fifo& f = m_tables.fifos[i];
     fifos.push_back(
         {{"index", i},
          {"name", f.name},
+         {"kind", f.kind},
          {"depth", f.depth},
          {"writer", f.writer < 0 ? json("host") : json(m_tables.stages[f.writer].name)},
          {"reader", f.reader < 0 ? json(nullptr) : json(m_tables.stages[f.reader].name)},
@@ -452,7 +454,7 @@ void TraceRecorder::write_manifest(uint64_t cycles) {
   }
   const json manifest = {
       {"format", "gpusim-trace"},
-      {"version", 1},
+      {"version", 2},
       {"scene", m_scene},
       {"config", json::parse(to_json(m_config).dump())},
       {"clock_mhz", m_config.clock_mhz},

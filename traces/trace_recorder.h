@@ -34,7 +34,7 @@ class TraceRecorder : public TraceProbes, public FragmentProbe {
   };
   // `filter` must already have been checked against `tables`
   // (TraceFilter::stages_kept). config and frame must outlive the recorder.
-  TraceRecorder(const TraceTables& tables, const GpuConfig& config, const FrameState& frame,
+  TraceRecorder(const NetlistTables& tables, const GpuConfig& config, const FrameState& frame,
                 const TraceFilter& filter, const Paths& paths, const std::string& scene);
   ~TraceRecorder() override;
 
@@ -111,7 +111,7 @@ class TraceRecorder : public TraceProbes, public FragmentProbe {
   void write_metadata();
   void write_manifest(uint64_t cycles);
 
-  const TraceTables m_tables;
+  const NetlistTables m_tables;
   const GpuConfig& m_config;
   const FrameState& m_frame;
   const TraceFilter m_filter;

@@ -223,7 +223,9 @@ std::vector<TraceSummary::KindShare> TraceSummary::chain(const std::vector<const
       const TraceStage* ts = m_manifest.stage(s->name);
       std::vector<std::string> neighbours;
       if (upstream) {
-        if (const TraceFifo* f = m_manifest.fifo(ts->input)) neighbours.push_back(f->writer);
+        for (const std::string& i : ts->inputs) {
+          if (const TraceFifo* f = m_manifest.fifo(i)) neighbours.push_back(f->writer);
+        }
       } else {
         for (const std::string& o : ts->outputs) {
           if (const TraceFifo* f = m_manifest.fifo(o)) neighbours.push_back(f->reader);

@@ -109,7 +109,8 @@ class DiffInstance {
     empty.framebuffer = m_frame.framebuffer;
     m_frame = load_frame(empty).frame;
     m_gpu = std::make_unique<Gpu>(name.c_str(), m_config, m_frame, uint64_t{1} << 20);
-    m_gpu->set_watchdog(false);
+    // No watchdog (testbench/sim/watchdog.h): frames are simulated until
+    // the kernel runs out of events, which a watchdog would never let happen.
     m_host = std::make_unique<Host>((name + "_host").c_str(), *m_gpu);
   }
 

@@ -1,14 +1,18 @@
 #include "testbench/sim/gpu_run.h"
 
 #include <chrono>
+#include <climits>
 #include <cstdio>
 #include <cstring>
+#include <memory>
 #include <sstream>
 #include <systemc>
 
 #include "hw/input_error.h"
 #include "stages/gpu.h"
 #include "testbench/io/output_file.h"
+#include "testbench/sim/conservation.h"
+#include "testbench/sim/watchdog.h"
 #include "traces/trace_recorder.h"
 
 namespace gpusim {
@@ -69,13 +73,14 @@ class Host : public sc_core::sc_module {
     const auto start = std::chrono::steady_clock::now();
     double last = 0.0;
     bool shown = false;
-    uint64_t moved = m_gpu.progress_count();
+    const sc_core::sc_event_or_list activity = activity_events(m_gpu.topology()) | m_stop;
+    uint64_t moved = progress_count(m_gpu);
     while (!done) {
       sc_core::wait(m_interval, m_stop);
       // Nothing moved: wait for an item rather than time, so that a deadlock
       // lets the kernel run out of events (docs/robustness.md).
-      if (m_gpu.progress_count() == moved) sc_core::wait(m_gpu.activity_events() | m_stop);
-      moved = m_gpu.progress_count();
+      if (progress_count(m_gpu) == moved) sc_core::wait(activity);
+      moved = progress_count(m_gpu);
       const double wall =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       if (wall < 1.0 || wall - last < 0.2 || done) continue;
@@ -97,6 +102,21 @@ class Host : public sc_core::sc_module {
   sc_core::sc_time m_interval;
   sc_core::sc_event m_stop;
 };
+
+// Test-only faults (docs/robustness.md, "Watchdog"), by FIFO name.
+void inject_faults(const Topology& netlist, const GpuRunOptions& options, const GpuConfig& config) {
+  const auto fifo = [&](const std::string& name) {
+    const Topology::FifoNode* f = netlist.find_fifo(name);
+    if (f == nullptr) throw std::invalid_argument("run_gpu: no FIFO named '" + name + "'");
+    return f->channel;
+  };
+  if (!options.fault_disconnected_fifo.empty()) {
+    fifo(options.fault_disconnected_fifo)->withhold_from_reader();
+  }
+  if (!options.fault_stalled_fifo.empty()) {
+    fifo(options.fault_stalled_fifo)->inject_random_stalls(0x5EED, 1.0, UINT_MAX, config.cycle());
+  }
+}
 
 Framebuffer read_framebuffer(Memory& memory, const FrameState& frame) {
   const FramebufferDesc& d = frame.framebuffer;
@@ -200,10 +220,9 @@ GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOp
   }
   fresh_simulation_context();
   LoadedFrame loaded = load_frame(scene);
-  Gpu::Faults faults;
-  faults.disconnected_fifo = options.fault_disconnected_fifo;
-  faults.stalled_fifo = options.fault_stalled_fifo;
-  Gpu gpu("gpu", config, loaded.frame, loaded.memory.size(), faults);
+  Gpu gpu("gpu", config, loaded.frame, loaded.memory.size(), options.unit_order);
+  const Topology& netlist = gpu.topology();
+  inject_faults(netlist, options, config);
   std::memcpy(gpu.memory().data(0, loaded.memory.size()), loaded.memory.data(),
               loaded.memory.size());
   // The image is in the GPU's memory now: free the copy (half the footprint
@@ -216,14 +235,19 @@ GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOp
     gpu.set_last_writer(&result.last_writer);
   }
   if (options.stall_probability > 0.0) {
-    gpu.inject_random_stalls(options.stall_seed, options.stall_probability,
-                             options.stall_max_cycles);
+    // Every FIFO its own stream, in netlist order.
+    uint64_t n = 0;
+    for (const Topology::FifoNode& f : netlist.fifos()) {
+      f.channel->inject_random_stalls(options.stall_seed + 0x9E3779B97F4A7C15ull * ++n,
+                                      options.stall_probability, options.stall_max_cycles,
+                                      config.cycle());
+    }
   }
   // Declared after the GPU, so destroyed before it: nothing calls a probe
   // once the run is over.
   std::unique_ptr<TraceRecorder> recorder;
   if (tracing) {
-    const TraceTables tables = gpu.trace_tables();
+    const NetlistTables tables = netlist.trace_tables();
     trace_filter.stages_kept(tables);  // an unknown stage fails before anything is written
     const std::string& dir = options.trace_dir;
     create_output_directory(dir);
@@ -242,6 +266,8 @@ GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOp
   for (const Draw& d : scene.draws) triangles += triangle_count(d.primitive, d.vertex_count());
   Host host("host", gpu, scene.draws.size(), triangles, options.progress, config.cycle(),
             options.fault_withhold_end_of_frame);
+  std::unique_ptr<Watchdog> watchdog;
+  if (options.watchdog) watchdog = std::make_unique<Watchdog>("watchdog", gpu, config);
 
   const auto start = std::chrono::steady_clock::now();
   try {
@@ -254,13 +280,13 @@ GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOp
         SimulationError::Kind::model_error,
         "model error at cycle " +
             std::to_string(static_cast<uint64_t>(sc_core::sc_time_stamp() / config.cycle())) +
-            ": " + what + "\n" + gpu.fifo_report());
+            ": " + what + "\n" + fifo_report(netlist));
   }
   result.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-  if (gpu.watchdog_fired()) {
-    throw SimulationError(SimulationError::Kind::watchdog, gpu.watchdog_report());
+  if (watchdog && watchdog->fired()) {
+    throw SimulationError(SimulationError::Kind::watchdog, watchdog->report());
   }
   if (!host.done) {
     // The kernel ran out of events: every process waits for one that will
@@ -268,13 +294,14 @@ GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOp
     // FIFO). One more cycle of (empty) simulated time tells which FIFOs have
     // a reader or writer blocked on them.
     const uint64_t stopped = static_cast<uint64_t>(sc_core::sc_time_stamp() / config.cycle());
-    const Gpu::Sample before = gpu.sample();
+    const NetlistSample before = sample(netlist);
     sc_core::sc_start(config.cycle());
-    const Gpu::Sample after = gpu.sample();
+    const NetlistSample after = sample(netlist);
     throw SimulationError(SimulationError::Kind::deadlock,
                           "deadlock: every process is blocked and the frame is not complete (seen "
                           "at cycle " +
-                              std::to_string(stopped) + "): " + gpu.state_report(before, after));
+                              std::to_string(stopped) +
+                              "): " + state_report(netlist, before, after));
   }
 
   result.completed = true;
@@ -283,7 +310,9 @@ GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOp
   result.counts = gpu.pipeline_counts();
   result.timing = gpu.stats_json(result.cycles);
 
-  std::vector<std::string> errors = conservation_errors(result.timing, loaded.frame);
+  result.netlist = netlist.trace_tables();
+  std::vector<std::string> errors =
+      conservation_errors(result.timing, result.netlist, loaded.frame);
   for (std::string& e : pipeline_count_errors(result.counts)) errors.push_back("pipeline: " + e);
   if (!errors.empty()) {
     std::string report = "conservation: the stages' counters do not balance (" +
@@ -294,52 +323,6 @@ GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOp
   }
   if (recorder) recorder->finish(result.cycles, sc_core::sc_time_stamp().value());
   return result;
-}
-
-std::vector<std::string> pipeline_count_errors(const nlohmann::json& counts) {
-  std::vector<std::string> errors;
-  const auto get = [&](const char* k) -> uint64_t {
-    if (!counts.contains(k) || !counts.at(k).is_number_unsigned()) {
-      errors.push_back(std::string(k) + ": missing");
-      return 0;
-    }
-    return counts.at(k).get<uint64_t>();
-  };
-  const uint64_t in = get("triangles_in"), invalid = get("triangles_invalid"),
-                 away = get("triangles_clipped_away"), clipped = get("triangles_clipped"),
-                 after = get("triangles_after_clip"), degenerate = get("triangles_degenerate"),
-                 culled = get("triangles_culled"), rasterized = get("triangles_rasterized"),
-                 generated = get("fragments_generated"), passed = get("fragments_passed_depth"),
-                 written = get("fragments_written");
-  const auto fail = [&](const std::string& what) { errors.push_back(what); };
-  if (invalid + away > in) {
-    fail("triangles_invalid + triangles_clipped_away = " + std::to_string(invalid + away) +
-         " exceeds triangles_in = " + std::to_string(in));
-  } else {
-    const uint64_t survivors = in - invalid - away;
-    if (after < survivors) {
-      fail("triangles_after_clip = " + std::to_string(after) + " is below the " +
-           std::to_string(survivors) + " triangles the clipper kept");
-    }
-    if (clipped > survivors) {
-      fail("triangles_clipped = " + std::to_string(clipped) + " exceeds the " +
-           std::to_string(survivors) + " triangles the clipper kept");
-    }
-  }
-  if (after != degenerate + culled + rasterized) {
-    fail("triangles_after_clip = " + std::to_string(after) +
-         ", but triangles_degenerate + triangles_culled + triangles_rasterized = " +
-         std::to_string(degenerate + culled + rasterized));
-  }
-  if (passed > generated) {
-    fail("fragments_passed_depth = " + std::to_string(passed) +
-         " exceeds fragments_generated = " + std::to_string(generated));
-  }
-  if (written > passed) {
-    fail("fragments_written = " + std::to_string(written) +
-         " exceeds fragments_passed_depth = " + std::to_string(passed));
-  }
-  return errors;
 }
 
 }  // namespace gpusim

@@ -19,7 +19,9 @@
 #include "hw/draw_state.h"
 #include "hw/framebuffer.h"
 #include "hw/gpu_config.h"
+#include "stages/gpu.h"
 #include "testbench/scene/scene.h"
+#include "testbench/sim/conservation.h"
 
 namespace gpusim {
 
@@ -38,6 +40,9 @@ uint64_t triangle_count(PrimitiveType type, uint64_t slots);
 struct GpuRunOptions {
   bool record_last_writer = false;  // per-pixel primitive id, for --check
   bool progress = false;            // a progress line on stderr
+  bool watchdog = true;             // the hang detector (testbench/sim/watchdog.h)
+  // Elaboration order of the raster units; no result may depend on it.
+  Gpu::UnitOrder unit_order = Gpu::UnitOrder::ascending;
   // Random stalls at every FIFO boundary when stall_probability > 0.
   double stall_probability = 0.0;
   unsigned stall_max_cycles = 8;
@@ -58,7 +63,8 @@ struct GpuRunOptions {
   // runs leave these at their defaults. FIFOs by name, as in stats.json.
   bool fault_withhold_end_of_frame = false;  // the host never sends end_of_frame: a lost item
   std::string fault_disconnected_fifo;       // the FIFO never delivers: a deadlock
-  std::string fault_stalled_fifo;            // its neighbours stay busy: the watchdog fires
+  // (Unknown FIFO names throw std::invalid_argument.)
+  std::string fault_stalled_fifo;  // its neighbours stay busy: the watchdog fires
 };
 
 // The cycle model did not finish the frame cleanly. what() is a report: a
@@ -87,14 +93,10 @@ struct GpuRunResult {
   std::vector<int64_t> last_writer;  // when recorded
   nlohmann::json counts;             // pipeline counters, named as the golden model's
   nlohmann::json timing;             // Gpu::stats_json
+  NetlistTables netlist;             // the GPU's stages and FIFOs (Topology::trace_tables)
 };
 
 // Throws SimulationError when the frame does not complete cleanly.
 GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOptions& options);
-
-// The spec's bookkeeping (docs/pipeline-spec.md, section 13) over a set of
-// pipeline counters, named as golden::Stats::to_json() names them: one line
-// per violated identity, empty when they hold.
-std::vector<std::string> pipeline_count_errors(const nlohmann::json& counts);
 
 }  // namespace gpusim

@@ -55,12 +55,13 @@ TEST(GpuConfig, Defaults) {
   ASSERT_EQ(GpuConfig::stage_names().size(), 10u);
   EXPECT_EQ(GpuConfig::stage_names().front(), "command_processor");
   EXPECT_EQ(GpuConfig::stage_names().back(), "rop");
-  ASSERT_EQ(GpuConfig::fifo_names().size(), 9u);
-  EXPECT_EQ(GpuConfig::fifo_names()[5], "distributor_to_rasterizer");
+  ASSERT_EQ(GpuConfig::fifo_names().size(), 10u);
+  EXPECT_EQ(GpuConfig::fifo_names().front(), "commands");
+  EXPECT_EQ(GpuConfig::fifo_names()[6], "distributor_to_rasterizer");
   for (const auto& n : GpuConfig::fifo_names()) EXPECT_EQ(c.fifo_depth_of(n), 16u) << n;
   EXPECT_EQ(c.stages.size(), 10u);
   for (const auto& n : GpuConfig::stage_names()) EXPECT_GE(c.stage(n).ii, 1u) << n;
-  EXPECT_EQ(c.stage("rasterizer"), (StageCost{1, 2}));
+  EXPECT_EQ(c.stage("tile_rasterizer"), (StageCost{1, 2}));
   EXPECT_EQ(c.stage("vertex_shader"), (StageCost{4, 24}));
   EXPECT_EQ(c.stage("triangle_setup"), (StageCost{4, 16}));
 
@@ -102,7 +103,7 @@ TEST(GpuConfig, RoundTrip) {
   c.stamp = {8, 2};
   c.fifo_depth = 3;
   c.fifo_depths["shader_to_clipper"] = 7;
-  c.stages["rasterizer"] = {2, 9};
+  c.stages["tile_rasterizer"] = {2, 9};
   c.stages["command_processor"] = {5, 0};
   c.memory = {100, 8};
   c.vertex_cache_entries = 0;
@@ -115,7 +116,7 @@ TEST(GpuConfig, RoundTrip) {
   EXPECT_EQ(j["fifo_depths"]["shader_to_clipper"], 7);
   EXPECT_EQ(j["fifo_depths"]["interpolator_to_rop"], 3);
   EXPECT_EQ(j["stages"].size(), GpuConfig::stage_names().size());
-  EXPECT_EQ(j["stages"]["rasterizer"], json({{"ii", 2}, {"latency", 9}}));
+  EXPECT_EQ(j["stages"]["tile_rasterizer"], json({{"ii", 2}, {"latency", 9}}));
   EXPECT_EQ(j["stamp"], json({8, 2}));
 
   const GpuConfig back = gpu_config_from_json(j, "dump");
@@ -146,16 +147,29 @@ TEST(GpuConfig, RoundTrip) {
   EXPECT_EQ(d, c);
 }
 
-TEST(GpuConfig, UnknownKeysNameTheirPath) {
-  EXPECT_EQ(error_of(json{{"unitz", 4}}), "gpu.json: unitz: unknown key");
-  EXPECT_EQ(error_of(json::parse(R"({"stages": {"rasterizr": {"ii": 1}}})")),
-            "gpu.json: stages.rasterizr: unknown key");
-  EXPECT_EQ(error_of(json::parse(R"({"stages": {"rasterizer": {"iii": 1}}})")),
-            "gpu.json: stages.rasterizer.iii: unknown key");
+TEST(GpuConfig, UnknownKeysNameTheirPathAndTheAllowedKeys) {
+  EXPECT_EQ(error_of(json{{"unitz", 4}}),
+            "gpu.json: unitz: unknown key (allowed: clock_mhz, units, tile_size, stamp, "
+            "fifo_depth, fifo_depths, stages, memory, vertex_cache_entries, tile_cache_entries, "
+            "watchdog_cycles)");
+  // The old name of the tile rasterizer is refused with the list of stages.
+  EXPECT_EQ(error_of(json::parse(R"({"stages": {"rasterizer": {"ii": 1}}})")),
+            "gpu.json: stages.rasterizer: unknown key (allowed: command_processor, "
+            "vertex_fetch, vertex_shader, clipper, triangle_setup, tile_distributor, "
+            "tile_rasterizer, depth_test, interpolator, rop)");
+  EXPECT_EQ(error_of(json::parse(R"({"stages": {"tile_rasterizer": {"iii": 1}}})")),
+            "gpu.json: stages.tile_rasterizer.iii: unknown key (allowed: ii, latency)");
   EXPECT_EQ(error_of(json::parse(R"({"fifo_depths": {"fetch_to_shadr": 4}})")),
-            "gpu.json: fifo_depths.fetch_to_shadr: unknown key");
+            "gpu.json: fifo_depths.fetch_to_shadr: unknown key (allowed: commands, "
+            "command_to_fetch, fetch_to_shader, shader_to_clipper, clipper_to_setup, "
+            "setup_to_distributor, distributor_to_rasterizer, rasterizer_to_depth, "
+            "depth_to_interpolator, interpolator_to_rop)");
   EXPECT_EQ(error_of(json::parse(R"({"memory": {"latancy": 4}})")),
-            "gpu.json: memory.latancy: unknown key");
+            "gpu.json: memory.latancy: unknown key (allowed: latency, bytes_per_cycle)");
+  // The host's command queue is configurable like every other FIFO.
+  EXPECT_EQ(gpu_config_from_json(json::parse(R"({"fifo_depths": {"commands": 3}})"), "g")
+                .fifo_depth_of("commands"),
+            3u);
 }
 
 TEST(GpuConfig, WrongTypes) {
@@ -200,10 +214,10 @@ TEST(GpuConfig, OutOfRangeValues) {
   EXPECT_EQ(error_of(json{{"fifo_depth", 0}}), "gpu.json: fifo_depth: 0 is out of range 1..65536");
   EXPECT_EQ(error_of(json::parse(R"({"fifo_depths": {"interpolator_to_rop": 0}})")),
             "gpu.json: fifo_depths.interpolator_to_rop: 0 is out of range 1..65536");
-  EXPECT_EQ(error_of(json::parse(R"({"stages": {"rasterizer": {"ii": 0}}})")),
-            "gpu.json: stages.rasterizer.ii: 0 is out of range 1..1000000");
-  EXPECT_EQ(error_of(json::parse(R"({"stages": {"rasterizer": {"latency": -1}}})")),
-            "gpu.json: stages.rasterizer.latency: -1 is out of range 0..1000000");
+  EXPECT_EQ(error_of(json::parse(R"({"stages": {"tile_rasterizer": {"ii": 0}}})")),
+            "gpu.json: stages.tile_rasterizer.ii: 0 is out of range 1..1000000");
+  EXPECT_EQ(error_of(json::parse(R"({"stages": {"tile_rasterizer": {"latency": -1}}})")),
+            "gpu.json: stages.tile_rasterizer.latency: -1 is out of range 0..1000000");
   EXPECT_EQ(error_of(json::parse(R"({"memory": {"bytes_per_cycle": 0}})")),
             "gpu.json: memory.bytes_per_cycle: 0 is out of range 1..65536");
   EXPECT_EQ(error_of(json{{"watchdog_cycles", 0}}),

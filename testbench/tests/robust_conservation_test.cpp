@@ -57,7 +57,7 @@ TEST_P(EveryScene, CountersBalance) {
        std::vector<std::pair<GpuConfig, GpuRunOptions>>{{GpuConfig{}, {}}, {odd, stalls}}) {
     // run_gpu throws SimulationError when the counters do not balance.
     const GpuRunResult r = run_gpu(scene, config, options);
-    EXPECT_EQ(joined(conservation_errors(r.timing, frame.frame)), "");
+    EXPECT_EQ(joined(conservation_errors(r.timing, r.netlist, frame.frame)), "");
     EXPECT_EQ(joined(pipeline_count_errors(r.counts)), "");
   }
   EXPECT_EQ(joined(pipeline_count_errors(golden::render(scene).stats.to_json())), "");
@@ -84,7 +84,7 @@ class Doctored : public ::testing::Test {
   }
   static const nlohmann::json& stats() { return result_->timing; }
   static std::string check(const nlohmann::json& s) {
-    return joined(conservation_errors(s, frame_->frame));
+    return joined(conservation_errors(s, result_->netlist, frame_->frame));
   }
   static Scene* scene_;
   static LoadedFrame* frame_;

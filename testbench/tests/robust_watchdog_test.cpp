@@ -107,8 +107,9 @@ TEST(Watchdog, DisconnectedFifoIsReportedAsADeadlock) {
   EXPECT_TRUE(has(r, "a deadlock")) << r;
   // The clipper cannot write into the full FIFO; setup waits on the stand-in
   // that nobody writes; everything after it starves.
-  EXPECT_TRUE(has(r, "clipper: waiting on output clipper_to_setup (2/2)")) << r;
-  EXPECT_TRUE(has(r, "triangle_setup: waiting on input clipper_to_setup_disconnected (0/2)")) << r;
+  EXPECT_TRUE(has(r, "clipper: waiting on output clipper_to_setup (2/2, withheld)")) << r;
+  EXPECT_TRUE(has(r, "triangle_setup: waiting on input clipper_to_setup (2/2, withheld)")) << r;
+  EXPECT_TRUE(has(r, "withheld from its reader (test fault)")) << r;
   EXPECT_TRUE(has(r, "rop_1: waiting on input interpolator_to_rop_1 (0/2)")) << r;
   EXPECT_TRUE(has(r, "clipper_to_setup: 2/2; 2 written, 0 read")) << r;
   expect_complete_report(r, 2);

@@ -657,7 +657,7 @@ void check_costs(const Bench& b, const std::vector<ClippedTriangle>& tokens,
   const GpuConfig& c = b.config;
   const unsigned setup_ii = c.stage("triangle_setup").ii;
   const unsigned dist_ii = c.stage("tile_distributor").ii;
-  const unsigned rast_ii = c.stage("rasterizer").ii;
+  const unsigned rast_ii = c.stage("tile_rasterizer").ii;
   uint64_t controls = 0, dist_cycles = 0;
   std::vector<UnitWork> work(c.units);
   std::vector<uint64_t> sent(c.units, 0);
@@ -731,7 +731,7 @@ TEST_P(RasterCore, MatchesGoldenRuleAndCosts) {
   // Distinct costs so every term of each formula is visible.
   cfg.stages["triangle_setup"] = {5, 7};
   cfg.stages["tile_distributor"] = {2, 3};
-  cfg.stages["rasterizer"] = {3, 4};
+  cfg.stages["tile_rasterizer"] = {3, 4};
   const int W = 203, H = 157;  // no multiple of any tile or stamp size
   const FrameState frame = raster_frame(W, H);
   const std::vector<ClippedTriangle> tokens =

@@ -59,12 +59,12 @@ class TraceReaderTest : public trace_test::TraceTest {
                         {"name", names[i]},
                         {"kind", kinds[i]},
                         {"unit", i >= 2 ? nlohmann::json(0) : nlohmann::json()},
-                        {"input", "in" + std::to_string(i)},
+                        {"inputs", {"in" + std::to_string(i)}},
                         {"outputs", nlohmann::json::array()}});
     }
     manifest_ = {
         {"format", "gpusim-trace"},
-        {"version", 1},
+        {"version", 2},
         {"scene", "synthetic.json"},
         {"config", nlohmann::json::object()},
         {"clock_mhz", 1000},

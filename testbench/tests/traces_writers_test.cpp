@@ -106,9 +106,10 @@ TEST(TraceFilter, ParsesAndRejects) {
   }
   EXPECT_THROW(TraceFilter::parse("rop,,clipper", "", ""), InputError);
 
-  TraceTables t;
-  t.stages = {
-      {"clipper", "clipper", -1, 0, {}}, {"rop_0", "rop", 0, 1, {}}, {"rop_1", "rop", 1, 2, {}}};
+  NetlistTables t;
+  t.stages = {{"clipper", "clipper", -1, {0}, {}},
+              {"rop_0", "rop", 0, {1}, {}},
+              {"rop_1", "rop", 1, {2}, {}}};
   EXPECT_EQ(TraceFilter::parse("rop", "", "").stages_kept(t),
             (std::vector<bool>{false, true, true}));
   EXPECT_EQ(TraceFilter::parse("clipper,rop_1", "", "").stages_kept(t),

@@ -1,0 +1,135 @@
+// The skeleton every pipeline stage is built on: its one name (kind and unit),
+// its cost from the configuration, its statistics group with the counters
+// every stage has, and the only ways a stage spends time and moves items:
+//
+//   receive(in, item)          read an item or control token   (tokens_in)
+//   work(n)                    count n busy cycles and let them pass
+//   emit(out, item)            write it, readable latency cycles from now (tokens_out)
+//   emit_at(out, item, ready)  the same with a readiness the stage computed
+//   forward_control(out, k)    a control token: ii cycles, then emitted in order
+//   retire()                   a token consumed for good (the ROP)
+//
+// so busy_cycles can never drift from the waits it accounts for, and
+// tokens_in / tokens_out always count FIFO reads and writes (the conservation
+// ledger, testbench/sim/conservation.h, relies on it). A stage with nothing to
+// do sleeps in receive() and costs the simulator nothing; work(0) does not
+// wait at all.
+//
+// Stalled and starved cycles are not counted here: the FIFOs measure them
+// and the netlist (stages/topology.h) adds them to the group as formulas.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <systemc>
+#include <utility>
+
+#include "hw/draw_state.h"
+#include "hw/fifo.h"
+#include "hw/gpu_config.h"
+#include "hw/packets.h"
+#include "hw/stats.h"
+
+namespace gpusim {
+
+class PipelineStage : public sc_core::sc_module {
+ public:
+  // The stage's configuration name ("tile_rasterizer"), the same in
+  // stats.json, the traces and the docs; instances are named
+  // instance_name(kind, unit).
+  const std::string& stage_kind() const { return m_kind; }
+  // The raster unit the stage belongs to; -1 for the front end.
+  int unit() const { return m_unit; }
+  static std::string instance_name(const std::string& kind, int unit) {
+    return unit < 0 ? kind : kind + "_" + std::to_string(unit);
+  }
+
+  const StatGroup& stats() const { return m_stats; }
+  StatGroup& stats() { return m_stats; }
+  uint64_t busy_cycles() const { return m_busy_cycles; }
+  uint64_t tokens_in() const { return m_tokens_in; }
+  uint64_t tokens_out() const { return m_tokens_out; }
+
+ protected:
+  // `tokens_in` and `tokens_out` describe what the stage reads and writes
+  // ("setup packets read"). The cost is config.stage(kind).
+  PipelineStage(sc_core::sc_module_name name, std::string kind, int unit, const GpuConfig& config,
+                const FrameState& frame, const char* tokens_in, const char* tokens_out)
+      : sc_core::sc_module(name),
+        m_config(config),
+        m_frame(frame),
+        m_cost(config.stage(kind)),
+        m_cycle(config.cycle().value()),
+        m_latency(clock_cycles(m_cost.latency)),
+        m_unit(unit),
+        m_kind(std::move(kind)),
+        m_stats(basename()),
+        m_busy_cycles(m_stats.counter("busy_cycles", "cycles", "cycles spent working")),
+        m_tokens_in(m_stats.counter("tokens_in", "tokens", tokens_in)),
+        m_tokens_out(m_stats.counter("tokens_out", "tokens", tokens_out)) {}
+
+  sc_core::sc_time clock_cycles(uint64_t n) const {
+    return sc_core::sc_time::from_value(m_cycle * n);
+  }
+
+  void work(uint64_t cycles) {
+    m_busy_cycles += cycles;
+    if (cycles > 0) sc_core::wait(clock_cycles(cycles));
+  }
+
+  template <typename T>
+  T receive(FifoInPort<T>& in) {
+    T item = in->read();
+    ++m_tokens_in;
+    return item;
+  }
+  // Into `item`, whose buffers go back to the FIFO for its writer to reuse.
+  template <typename T>
+  void receive(FifoInPort<T>& in, T& item) {
+    in->read(item);
+    ++m_tokens_in;
+  }
+
+  template <typename T, typename P>
+  void emit_at(FifoOutPort<T>& out, P&& item, const sc_core::sc_time& ready) {
+    out->write(std::forward<P>(item), ready);
+    ++m_tokens_out;
+  }
+  template <typename T, typename P>
+  void emit(FifoOutPort<T>& out, P&& item) {
+    emit_at(out, std::forward<P>(item), sc_core::sc_time_stamp() + m_latency);
+  }
+
+  // Control tokens travel in band, behind the work before them.
+  template <typename T>
+  void forward_control(FifoOutPort<T>& out, PacketKind kind) {
+    work(m_cost.ii);
+    T token{};
+    token.kind = kind;
+    emit(out, std::move(token));
+  }
+
+  void retire() { ++m_tokens_out; }
+
+  const GpuConfig& m_config;
+  const FrameState& m_frame;
+  const StageCost m_cost;
+  // The clock period in SystemC time units, kept: GpuConfig::cycles()
+  // converts it from the MHz double on every call.
+  const uint64_t m_cycle;
+  // latency cycles: an output is readable this long after it is written.
+  const sc_core::sc_time m_latency;
+
+  const int m_unit;  // -1: front end
+
+ private:
+  const std::string m_kind;
+
+ protected:
+  StatGroup m_stats;
+  uint64_t& m_busy_cycles;
+  uint64_t& m_tokens_in;
+  uint64_t& m_tokens_out;
+};
+
+}  // namespace gpusim

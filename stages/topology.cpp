@@ -1,0 +1,231 @@
+#include "stages/topology.h"
+
+#include <algorithm>
+#include <numeric>
+#include <stdexcept>
+
+namespace gpusim {
+
+int Topology::stage_index(PipelineStage& stage) {
+  for (size_t i = 0; i < m_stages.size(); ++i) {
+    if (m_stages[i].stage == &stage) return static_cast<int>(i);
+  }
+  m_stages.push_back({&stage, {}, {}, 0});
+  return static_cast<int>(m_stages.size() - 1);
+}
+
+void Topology::add_fifo(FifoNode node, std::shared_ptr<FifoChannel> fifo, PipelineStage* writer,
+                        PipelineStage& reader) {
+  if (m_finished) throw std::logic_error("Topology: connect() after finish()");
+  if (find_fifo(node.name) != nullptr) {
+    throw std::logic_error("Topology: FIFO '" + node.name + "' connected twice");
+  }
+  const size_t index = m_fifos.size();
+  node.writer = writer != nullptr ? stage_index(*writer) : kHost;
+  node.reader = stage_index(reader);
+  if (node.writer != kHost) m_stages[node.writer].outputs.push_back(index);
+  m_stages[node.reader].inputs.push_back(index);
+  m_fifos.push_back(std::move(node));
+  m_owned.push_back(std::move(fifo));
+}
+
+void Topology::finish() {
+  if (m_finished) throw std::logic_error("Topology: finish() called twice");
+  m_finished = true;
+
+  // Rank: the longest chain of FIFOs from the host (the netlist is acyclic;
+  // a cycle would never settle, so stop after as many rounds as stages).
+  for (size_t round = 0; round <= m_stages.size(); ++round) {
+    bool changed = false;
+    for (StageNode& s : m_stages) {
+      int rank = 0;
+      for (size_t f : s.inputs) {
+        const int w = m_fifos[f].writer;
+        rank = std::max(rank, w == kHost ? 1 : m_stages[w].rank + 1);
+      }
+      changed = changed || rank != s.rank;
+      s.rank = rank;
+    }
+    if (!changed) break;
+    if (round == m_stages.size()) throw std::logic_error("Topology: the FIFOs form a cycle");
+  }
+
+  // Pipeline order: (unit, rank), front end (unit -1) first; then renumber
+  // the FIFOs' endpoints and the stages' FIFO lists.
+  std::vector<size_t> order(m_stages.size());
+  std::iota(order.begin(), order.end(), size_t{0});
+  const auto key = [&](size_t i) {
+    return std::make_pair(m_stages[i].stage->unit(), m_stages[i].rank);
+  };
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return key(a) < key(b); });
+  std::vector<int> new_index(m_stages.size());
+  for (size_t i = 0; i < order.size(); ++i) new_index[order[i]] = static_cast<int>(i);
+  const auto fifo_key = [&](const FifoNode& f) {
+    return std::make_pair(m_stages[f.reader].stage->unit(), new_index[f.reader]);
+  };
+  std::vector<size_t> fifo_order(m_fifos.size());
+  std::iota(fifo_order.begin(), fifo_order.end(), size_t{0});
+  std::stable_sort(fifo_order.begin(), fifo_order.end(),
+                   [&](size_t a, size_t b) { return fifo_key(m_fifos[a]) < fifo_key(m_fifos[b]); });
+  std::vector<size_t> new_fifo(m_fifos.size());
+  for (size_t i = 0; i < fifo_order.size(); ++i) new_fifo[fifo_order[i]] = i;
+
+  std::vector<StageNode> stages;
+  for (size_t i : order) stages.push_back(std::move(m_stages[i]));
+  for (StageNode& s : stages) {
+    for (size_t& f : s.inputs) f = new_fifo[f];
+    for (size_t& f : s.outputs) f = new_fifo[f];
+    std::sort(s.inputs.begin(), s.inputs.end());
+    std::sort(s.outputs.begin(), s.outputs.end());
+  }
+  std::vector<FifoNode> fifos;
+  std::vector<std::shared_ptr<FifoChannel>> owned;
+  for (size_t i : fifo_order) {
+    fifos.push_back(std::move(m_fifos[i]));
+    owned.push_back(std::move(m_owned[i]));
+  }
+  for (FifoNode& f : fifos) {
+    if (f.writer != kHost) f.writer = new_index[f.writer];
+    f.reader = new_index[f.reader];
+  }
+  m_stages = std::move(stages);
+  m_fifos = std::move(fifos);
+  m_owned = std::move(owned);
+
+  // The configuration and the netlist name the same stages and FIFOs.
+  const auto same = [](std::vector<std::string> a, std::vector<std::string> b) {
+    std::sort(a.begin(), a.end());
+    std::sort(b.begin(), b.end());
+    return a == b;
+  };
+  const auto joined = [](const std::vector<std::string>& v) {
+    std::string s;
+    for (const std::string& n : v) s += (s.empty() ? "" : ", ") + n;
+    return s;
+  };
+  if (!same(stage_kinds(), GpuConfig::stage_names())) {
+    throw std::logic_error("Topology: the netlist's stages (" + joined(stage_kinds()) +
+                           ") differ from the configuration's (" +
+                           joined(GpuConfig::stage_names()) + ")");
+  }
+  if (!same(fifo_kinds(), GpuConfig::fifo_names())) {
+    throw std::logic_error("Topology: the netlist's FIFOs (" + joined(fifo_kinds()) +
+                           ") differ from the configuration's (" + joined(GpuConfig::fifo_names()) +
+                           ")");
+  }
+
+  // Stalled: blocked writing a full output; starved: blocked reading an
+  // empty (or not yet ready) input. The FIFOs measure both.
+  const sc_core::sc_time cycle = m_config.cycle();
+  for (StageNode& s : m_stages) {
+    std::vector<const FifoChannel*> outputs, inputs;
+    for (size_t f : s.outputs) outputs.push_back(m_fifos[f].channel);
+    for (size_t f : s.inputs) inputs.push_back(m_fifos[f].channel);
+    s.stage->stats().formula("stalled_cycles", "cycles",
+                             "cycles blocked writing a full output FIFO", [outputs, cycle] {
+                               double c = 0.0;
+                               for (const FifoChannel* f : outputs)
+                                 c += f->stats().writer_blocked / cycle;
+                               return c;
+                             });
+    s.stage->stats().formula("starved_cycles", "cycles",
+                             "cycles blocked reading an empty or not yet ready input FIFO",
+                             [inputs, cycle] {
+                               double c = 0.0;
+                               for (const FifoChannel* f : inputs)
+                                 c += f->stats().reader_blocked / cycle;
+                               return c;
+                             });
+  }
+}
+
+const Topology::FifoNode* Topology::find_fifo(const std::string& name) const {
+  for (const FifoNode& f : m_fifos) {
+    if (f.name == name) return &f;
+  }
+  return nullptr;
+}
+
+const Topology::StageNode* Topology::find_stage(const std::string& name) const {
+  for (const StageNode& s : m_stages) {
+    if (s.stage->basename() == name) return &s;
+  }
+  return nullptr;
+}
+
+std::vector<std::string> Topology::stage_kinds() const {
+  std::vector<std::string> kinds;
+  for (const StageNode& s : m_stages) {
+    if (std::find(kinds.begin(), kinds.end(), s.stage->stage_kind()) == kinds.end())
+      kinds.push_back(s.stage->stage_kind());
+  }
+  return kinds;
+}
+
+std::vector<std::string> Topology::fifo_kinds() const {
+  std::vector<std::string> kinds;
+  for (const FifoNode& f : m_fifos) {
+    if (std::find(kinds.begin(), kinds.end(), f.kind) == kinds.end()) kinds.push_back(f.kind);
+  }
+  return kinds;
+}
+
+NetlistTables Topology::trace_tables() const {
+  NetlistTables t;
+  for (const FifoNode& n : m_fifos) {
+    NetlistTables::Fifo f;
+    f.name = n.name;
+    f.kind = n.kind;
+    f.depth = n.channel->capacity();
+    f.writer = n.writer;
+    f.reader = n.reader;
+    f.unit = n.unit;
+    t.fifos.push_back(f);
+  }
+  for (const StageNode& n : m_stages) {
+    NetlistTables::Stage s;
+    s.name = n.stage->basename();
+    s.kind = n.stage->stage_kind();
+    s.unit = n.stage->unit();
+    for (size_t f : n.inputs) s.inputs.push_back(static_cast<int>(f));
+    for (size_t f : n.outputs) s.outputs.push_back(static_cast<int>(f));
+    t.stages.push_back(std::move(s));
+  }
+  return t;
+}
+
+void Topology::attach_trace(TraceProbes& probes) const {
+  for (size_t i = 0; i < m_fifos.size(); ++i) m_fifos[i].attach_probe(probes, i);
+}
+
+uint64_t Topology::items_moved() const {
+  uint64_t n = 0;
+  for (const FifoNode& f : m_fifos) {
+    const FifoStats s = f.channel->stats();
+    n += s.written + s.read;
+  }
+  return n;
+}
+
+nlohmann::json Topology::stats_json() const {
+  const sc_core::sc_time cycle = m_config.cycle();
+  nlohmann::json stages = nlohmann::json::object();
+  for (const StageNode& s : m_stages) stages[s.stage->basename()] = s.stage->stats().to_json();
+  nlohmann::json fifos = nlohmann::json::object();
+  for (const FifoNode& f : m_fifos) fifos[f.name] = f.channel->stats_json(cycle);
+  return {{"stages", stages}, {"fifos", fifos}};
+}
+
+nlohmann::json Topology::descriptions() const {
+  nlohmann::json stages = nlohmann::json::object();
+  for (const StageNode& s : m_stages) {
+    nlohmann::json& d = stages[s.stage->stage_kind()];
+    // A unit's stages of one kind declare the same counters, but the
+    // distributor declares one per unit: merge them all.
+    const nlohmann::json own = s.stage->stats().descriptions();
+    for (const auto& item : own.items()) d[item.key()] = item.value();
+  }
+  return {{"stages", stages}, {"fifos", FifoChannel::descriptions()}};
+}
+
+}  // namespace gpusim

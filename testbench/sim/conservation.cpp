@@ -1,0 +1,352 @@
+#include "testbench/sim/conservation.h"
+
+#include <functional>
+#include <map>
+
+#include "testbench/sim/gpu_run.h"
+
+namespace gpusim {
+namespace {
+
+// Reads counters out of a stats_json() dump and collects violated rules.
+class Ledger {
+ public:
+  explicit Ledger(const nlohmann::json& stats) : m_stats(stats) {}
+
+  uint64_t stage(const std::string& name, const std::string& counter) {
+    return read({"stages", name, counter});
+  }
+  uint64_t fifo(const std::string& name, const std::string& field) {
+    return read({"fifos", name, field});
+  }
+  // "where: <a> = <va>, but <b> = <vb>" unless va == vb.
+  void equal(const std::string& where, const std::string& a, uint64_t va, const std::string& b,
+             uint64_t vb) {
+    if (va != vb)
+      fail(where, a + " = " + std::to_string(va) + ", but " + b + " = " + std::to_string(vb));
+  }
+  void at_most(const std::string& where, const std::string& a, uint64_t va, const std::string& b,
+               uint64_t vb) {
+    if (va > vb)
+      fail(where, a + " = " + std::to_string(va) + " exceeds " + b + " = " + std::to_string(vb));
+  }
+  void fail(const std::string& where, const std::string& what) {
+    m_errors.push_back(where + ": " + what);
+  }
+  std::vector<std::string> take() { return std::move(m_errors); }
+
+ private:
+  uint64_t read(std::initializer_list<std::string> path) {
+    const nlohmann::json* j = &m_stats;
+    std::string where;
+    for (const std::string& key : path) {
+      where += (where.empty() ? "" : ".") + key;
+      if (!j->is_object() || !j->contains(key)) {
+        fail(where, "missing from the statistics");
+        return 0;
+      }
+      j = &(*j)[key];
+    }
+    if (j->is_number_unsigned()) return j->get<uint64_t>();
+    if (j->is_number_integer() && j->get<int64_t>() >= 0) return j->get<uint64_t>();
+    if (j->is_number_float() && j->get<double>() >= 0.0)
+      return static_cast<uint64_t>(j->get<double>());
+    fail(where, "not a count: " + j->dump());
+    return 0;
+  }
+
+  const nlohmann::json& m_stats;
+  std::vector<std::string> m_errors;
+};
+
+// What a stage kind's rules see: the ledger, the stage's name, the frame's
+// totals and the netlist around the stage.
+struct Context {
+  Ledger& l;
+  const std::string& name;
+  const NetlistTables& netlist;
+  const NetlistTables::Stage& stage;
+  uint64_t draws = 0;      // in the frame
+  uint64_t slots = 0;      // vertex slots of the frame's draws
+  uint64_t triangles = 0;  // assembled from them
+  uint64_t control = 0;    // control tokens every stage forwards (clears + frames)
+  uint64_t units = 0;
+
+  uint64_t get(const std::string& counter) const { return l.stage(name, counter); }
+  // The stage writing this stage's (first) input FIFO: the one before it.
+  std::string upstream() const {
+    const int w = stage.inputs.empty() ? -1 : netlist.fifos[stage.inputs[0]].writer;
+    return w < 0 ? std::string("host") : netlist.stages[w].name;
+  }
+};
+
+using Rule = std::function<void(Context&)>;
+
+// Each stage kind's own rules.
+const std::map<std::string, Rule>& rules() {
+  static const std::map<std::string, Rule> table = {
+      {"command_processor",
+       [](Context& c) {
+         // Commands in = commands out.
+         c.l.equal(c.name, "draws", c.get("draws"), "draws in the frame", c.draws);
+         c.l.equal(c.name, "frames", c.get("frames"), "frames run", 1);
+         c.l.equal(c.name, "tokens_in", c.get("tokens_in"), "draws + clears + frames",
+                   c.get("draws") + c.get("clears") + c.get("frames"));
+         c.l.equal(c.name, "tokens_out", c.get("tokens_out"), "tokens_in", c.get("tokens_in"));
+       }},
+      {"vertex_fetch",
+       [](Context& c) {
+         // Draws become batches of slots; every slot is invalid, a cache hit
+         // or fetched.
+         c.l.equal(c.name, "draws", c.get("draws"), "draws in the frame", c.draws);
+         c.l.equal(c.name, "tokens_in", c.get("tokens_in"), "draws + control tokens",
+                   c.draws + c.control);
+         c.l.equal(c.name, "tokens_out", c.get("tokens_out"), "batches + control tokens",
+                   c.get("batches") + c.control);
+         c.l.equal(c.name, "slots", c.get("slots"), "slots of the frame's draws", c.slots);
+         c.l.equal(c.name, "slots", c.get("slots"), "invalid_slots + cache_hits + vertices_fetched",
+                   c.get("invalid_slots") + c.get("cache_hits") + c.get("vertices_fetched"));
+       }},
+      {"vertex_shader",
+       [](Context& c) {
+         // Every fetched vertex is shaded.
+         const std::string vf = c.upstream();
+         c.l.equal(c.name, "tokens_out", c.get("tokens_out"), "tokens_in", c.get("tokens_in"));
+         c.l.equal(c.name, "vertices_shaded", c.get("vertices_shaded"), vf + ".vertices_fetched",
+                   c.l.stage(vf, "vertices_fetched"));
+       }},
+      {"clipper",
+       [](Context& c) {
+         // Triangles in = invalid + clipped away + survivors; every survivor
+         // leaves as one triangle or more.
+         const uint64_t in = c.get("triangles_in");
+         const uint64_t dropped = c.get("triangles_invalid") + c.get("triangles_clipped_away");
+         const uint64_t after = c.get("triangles_after_clip");
+         c.l.equal(c.name, "triangles_in", in, "triangles assembled from the frame's draws",
+                   c.triangles);
+         c.l.at_most(c.name, "triangles_invalid + triangles_clipped_away", dropped, "triangles_in",
+                     in);
+         const uint64_t survivors = in >= dropped ? in - dropped : 0;
+         c.l.at_most(c.name, "survivors (triangles_in - invalid - clipped_away)", survivors,
+                     "triangles_after_clip", after);
+         c.l.at_most(c.name, "triangles_clipped", c.get("triangles_clipped"), "survivors",
+                     survivors);
+         c.l.equal(c.name, "cache_reads", c.get("cache_reads"), "vertex_fetch.cache_hits",
+                   c.l.stage("vertex_fetch", "cache_hits"));
+         c.l.equal(c.name, "tokens_in", c.get("tokens_in"), "vertex_fetch batches + control tokens",
+                   c.l.stage("vertex_fetch", "batches") + c.control);
+         c.l.equal(c.name, "tokens_out", c.get("tokens_out"),
+                   "triangles_after_clip + control tokens", after + c.control);
+       }},
+      {"triangle_setup",
+       [](Context& c) {
+         // Triangles in = degenerate + culled + rasterized; the rasterized
+         // ones leave unless their box holds no pixel centre.
+         const std::string cl = c.upstream();
+         const uint64_t after = c.l.stage(cl, "triangles_after_clip");
+         const uint64_t rasterized = c.get("triangles_rasterized");
+         const uint64_t offscreen = c.get("triangles_offscreen");
+         c.l.equal(c.name, "tokens_in", c.get("tokens_in"),
+                   cl + ".triangles_after_clip + control tokens", after + c.control);
+         c.l.equal(c.name, cl + ".triangles_after_clip", after,
+                   "triangles_degenerate + triangles_culled + triangles_rasterized",
+                   c.get("triangles_degenerate") + c.get("triangles_culled") + rasterized);
+         c.l.at_most(c.name, "triangles_offscreen", offscreen, "triangles_rasterized", rasterized);
+         c.l.equal(c.name, "tokens_out", c.get("tokens_out"),
+                   "triangles_rasterized - triangles_offscreen + control tokens",
+                   (rasterized >= offscreen ? rasterized - offscreen : 0) + c.control);
+       }},
+      {"tile_distributor",
+       [](Context& c) {
+         // Each triangle goes to one unit or more; control tokens to every
+         // unit, so each output carries its unit's triangles and them all.
+         const uint64_t in = c.get("tokens_in");
+         const uint64_t work_in = in >= c.control ? in - c.control : 0;
+         const uint64_t sent = c.get("triangles_sent");
+         c.l.equal(c.name, "tokens_out", c.get("tokens_out"),
+                   "triangles_sent + control tokens x units", sent + c.control * c.units);
+         c.l.at_most(c.name, "triangles read", work_in, "triangles_sent", sent);
+         c.l.at_most(c.name, "triangles_sent", sent, "triangles read x units", work_in * c.units);
+         uint64_t sum = 0;
+         for (int f : c.stage.outputs) {
+           const NetlistTables::Fifo& out = c.netlist.fifos[f];
+           const std::string u = std::to_string(out.unit);
+           const uint64_t sent_u = c.get("triangles_sent_unit" + u);
+           sum += sent_u;
+           c.l.equal(c.name, out.name + ".written", c.l.fifo(out.name, "written"),
+                     "triangles_sent_unit" + u + " + control tokens", sent_u + c.control);
+           // Every triangle sent to a unit is walked by its rasterizer.
+           const std::string tr = c.netlist.stages[out.reader].name;
+           c.l.equal(tr, "triangles", c.l.stage(tr, "triangles"),
+                     c.name + ".triangles_sent_unit" + u, sent_u);
+         }
+         c.l.equal(c.name, "sum of triangles_sent_unit*", sum, "triangles_sent", sent);
+       }},
+      {"tile_rasterizer",
+       [](Context& c) {
+         c.l.at_most(c.name, "stamps_emitted", c.get("stamps_emitted"),
+                     "stamps_evaluated + stamps_accepted",
+                     c.get("stamps_evaluated") + c.get("stamps_accepted"));
+         c.l.at_most(c.name, "control tokens", c.control, "tokens_out", c.get("tokens_out"));
+       }},
+      {"depth_test",
+       [](Context& c) {
+         // Stamps and pixels in are the rasterizer's; the ones that fail are
+         // dropped, so at most as many pass.
+         const std::string tr = c.upstream();
+         c.l.equal(c.name, "stamps", c.get("stamps"), tr + ".stamps_emitted",
+                   c.l.stage(tr, "stamps_emitted"));
+         c.l.equal(c.name, "fragments_in", c.get("fragments_in"), tr + ".fragments",
+                   c.l.stage(tr, "fragments"));
+         c.l.at_most(c.name, "fragments_passed", c.get("fragments_passed"), "fragments_in",
+                     c.get("fragments_in"));
+         c.l.at_most(c.name, "stamps_passed", c.get("stamps_passed"), "stamps", c.get("stamps"));
+         c.l.at_most(c.name, "tokens_out", c.get("tokens_out"), "tokens_in", c.get("tokens_in"));
+         c.l.at_most(c.name, "control tokens", c.control, "tokens_out", c.get("tokens_out"));
+       }},
+      {"interpolator",
+       [](Context& c) {
+         // Shades exactly the pixels that passed.
+         const std::string dt = c.upstream();
+         c.l.equal(c.name, "tokens_out", c.get("tokens_out"), "tokens_in", c.get("tokens_in"));
+         c.l.equal(c.name, "stamps", c.get("stamps"), dt + ".stamps_passed",
+                   c.l.stage(dt, "stamps_passed"));
+         c.l.equal(c.name, "fragments", c.get("fragments"), dt + ".fragments_passed",
+                   c.l.stage(dt, "fragments_passed"));
+       }},
+      {"rop",
+       [](Context& c) {
+         // Retires every token; writes at most the pixels it received.
+         const std::string ip = c.upstream();
+         c.l.equal(c.name, "tokens_out", c.get("tokens_out"), "tokens_in", c.get("tokens_in"));
+         c.l.equal(c.name, "stamps", c.get("stamps"), ip + ".stamps", c.l.stage(ip, "stamps"));
+         c.l.equal(c.name, "fragments_in", c.get("fragments_in"), ip + ".fragments",
+                   c.l.stage(ip, "fragments"));
+         c.l.at_most(c.name, "fragments_written", c.get("fragments_written"), "fragments_in",
+                     c.get("fragments_in"));
+         c.l.equal(c.name, "frames", c.get("frames"), "frames run", 1);
+       }},
+  };
+  return table;
+}
+
+}  // namespace
+
+std::vector<std::string> conservation_errors(const nlohmann::json& stats,
+                                             const NetlistTables& netlist,
+                                             const FrameState& frame) {
+  Ledger l(stats);
+  if (!stats.contains("fifos") || !stats["fifos"].is_object()) {
+    l.fail("fifos", "missing from the statistics");
+    return l.take();
+  }
+
+  // Every FIFO delivered every item it took, and holds none at the end.
+  for (const NetlistTables::Fifo& f : netlist.fifos) {
+    l.equal("fifo " + f.name, "items read", l.fifo(f.name, "read"), "items written",
+            l.fifo(f.name, "written"));
+  }
+  // Every stage read what its inputs delivered and wrote what its outputs
+  // took.
+  for (const NetlistTables::Stage& s : netlist.stages) {
+    uint64_t read = 0, written = 0;
+    std::string inputs, outputs;
+    for (int f : s.inputs) {
+      read += l.fifo(netlist.fifos[f].name, "read");
+      inputs += (inputs.empty() ? "" : " + ") + netlist.fifos[f].name + ".read";
+    }
+    for (int f : s.outputs) {
+      written += l.fifo(netlist.fifos[f].name, "written");
+      outputs += (outputs.empty() ? "" : " + ") + netlist.fifos[f].name + ".written";
+    }
+    l.equal(s.name, "tokens_in", l.stage(s.name, "tokens_in"), inputs, read);
+    if (!s.outputs.empty())
+      l.equal(s.name, "tokens_out", l.stage(s.name, "tokens_out"), outputs, written);
+  }
+
+  // Each kind's own rules.
+  uint64_t units = 0;
+  for (const NetlistTables::Stage& s : netlist.stages)
+    units = std::max<uint64_t>(units, s.unit + 1);
+  uint64_t slots = 0, triangles = 0;
+  for (const DrawState& d : frame.draws) {
+    slots += d.buffers.slot_count;
+    triangles += triangle_count(d.primitive, d.buffers.slot_count);
+  }
+  const uint64_t control =
+      l.stage("command_processor", "clears") + l.stage("command_processor", "frames");
+  for (const NetlistTables::Stage& s : netlist.stages) {
+    const auto rule = rules().find(s.kind);
+    if (rule == rules().end()) continue;
+    Context c{l, s.name, netlist, s};
+    c.draws = frame.draws.size();
+    c.slots = slots;
+    c.triangles = triangles;
+    c.control = control;
+    c.units = units;
+    rule->second(c);
+  }
+
+  // Memory: no request was answered with an error.
+  if (stats.contains("memory") && stats["memory"].contains("clients") &&
+      stats["memory"]["clients"].is_object()) {
+    for (const auto& c : stats["memory"]["clients"].items()) {
+      const uint64_t errors = c.value().value("errors", uint64_t{0});
+      if (errors != 0) {
+        l.fail("memory client " + c.key(),
+               std::to_string(errors) + " requests answered with an error");
+      }
+    }
+  } else {
+    l.fail("memory.clients", "missing from the statistics");
+  }
+  return l.take();
+}
+
+std::vector<std::string> pipeline_count_errors(const nlohmann::json& counts) {
+  std::vector<std::string> errors;
+  const auto get = [&](const char* k) -> uint64_t {
+    if (!counts.contains(k) || !counts.at(k).is_number_unsigned()) {
+      errors.push_back(std::string(k) + ": missing");
+      return 0;
+    }
+    return counts.at(k).get<uint64_t>();
+  };
+  const uint64_t in = get("triangles_in"), invalid = get("triangles_invalid"),
+                 away = get("triangles_clipped_away"), clipped = get("triangles_clipped"),
+                 after = get("triangles_after_clip"), degenerate = get("triangles_degenerate"),
+                 culled = get("triangles_culled"), rasterized = get("triangles_rasterized"),
+                 generated = get("fragments_generated"), passed = get("fragments_passed_depth"),
+                 written = get("fragments_written");
+  const auto fail = [&](const std::string& what) { errors.push_back(what); };
+  if (invalid + away > in) {
+    fail("triangles_invalid + triangles_clipped_away = " + std::to_string(invalid + away) +
+         " exceeds triangles_in = " + std::to_string(in));
+  } else {
+    const uint64_t survivors = in - invalid - away;
+    if (after < survivors) {
+      fail("triangles_after_clip = " + std::to_string(after) + " is below the " +
+           std::to_string(survivors) + " triangles the clipper kept");
+    }
+    if (clipped > survivors) {
+      fail("triangles_clipped = " + std::to_string(clipped) + " exceeds the " +
+           std::to_string(survivors) + " triangles the clipper kept");
+    }
+  }
+  if (after != degenerate + culled + rasterized) {
+    fail("triangles_after_clip = " + std::to_string(after) +
+         ", but triangles_degenerate + triangles_culled + triangles_rasterized = " +
+         std::to_string(degenerate + culled + rasterized));
+  }
+  if (passed > generated) {
+    fail("fragments_passed_depth = " + std::to_string(passed) +
+         " exceeds fragments_generated = " + std::to_string(generated));
+  }
+  if (written > passed) {
+    fail("fragments_written = " + std::to_string(written) +
+         " exceeds fragments_passed_depth = " + std::to_string(passed));
+  }
+  return errors;
+}
+
+}  // namespace gpusim
