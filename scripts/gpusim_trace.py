@@ -19,7 +19,8 @@ import numpy as np
 HEADER_SIZE = 16
 RECORD_SIZE = 48
 FORMAT = "gpusim-trace"
-VERSION = 1
+VERSION = 1  # of the binary record files
+MANIFEST_VERSION = 2  # of manifest.json: stages list their "inputs", FIFOs their "kind"
 
 # transactions.bin record, little endian, 48 bytes.
 TX_DTYPE = np.dtype([
@@ -57,11 +58,6 @@ FR_MAGIC = b"GPUSIMFR"
 FR_DEPTH_TEST, FR_ROP = 0, 1
 assert TX_DTYPE.itemsize == RECORD_SIZE and FR_DTYPE.itemsize == RECORD_SIZE
 
-# Stage kinds in pipeline order (front end, then each raster unit's).
-FRONT_END_KINDS = ["command_processor", "vertex_fetch", "vertex_shader", "clipper",
-                   "triangle_setup", "tile_distributor"]
-UNIT_KINDS = ["tile_rasterizer", "depth_test", "interpolator", "rop"]
-PIPELINE_KINDS = FRONT_END_KINDS + UNIT_KINDS
 
 
 class TraceError(Exception):
@@ -73,10 +69,6 @@ def fail(prog, message, code=2):
     text = " ".join(str(message).split())
     print(f"{prog}: {text}", file=sys.stderr)
     sys.exit(code)
-
-
-def pipeline_rank(kind):
-    return PIPELINE_KINDS.index(kind) if kind in PIPELINE_KINDS else len(PIPELINE_KINDS)
 
 
 def _read_records(path, magic, dtype, expected):
@@ -138,8 +130,9 @@ class Trace:
         m = _load_json(mpath)
         if not isinstance(m, dict) or m.get("format") != FORMAT:
             raise TraceError(f"{mpath}: not a gpusim trace manifest (format is not \"{FORMAT}\")")
-        if m.get("version") != VERSION:
-            raise TraceError(f"{mpath}: version {m.get('version')}, this reader knows version {VERSION}")
+        if m.get("version") != MANIFEST_VERSION:
+            raise TraceError(f"{mpath}: version {m.get('version')}, this reader knows version "
+                             f"{MANIFEST_VERSION}")
         try:
             fb = m["framebuffer"]
             self.width, self.height = int(fb["width"]), int(fb["height"])

@@ -49,10 +49,14 @@ Gpu::Gpu(sc_core::sc_module_name name, const GpuConfig& config, const FrameState
               unit.interpolator->in);
     t.connect("interpolator_to_rop", n, unit.interpolator.get(), &unit.interpolator->out, *unit.rop,
               unit.rop->in);
+  }
+  // Memory clients are numbered in bind order: bind them in unit order
+  // whatever order the units were elaborated in.
+  for (const Unit& unit : m_units) {
     unit.depth->mem.bind(m_memory);
     unit.rop->mem.bind(m_memory);
+    m_done_events |= unit.rop->frame_done_event();
   }
-  for (const Unit& unit : m_units) m_done_events |= unit.rop->frame_done_event();
   t.finish();
 }
 

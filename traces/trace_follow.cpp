@@ -93,8 +93,8 @@ std::vector<TraceFollow::Step> TraceFollow::prim_steps(int64_t prim) const {
     if (r.kind == TransactionRecord::work && r.carries(prim))
       steps.push_back({&m.stages[r.stage], r});
   });
-  std::stable_sort(steps.begin(), steps.end(), [](const Step& a, const Step& b) {
-    const int ra = pipeline_rank(a.stage->kind), rb = pipeline_rank(b.stage->kind);
+  std::stable_sort(steps.begin(), steps.end(), [&m](const Step& a, const Step& b) {
+    const int ra = m.pipeline_rank(a.stage->kind), rb = m.pipeline_rank(b.stage->kind);
     if (ra != rb) return ra < rb;
     if (a.record.cycle_in != b.record.cycle_in) return a.record.cycle_in < b.record.cycle_in;
     return a.stage->unit < b.stage->unit;

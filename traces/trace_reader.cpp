@@ -350,14 +350,19 @@ FragmentRecord decode_fragment(const uint8_t* p) {
   return r;
 }
 
-int pipeline_rank(const std::string& kind) {
-  static const char* const kOrder[] = {
-      "command_processor", "vertex_fetch",    "vertex_shader", "clipper",      "triangle_setup",
-      "tile_distributor",  "tile_rasterizer", "depth_test",    "interpolator", "rop"};
-  for (int i = 0; i < 10; ++i) {
-    if (kind == kOrder[i]) return i;
+int TraceManifest::pipeline_rank(const std::string& kind) const {
+  for (size_t i = 0; i < stages.size(); ++i) {
+    if (stages[i].kind == kind) return static_cast<int>(i);
   }
-  return 10;
+  return static_cast<int>(stages.size());
+}
+
+std::vector<std::string> TraceManifest::unit_kinds() const {
+  std::vector<std::string> kinds;
+  for (const TraceStage& s : stages) {
+    if (s.unit == 0) kinds.push_back(s.kind);
+  }
+  return kinds;
 }
 
 TraceReader::TraceReader(const std::string& dir) : m_dir(dir) {

@@ -78,6 +78,12 @@ struct TraceManifest {
   std::pair<uint64_t, uint64_t> window() const;
   uint64_t primitives() const;  // primitive ids are 0 .. primitives() - 1
   const TraceStage* stage(const std::string& name) const;
+  // The pipeline position of a stage kind: where its first stage comes in
+  // `stages` (which the recorder writes in pipeline order); unknown kinds
+  // sort last.
+  int pipeline_rank(const std::string& kind) const;
+  // The kinds of a raster unit's stages, in pipeline order.
+  std::vector<std::string> unit_kinds() const;
   const TraceFifo* fifo(const std::string& name) const;
 };
 
@@ -146,9 +152,5 @@ class TraceReader {
 // Decodes one record (exposed for tests and for tools reading single records).
 TransactionRecord decode_transaction(const uint8_t* p);
 FragmentRecord decode_fragment(const uint8_t* p);
-
-// The pipeline position of a stage kind (command_processor 0 ... rop 9), for
-// ordering by pipeline then time; unknown kinds sort last.
-int pipeline_rank(const std::string& kind);
 
 }  // namespace gpusim

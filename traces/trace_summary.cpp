@@ -12,9 +12,6 @@
 namespace gpusim {
 namespace {
 
-// Raster-unit kinds in pipeline order: the columns of the load-balance table.
-const char* const kUnitKinds[4] = {"tile_rasterizer", "depth_test", "interpolator", "rop"};
-
 // A stall or starvation share below this ends the upstream chain: the stage
 // is not held back by the bottleneck in any way worth reporting.
 constexpr double kChainThreshold = 0.01;
@@ -202,10 +199,9 @@ void TraceSummary::read_stats(const nlohmann::json& stats) {
       unit.stamps = count("stamps");
       unit.fragments = count("fragments");
     }
-    for (int k = 0; k < 4; ++k) {
-      if (const Stage* s = stage(std::string(kUnitKinds[k]) + "_" + std::to_string(u))) {
-        unit.busy[k] = s->busy;
-      }
+    for (const std::string& kind : m_manifest.unit_kinds()) {
+      const Stage* s = stage(kind + "_" + std::to_string(u));
+      unit.busy.push_back(s ? std::optional<uint64_t>(s->busy) : std::nullopt);
     }
     m_units.push_back(unit);
   }
@@ -240,7 +236,7 @@ std::vector<TraceSummary::KindShare> TraceSummary::chain(const std::vector<const
     // One entry per kind met at this step (in practice one kind).
     std::map<int, KindShare> kinds;
     for (const Stage* s : next) {
-      KindShare& k = kinds[pipeline_rank(s->kind)];
+      KindShare& k = kinds[m_manifest.pipeline_rank(s->kind)];
       k.kind = s->kind;
       k.stages.push_back(s->name);
       const double v = share(upstream ? s->stalled : s->starved);
@@ -278,7 +274,8 @@ void TraceSummary::find_bottleneck() {
     for (const Stage* s : stages) {
       // Ties go to the earlier pipeline stage, then the lower unit.
       if (!best || s->busy > best->busy ||
-          (s->busy == best->busy && pipeline_rank(s->kind) < pipeline_rank(best->kind))) {
+          (s->busy == best->busy &&
+           m_manifest.pipeline_rank(s->kind) < m_manifest.pipeline_rank(best->kind))) {
         best = s;
       }
     }
@@ -398,24 +395,32 @@ std::string TraceSummary::text() const {
     out +=
         "\nLoad balance per raster unit (tiles, stamps, fragments: stats.json, whole frame; "
         "busy: cycles in the window)\n";
-    out += format("  %-9s %9s %9s %10s %12s %12s %12s %12s\n", "unit", "tiles", "stamps",
-                  "fragments", "raster busy", "depth busy", "interp busy", "rop busy");
+    // Columns: the work counts, then the busy cycles of each kind of stage a
+    // unit has (manifest.json's stages, in pipeline order).
+    std::vector<std::string> heads{"tiles", "stamps", "fragments"};
+    std::vector<int> widths{9, 9, 10};
+    for (const std::string& kind : m_manifest.unit_kinds()) {
+      heads.push_back(kind + " busy");
+      widths.push_back(std::max<int>(12, static_cast<int>(heads.back().size())));
+    }
+    const size_t columns = heads.size();
+    std::string head = format("  %-9s", "unit");
+    for (size_t c = 0; c < columns; ++c) head += format(" %*s", widths[c], heads[c].c_str());
+    out += head + "\n";
     // Column values per unit, absent ones skipped in max / mean.
-    std::vector<std::vector<std::optional<uint64_t>>> cols(7);
+    std::vector<std::vector<std::optional<uint64_t>>> cols(columns);
     for (const Unit& u : m_units) {
-      const std::optional<uint64_t> row[7] = {u.tiles,   u.stamps,  u.fragments, u.busy[0],
-                                              u.busy[1], u.busy[2], u.busy[3]};
+      std::vector<std::optional<uint64_t>> row{u.tiles, u.stamps, u.fragments};
+      row.insert(row.end(), u.busy.begin(), u.busy.end());
       std::string line = format("  %-9u", u.unit);
-      const int widths[7] = {9, 9, 10, 12, 12, 12, 12};
-      for (int c = 0; c < 7; ++c) {
+      for (size_t c = 0; c < columns; ++c) {
         cols[c].push_back(row[c]);
         line += format(" %*s", widths[c], row[c] ? std::to_string(*row[c]).c_str() : "-");
       }
       out += line + "\n";
     }
     std::string line = format("  %-9s", "max/mean");
-    const int widths[7] = {9, 9, 10, 12, 12, 12, 12};
-    for (int c = 0; c < 7; ++c) {
+    for (size_t c = 0; c < columns; ++c) {
       double sum = 0.0, max = 0.0;
       size_t n = 0;
       for (const auto& v : cols[c]) {
@@ -501,7 +506,8 @@ nlohmann::json TraceSummary::json() const {
       return v ? nlohmann::json(*v) : nlohmann::json();
     };
     nlohmann::json busy = nlohmann::json::object();
-    for (int k = 0; k < 4; ++k) busy[kUnitKinds[k]] = opt(u.busy[k]);
+    const std::vector<std::string> kinds = m.unit_kinds();
+    for (size_t k = 0; k < kinds.size() && k < u.busy.size(); ++k) busy[kinds[k]] = opt(u.busy[k]);
     units.push_back({{"unit", u.unit},
                      {"tiles", opt(u.tiles)},
                      {"stamps", opt(u.stamps)},

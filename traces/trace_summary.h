@@ -62,9 +62,9 @@ class TraceSummary {
   struct Unit {
     unsigned unit = 0;
     std::optional<uint64_t> tiles, stamps, fragments;  // stats.json, whole frame
-    // Busy cycles in the window per kind: tile_rasterizer, depth_test,
-    // interpolator, rop (absent when not traced).
-    std::optional<uint64_t> busy[4];
+    // Busy cycles in the window per kind of a unit's stages, as
+    // TraceManifest::unit_kinds() lists them (absent when not traced).
+    std::vector<std::optional<uint64_t>> busy;
   };
 
   // Reads signals.vcd and stats.json; InputError when either is unusable.

@@ -146,6 +146,7 @@ TEST_F(TraceSummaryTest, FillBoundSceneNamesTheRasterizers) {
     EXPECT_EQ(*u.tiles, 100u * 16u);
     ASSERT_TRUE(u.fragments.has_value());
     EXPECT_EQ(*u.fragments, 100u * 16u * 64u);
+    ASSERT_FALSE(u.busy.empty());
     ASSERT_TRUE(u.busy[0].has_value());
     EXPECT_EQ(*u.busy[0], 100u * 16u * 5u + 2u);  // + clear and end of frame
   }

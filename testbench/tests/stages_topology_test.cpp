@@ -1,0 +1,180 @@
+// The netlist (stages/topology.h) is the one list of the pipeline: the
+// configuration, stats.json, the trace tables and docs/gpu-config.md must
+// name the same stages and FIFOs, with the same endpoints, and nothing may
+// depend on the order in which the GPU elaborates its units.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+#include "stages/gpu.h"
+
+namespace gpusim {
+namespace {
+
+FrameState small_frame() {
+  FrameState f;
+  f.framebuffer.width = 64;
+  f.framebuffer.height = 48;
+  return f;
+}
+
+// Rows "| `name` | ... |" of the markdown table whose header starts with
+// `header`, as their cells (backticks removed).
+std::vector<std::vector<std::string>> table(const std::string& text, const std::string& header) {
+  std::vector<std::vector<std::string>> rows;
+  std::istringstream in(text);
+  std::string line;
+  bool inside = false;
+  while (std::getline(in, line)) {
+    if (line.rfind(header, 0) == 0) {
+      inside = true;
+      continue;
+    }
+    if (!inside) continue;
+    if (line.rfind("|---", 0) == 0) continue;
+    if (line.rfind("|", 0) != 0) break;
+    std::vector<std::string> cells;
+    std::stringstream cs(line.substr(1));
+    std::string cell;
+    while (std::getline(cs, cell, '|')) {
+      cell = std::regex_replace(cell, std::regex("`"), "");
+      cell = std::regex_replace(cell, std::regex("^ +| +$"), "");
+      cells.push_back(cell);
+    }
+    rows.push_back(cells);
+  }
+  return rows;
+}
+
+std::string read(const std::string& path) {
+  std::ifstream f(path);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+TEST(Topology, ConfigurationDocsAndNetlistNameTheSameThings) {
+  GpuConfig config;
+  config.units = 3;
+  const FrameState frame = small_frame();
+  Gpu gpu("gpu", config, frame, 1 << 16);
+  const Topology& t = gpu.topology();
+  EXPECT_EQ(t.stage_kinds(), GpuConfig::stage_names());
+  EXPECT_EQ(t.fifo_kinds(), GpuConfig::fifo_names());
+
+  const std::string doc = read(GPUSIM_SOURCE_DIR "/docs/gpu-config.md");
+  // The stage table: kinds in pipeline order with their default costs.
+  const auto stages = table(doc, "| stage | item | ii | latency |");
+  ASSERT_EQ(stages.size(), GpuConfig::stage_names().size());
+  for (size_t i = 0; i < stages.size(); ++i) {
+    const std::string& kind = GpuConfig::stage_names()[i];
+    EXPECT_EQ(stages[i][0], kind);
+    EXPECT_EQ(stages[i][2], std::to_string(config.stage(kind).ii)) << kind;
+    EXPECT_EQ(stages[i][3], std::to_string(config.stage(kind).latency)) << kind;
+  }
+  // The FIFO table: kinds in pipeline order, their writer and reader kinds,
+  // and whether each unit has its own.
+  const auto fifos = table(doc, "| FIFO | from → to |");
+  ASSERT_EQ(fifos.size(), GpuConfig::fifo_names().size());
+  for (size_t i = 0; i < fifos.size(); ++i) {
+    const std::string& kind = GpuConfig::fifo_names()[i];
+    EXPECT_EQ(fifos[i][0], kind);
+    const Topology::FifoNode* f = nullptr;
+    for (const auto& n : t.fifos()) {
+      if (n.kind == kind && !f) f = &n;
+    }
+    ASSERT_NE(f, nullptr) << kind;
+    const std::string writer =
+        f->writer == Topology::kHost ? "host" : t.stages()[f->writer].stage->stage_kind();
+    const std::string reader = t.stages()[f->reader].stage->stage_kind();
+    EXPECT_EQ(fifos[i][1], writer + " → " + reader) << kind;
+    EXPECT_EQ(fifos[i][2], f->unit >= 0 ? "yes" : "no") << kind;
+  }
+}
+
+TEST(Topology, NamesAreKindAndUnitAndStatsUseThem) {
+  GpuConfig config;
+  config.units = 2;
+  const FrameState frame = small_frame();
+  Gpu gpu("gpu", config, frame, 1 << 16);
+  const Topology& t = gpu.topology();
+  // 6 front-end stages and 4 per unit; 6 front-end FIFOs and 4 per unit.
+  ASSERT_EQ(t.stages().size(), 6u + 4u * 2u);
+  ASSERT_EQ(t.fifos().size(), 6u + 4u * 2u);
+  for (const auto& s : t.stages()) {
+    EXPECT_EQ(s.stage->basename(),
+              PipelineStage::instance_name(s.stage->stage_kind(), s.stage->unit()));
+    EXPECT_EQ(s.stage->stats().name(), s.stage->basename());
+  }
+  for (const auto& f : t.fifos()) {
+    EXPECT_EQ(f.name, PipelineStage::instance_name(f.kind, f.unit));
+    EXPECT_EQ(f.channel->capacity(), config.fifo_depth_of(f.kind));
+    // A unit's FIFOs join that unit's stages (or the distributor).
+    if (f.writer != Topology::kHost && t.stages()[f.writer].stage->unit() >= 0) {
+      EXPECT_EQ(t.stages()[f.writer].stage->unit(), f.unit) << f.name;
+    }
+    EXPECT_EQ(t.stages()[f.reader].stage->unit(), f.unit) << f.name;
+  }
+  // Pipeline order: the front end by distance from the host, then each unit.
+  std::vector<std::string> names;
+  for (const auto& s : t.stages()) names.push_back(s.stage->basename());
+  EXPECT_EQ(names,
+            (std::vector<std::string>{
+                "command_processor", "vertex_fetch", "vertex_shader", "clipper", "triangle_setup",
+                "tile_distributor", "tile_rasterizer_0", "depth_test_0", "interpolator_0", "rop_0",
+                "tile_rasterizer_1", "depth_test_1", "interpolator_1", "rop_1"}));
+
+  // stats.json: one entry per stage and FIFO under its name, every counter
+  // described with a unit, the stalled / starved figures derived from the
+  // FIFOs.
+  const nlohmann::json j = gpu.stats_json(0);
+  EXPECT_EQ(j["stages"].size(), t.stages().size());
+  EXPECT_EQ(j["fifos"].size(), t.fifos().size());
+  for (const auto& s : t.stages()) {
+    const nlohmann::json& counters = j["stages"][s.stage->basename()];
+    const nlohmann::json& described = j["descriptions"]["stages"][s.stage->stage_kind()];
+    for (const auto& c : counters.items()) {
+      ASSERT_TRUE(described.contains(c.key())) << s.stage->basename() << "." << c.key();
+      EXPECT_FALSE(described[c.key()]["unit"].get<std::string>().empty()) << c.key();
+      EXPECT_FALSE(described[c.key()]["description"].get<std::string>().empty()) << c.key();
+    }
+    EXPECT_TRUE(counters.contains("stalled_cycles"));
+    EXPECT_TRUE(counters.contains("starved_cycles"));
+  }
+  for (const auto& f : j["fifos"].items()) {
+    for (const auto& field : f.value().items()) {
+      EXPECT_TRUE(j["descriptions"]["fifos"].contains(field.key())) << field.key();
+    }
+  }
+}
+
+TEST(Topology, UnitElaborationOrderChangesNothingListed) {
+  GpuConfig config;
+  config.units = 3;
+  const FrameState frame = small_frame();
+  Gpu up("up", config, frame, 1 << 16, Gpu::UnitOrder::ascending);
+  Gpu down("down", config, frame, 1 << 16, Gpu::UnitOrder::descending);
+  const NetlistTables a = up.topology().trace_tables(), b = down.topology().trace_tables();
+  ASSERT_EQ(a.stages.size(), b.stages.size());
+  ASSERT_EQ(a.fifos.size(), b.fifos.size());
+  for (size_t i = 0; i < a.stages.size(); ++i) {
+    EXPECT_EQ(a.stages[i].name, b.stages[i].name);
+    EXPECT_EQ(a.stages[i].inputs, b.stages[i].inputs);
+    EXPECT_EQ(a.stages[i].outputs, b.stages[i].outputs);
+  }
+  for (size_t i = 0; i < a.fifos.size(); ++i) {
+    EXPECT_EQ(a.fifos[i].name, b.fifos[i].name);
+    EXPECT_EQ(a.fifos[i].writer, b.fifos[i].writer);
+    EXPECT_EQ(a.fifos[i].reader, b.fifos[i].reader);
+  }
+  // Memory clients are bound in a fixed order too.
+  ASSERT_EQ(up.memory().num_clients(), down.memory().num_clients());
+  for (unsigned c = 0; c < up.memory().num_clients(); ++c) {
+    EXPECT_EQ(up.memory().client_name(c).substr(3), down.memory().client_name(c).substr(5));
+  }
+}
+
+}  // namespace
+}  // namespace gpusim
