@@ -22,7 +22,6 @@ Clipper::Clipper(sc_core::sc_module_name name, const GpuConfig& config, const Fr
                     "triangles and control tokens written"),
       in("in"),
       out("out"),
-
       m_cache(config.vertex_cache_entries) {
   const float width = static_cast<float>(frame.framebuffer.width);
   const float height = static_cast<float>(frame.framebuffer.height);

@@ -56,7 +56,6 @@ DepthTest::DepthTest(sc_core::sc_module_name name, const GpuConfig& config, cons
       in("in"),
       out("out"),
       mem("mem"),
-
       m_tile_shift(log2_side(config.tile_size)),
       m_stamp_shift(log2_side(config.stamp[0])),
       m_cache(mem, m_stats, config.tile_cache_entries) {

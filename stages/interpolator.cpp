@@ -18,7 +18,6 @@ Interpolator::Interpolator(sc_core::sc_module_name name, const GpuConfig& config
                     "shaded batches and control tokens written"),
       in("in"),
       out("out"),
-
       m_stamp_shift(log2_side(config.stamp[0])),
       m_stamp_pixels(static_cast<int>(config.stamp[0] * config.stamp[1])) {
   SC_HAS_PROCESS(Interpolator);

@@ -161,7 +161,6 @@ Rop::Rop(sc_core::sc_module_name name, const GpuConfig& config, const FrameState
                     "tokens retired (their writes done or posted)"),
       in("in"),
       mem("mem"),
-
       m_tile_shift(log2_side(config.tile_size)),
       m_stamp_shift(log2_side(config.stamp[0])),
       m_cache(mem, m_stats, config.tile_cache_entries) {

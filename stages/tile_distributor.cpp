@@ -11,7 +11,6 @@ TileDistributor::TileDistributor(sc_core::sc_module_name name, const GpuConfig& 
                     "packets written, summed over units"),
       in("in"),
       out("out", config.units),
-
       m_tile_shift(log2_side(config.tile_size)),
       m_targets(config.units, false) {
   for (unsigned u = 0; u < config.units; ++u) {

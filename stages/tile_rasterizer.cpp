@@ -28,7 +28,6 @@ TileRasterizer::TileRasterizer(sc_core::sc_module_name name, const GpuConfig& co
                     "setup packets read", "stamp batches and control tokens written"),
       in("in"),
       out("out"),
-
       m_tile(static_cast<int>(config.tile_size)),
       m_stamp_w(static_cast<int>(config.stamp[0])),
       m_stamp_h(static_cast<int>(config.stamp[1])),

@@ -23,10 +23,9 @@ VertexFetch::VertexFetch(sc_core::sc_module_name name, const GpuConfig& config,
       in("in"),
       out("out"),
       mem("mem"),
-
       m_cache_entries(config.vertex_cache_entries),
       m_tag(config.vertex_cache_entries, kNoTag) {
-  m_stats.formula("cache_hit_rate", "lookups", "cache_hits / cache_lookups",
+  m_stats.formula("cache_hit_rate", "ratio", "cache_hits / cache_lookups",
                   [this] { return static_cast<double>(m_hits) / static_cast<double>(m_lookups); });
   SC_HAS_PROCESS(VertexFetch);
   SC_THREAD(run);
