@@ -1,11 +1,87 @@
 #include "hw/memory.h"
 
 #include <algorithm>
-#include <climits>
 #include <cstring>
 #include <stdexcept>
 
 namespace gpusim {
+
+// --- MemoryArbiter -------------------------------------------------------------
+
+MemoryArbiter::MemoryArbiter(const char* name, unsigned latency_cycles, unsigned bytes_per_cycle,
+                             sc_core::sc_time cycle)
+    : sc_core::sc_prim_channel(name),
+      m_bytes_per_cycle(bytes_per_cycle),
+      m_cycle(cycle.value()),
+      m_latency(cycle.value() * latency_cycles) {
+  if (bytes_per_cycle == 0) throw std::invalid_argument("Memory: bytes_per_cycle must be >= 1");
+}
+
+unsigned MemoryArbiter::add_client() {
+  m_clients.emplace_back();
+  return static_cast<unsigned>(m_clients.size() - 1);
+}
+
+// Each client's queue is already in arrival order unless the client issued
+// a later arrival before an earlier one; a stable sort then keeps its issue
+// order among equal arrivals. The round is then a merge of the queues: the
+// earliest arrival at any queue's head goes next, and among the queues whose
+// heads arrive at that time the one nearest the pointer (in round-robin
+// order) gives all its requests of that arrival; the pointer moves past it.
+// Per grant this costs a scan of the clients active in the round, a handful,
+// instead of a sort of the whole round (an end-of-frame flush issues
+// thousands of rows at once).
+void MemoryArbiter::update() {
+  const auto by_arrival = [](const Request& a, const Request& b) { return a.arrival < b.arrival; };
+  for (const unsigned c : m_active) {
+    std::vector<Request>& q = m_clients[c].queue;
+    if (!std::is_sorted(q.begin(), q.end(), by_arrival))
+      std::stable_sort(q.begin(), q.end(), by_arrival);
+  }
+  const unsigned n = num_clients();
+  for (;;) {
+    Client* best = nullptr;
+    unsigned best_index = 0, best_rank = n;
+    uint64_t arrival = 0;
+    for (const unsigned c : m_active) {
+      Client& client = m_clients[c];
+      if (client.head == client.queue.size()) continue;
+      const uint64_t a = client.queue[client.head].arrival;
+      const unsigned rank = c >= m_next ? c - m_next : c + n - m_next;
+      if (!best || a < arrival || (a == arrival && rank < best_rank)) {
+        best = &client;
+        best_index = c;
+        best_rank = rank;
+        arrival = a;
+      }
+    }
+    if (!best) break;
+    do {
+      grant(*best, best->queue[best->head++]);
+    } while (best->head < best->queue.size() && best->queue[best->head].arrival == arrival);
+    m_next = best_index + 1 < n ? best_index + 1 : 0;
+  }
+  for (const unsigned c : m_active) {
+    m_clients[c].queue.clear();
+    m_clients[c].head = 0;
+  }
+  m_active.clear();
+}
+
+void MemoryArbiter::grant(Client& client, const Request& r) {
+  const uint64_t start = std::max(r.arrival, m_bus_free);
+  m_bus_free = start + r.busy * m_cycle;
+  const sc_core::sc_time done = sc_core::sc_time::from_value(m_bus_free + m_latency);
+  MemoryCompletion& c = r.sink->done;
+  sc_core::sc_time& last = r.write ? c.writes : c.reads;
+  if (done > last) last = done;
+  r.sink->pending = false;
+  client.busy_cycles += r.busy;
+  client.queued += start - r.arrival;
+  m_busy_cycles += r.busy;
+}
+
+// --- Memory --------------------------------------------------------------------
 
 Memory::Memory(sc_core::sc_module_name name, uint64_t size, unsigned latency_cycles,
                unsigned bytes_per_cycle, sc_core::sc_time cycle)
@@ -15,51 +91,82 @@ Memory::Memory(sc_core::sc_module_name name, uint64_t size, unsigned latency_cyc
       m_latency(latency_cycles),
       m_bytes_per_cycle(bytes_per_cycle),
       m_cycle(cycle),
-      m_latency_time(sc_core::sc_time::from_value(cycle.value() * latency_cycles)) {
-  if (bytes_per_cycle == 0) throw std::invalid_argument("Memory: bytes_per_cycle must be >= 1");
+      m_arbiter("arbiter", latency_cycles, bytes_per_cycle, cycle) {
   socket.register_b_transport(this, &Memory::b_transport);
   socket.register_transport_dbg(this, &Memory::transport_dbg);
 }
 
-unsigned Memory::bind(tlm::tlm_initiator_socket<>& initiator, const std::string& client_name) {
+unsigned Memory::add_client(const std::string& client_name) {
   for (const auto& c : m_clients) {
     if (c.name == client_name) {
       throw std::invalid_argument(std::string(name()) + ": client '" + client_name +
                                   "' bound twice");
     }
   }
+  m_clients.push_back({client_name, {}});
+  return m_arbiter.add_client();
+}
+
+unsigned Memory::bind(tlm::tlm_initiator_socket<>& initiator, const std::string& client_name) {
+  const unsigned client = add_client(client_name);
   initiator.bind(socket);
   // The socket numbers initiators in bind order, counting those bound to it
   // directly, so ask it rather than counting here.
-  const unsigned index = socket.size() - 1;
-  client(static_cast<int>(index)).name = client_name;
-  return index;
+  const size_t id = socket.size() - 1;
+  if (m_socket_client.size() <= id) m_socket_client.resize(id + 1, -1);
+  m_socket_client[id] = static_cast<int>(client);
+  return client;
 }
 
-void Memory::add_clients(size_t up_to) {
-  while (m_clients.size() <= up_to) {
-    m_clients.push_back({"client" + std::to_string(m_clients.size()), {}});
+void Memory::end_of_elaboration() {
+  // One backward path per initiator bound (socket.size() counts a stand-in
+  // binder when none is).
+  m_socket_client.resize(socket.get_base_port().size(), -1);
+  for (int& client : m_socket_client) {
+    if (client < 0) client = static_cast<int>(add_client("client" + std::to_string(num_clients())));
   }
 }
 
+bool Memory::issue(unsigned client, bool write, uint64_t addr, void* data, uint64_t len,
+                   sc_core::sc_time offset, MemoryArbiter::Sink& sink) {
+  MemoryClientStats& s = m_clients[client].stats;
+  if (!in_range(addr, len)) {
+    ++s.errors;
+    return false;
+  }
+  if (write) {
+    std::memcpy(m_data.data() + addr, data, len);
+    ++s.writes;
+    s.bytes_written += len;
+  } else {
+    std::memcpy(data, m_data.data() + addr, len);
+    ++s.reads;
+    s.bytes_read += len;
+  }
+  ++s.requests;
+  m_arbiter.request(client, offset, len, write, sink);
+  return true;
+}
+
 void Memory::b_transport(int id, tlm::tlm_generic_payload& trans, sc_core::sc_time& delay) {
-  Client& c = client(id);
+  const unsigned client = static_cast<unsigned>(m_socket_client.at(static_cast<size_t>(id)));
+  MemoryClientStats& s = m_clients[client].stats;
   const tlm::tlm_command cmd = trans.get_command();
   const uint64_t addr = trans.get_address();
   const uint64_t len = trans.get_data_length();
   trans.set_dmi_allowed(false);
   if (trans.get_byte_enable_ptr() != nullptr) {
-    ++c.stats.errors;
+    ++s.errors;
     trans.set_response_status(tlm::TLM_BYTE_ENABLE_ERROR_RESPONSE);
     return;
   }
   if (trans.get_streaming_width() < len) {
-    ++c.stats.errors;
+    ++s.errors;
     trans.set_response_status(tlm::TLM_BURST_ERROR_RESPONSE);
     return;
   }
   if (!in_range(addr, len)) {
-    ++c.stats.errors;
+    ++s.errors;
     trans.set_response_status(tlm::TLM_ADDRESS_ERROR_RESPONSE);
     return;
   }
@@ -67,30 +174,12 @@ void Memory::b_transport(int id, tlm::tlm_generic_payload& trans, sc_core::sc_ti
     trans.set_response_status(tlm::TLM_OK_RESPONSE);
     return;
   }
-
-  if (cmd == tlm::TLM_READ_COMMAND) {
-    std::memcpy(trans.get_data_ptr(), &m_data[addr], len);
-    ++c.stats.reads;
-    c.stats.bytes_read += len;
-  } else {
-    std::memcpy(&m_data[addr], trans.get_data_ptr(), len);
-    ++c.stats.writes;
-    c.stats.bytes_written += len;
-  }
-
-  // The bus model of the header comment. (The time is read from this
-  // module's simulation context inline: the same as sc_time_stamp().)
-  const sc_core::sc_time now = simcontext()->time_stamp();
-  const sc_core::sc_time arrival = now + delay;
-  const sc_core::sc_time start = arrival > m_bus_free ? arrival : m_bus_free;
-  const uint64_t busy = (len + m_bytes_per_cycle - 1) / m_bytes_per_cycle;
-  m_bus_free = start + sc_core::sc_time::from_value(m_cycle.value() * busy);
-  delay = (m_bus_free - now) + m_latency_time;
-
-  ++c.stats.requests;
-  c.stats.busy_cycles += busy;
-  c.stats.queued += start - arrival;
-  m_busy_cycles += busy;
+  // A group of one request: wait for its round, then annotate the delay
+  // from now, as every TLM timing annotation is.
+  MemoryArbiter::Sink sink;
+  issue(client, cmd == tlm::TLM_WRITE_COMMAND, addr, trans.get_data_ptr(), len, delay, sink);
+  sc_core::wait(sc_core::SC_ZERO_TIME);
+  delay = sink.done.last() - sc_core::sc_time_stamp();
   trans.set_response_status(tlm::TLM_OK_RESPONSE);
 }
 
@@ -131,12 +220,19 @@ void Memory::debug_write(uint64_t addr, const void* src, uint64_t len) {
   std::memcpy(data(addr, len), src, len);
 }
 
+MemoryClientStats Memory::client_stats(unsigned index) const {
+  MemoryClientStats s = m_clients.at(index).stats;
+  s.busy_cycles = m_arbiter.client_busy_cycles(index);
+  s.queued = m_arbiter.client_queued(index);
+  return s;
+}
+
 nlohmann::json Memory::stats_json() const {
   const double elapsed = sc_core::sc_time_stamp() / m_cycle;
   nlohmann::json clients = nlohmann::json::object();
-  for (const auto& c : m_clients) {
-    const MemoryClientStats& s = c.stats;
-    clients[c.name] = {
+  for (unsigned i = 0; i < num_clients(); ++i) {
+    const MemoryClientStats s = client_stats(i);
+    clients[client_name(i)] = {
         {"requests", s.requests},
         {"reads", s.reads},
         {"writes", s.writes},
@@ -147,12 +243,13 @@ nlohmann::json Memory::stats_json() const {
         {"errors", s.errors},
     };
   }
+  const uint64_t busy = busy_cycles();
   return {
       {"size_bytes", m_data.size()},
       {"latency", m_latency},
       {"bytes_per_cycle", m_bytes_per_cycle},
-      {"busy_cycles", m_busy_cycles},
-      {"utilization", elapsed > 0 ? static_cast<double>(m_busy_cycles) / elapsed : 0.0},
+      {"busy_cycles", busy},
+      {"utilization", elapsed > 0 ? static_cast<double>(busy) / elapsed : 0.0},
       {"clients", clients},
   };
 }
@@ -179,47 +276,25 @@ nlohmann::json Memory::descriptions() {
   };
 }
 
-MemoryPort::MemoryPort(const char* name) : m_socket(name) {}
+// --- MemoryPort ----------------------------------------------------------------
+
+MemoryPort::MemoryPort(const char* name) : sc_core::sc_object(name) {}
 
 void MemoryPort::bind(Memory& memory) {
-  memory.bind(m_socket, m_socket.name());
+  // The client is the stage that owns the port: one name for one thing.
+  const sc_core::sc_object* owner = get_parent_object();
+  m_client_name = owner ? owner->basename() : basename();
+  m_client = memory.add_client(m_client_name);
+  m_memory = &memory;
 }
 
-sc_core::sc_time MemoryPort::read(uint64_t addr, void* dst, uint64_t len, sc_core::sc_time delay) {
-  return transport(tlm::TLM_READ_COMMAND, addr, dst, len, delay);
-}
-
-sc_core::sc_time MemoryPort::write(uint64_t addr, const void* src, uint64_t len,
-                                   sc_core::sc_time delay) {
-  // The payload's data pointer is non-const, but a write only reads it.
-  return transport(tlm::TLM_WRITE_COMMAND, addr, const_cast<void*>(src), len, delay);
-}
-
-sc_core::sc_time MemoryPort::transport(tlm::tlm_command cmd, uint64_t addr, void* data,
-                                       uint64_t len, sc_core::sc_time delay) {
-  if (len > UINT_MAX) {
-    SC_REPORT_ERROR("gpusim/memory", (std::string(m_socket.name()) + ": request of " +
-                                      std::to_string(len) + " bytes exceeds TLM's 32-bit length")
-                                         .c_str());
-  }
-  m_trans.set_command(cmd);
-  m_trans.set_address(addr);
-  m_trans.set_data_ptr(static_cast<unsigned char*>(data));
-  m_trans.set_data_length(static_cast<unsigned int>(len));
-  m_trans.set_streaming_width(static_cast<unsigned int>(len));
-  m_trans.set_byte_enable_ptr(nullptr);
-  m_trans.set_byte_enable_length(0);
-  m_trans.set_dmi_allowed(false);
-  m_trans.set_response_status(tlm::TLM_INCOMPLETE_RESPONSE);
-  m_socket->b_transport(m_trans, delay);
-  if (!m_trans.is_response_ok()) {
-    SC_REPORT_ERROR("gpusim/memory", (std::string(m_socket.name()) + ": " +
-                                      (cmd == tlm::TLM_READ_COMMAND ? "read" : "write") + " of " +
-                                      std::to_string(len) + " bytes at " + std::to_string(addr) +
-                                      ": " + m_trans.get_response_string())
-                                         .c_str());
-  }
-  return delay;
+void MemoryPort::fail(bool write, uint64_t addr, uint64_t len) const {
+  const std::string what =
+      m_memory ? "beyond the " + std::to_string(m_memory->size()) + "-byte memory" : "not bound";
+  SC_REPORT_ERROR("gpusim/memory",
+                  (std::string(name()) + ": " + (write ? "write" : "read") + " of " +
+                   std::to_string(len) + " bytes at " + std::to_string(addr) + ": " + what)
+                      .c_str());
 }
 
 }  // namespace gpusim

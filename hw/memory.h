@@ -1,27 +1,65 @@
-// The one memory of the GPU, shared by every client (vertex fetch, depth
-// test, ROP, ...) over a TLM-2.0 loosely-timed interface.
+// The one memory of the GPU, shared by every client (vertex fetch, each depth
+// test, each ROP) through an arbiter that decides the order in which their
+// requests take the one data bus. docs/architecture.md ("Memory") describes
+// the same model for readers of the docs; docs/gpu-config.md ("Memory")
+// lists its parameters and statistics.
 //
-// Timing model (docs/gpu-config.md, "memory"): one data bus moving
-// bytes_per_cycle bytes per cycle, reserved in call order. A request of len
-// bytes that arrives at A = now + incoming delay
+// Function and timing are split. A request is functional when it is issued:
+// the bytes are copied at once, and an error (an address range beyond the
+// store) is reported at once. So a read sees every write issued before it,
+// whatever their timing; this cannot show in a frame, where no two clients
+// touch the same bytes (each unit owns its tiles, vertex data is only read).
+// The timing is decided by the arbiter at the end of the delta cycle in
+// which the request was issued: the requests issued during one evaluation
+// phase are one arbitration round, resolved in the arbiter's update phase
+// (MemoryArbiter is an sc_prim_channel) and granted in this order:
+//   1. by arrival time A = now + the caller's local time offset, earliest
+//      first;
+//   2. among clients whose requests arrive at the same time: round-robin,
+//      from the client the pointer designates (clients are numbered in the
+//      order they are bound; the pointer starts at client 0) onwards, and the
+//      pointer then moves past the last client granted, as in a hardware
+//      round-robin arbiter;
+//   3. one client's requests arriving at the same time: in issue order, all
+//      of them before the next client's (a tile's rows are one burst).
+// Every key is a property of the modelled hardware (simulated time, the
+// wiring, a client's own sequence), never the order in which the SystemC
+// kernel runs the processes of one delta. That order changes whenever a
+// process outside the GPU (the progress line, the watchdog) is added, and
+// when the bus was reserved in call order it changed the statistics.
+// Why this order: earlier arrivals first is what a bus does when it sees
+// the requests together; round-robin rather than a fixed priority so that
+// no client starves when several keep the bus busy; bursts kept whole so
+// that a transfer pays the latency once, as a single client always did.
+//
+// Bus model, applied to the requests in grant order: one data bus moving
+// bytes_per_cycle bytes per cycle. A request of len bytes arriving at A
 //   starts   S = max(A, bus_free)
 //   occupies the bus for B = ceil(len / bytes_per_cycle) cycles
 //   frees it at D = S + B  (bus_free = D)
-// and completes `latency` cycles later; b_transport returns the delay
-// (D - now) + latency, measured from now like every TLM annotation. Reads and
-// writes cost the same. There is no backfilling: a request arriving earlier
-// than a slot already reserved still queues behind it, so results depend only
-// on the order of calls, which SystemC makes deterministic. Requests are not
-// aligned to clock edges. Errors (bad address, byte enables, streaming) take
-// no time and leave the bus untouched.
+// and completes at C = D + latency cycles. Reads and writes cost the same.
+// There is no backfilling: a request granted in a later round queues behind
+// every slot already reserved, even one that starts after its arrival.
+// Rounds follow simulated time and, within one time, delta order, which the
+// model's own events decide (e.g. a stage whose input arrives a delta later
+// asks a delta later). Requests are not aligned to clock edges.
 //
-// Clients: the target socket is a multi_passthrough_target_socket, so client
-// i is the i-th initiator bound to it. Memory::bind() binds and names one;
-// initiators bound directly to `socket` are named "client<i>".
+// A client learns its completion times only after the round: it issues a
+// group of requests (all rows of a tile, a write-back and a fill, all
+// attribute bursts of a vertex batch) and then calls MemoryPort::wait_round(),
+// which waits one delta (no simulated time passes) if any of them is still
+// unresolved and returns when the group's last read and last write complete.
+// A delta is the shortest wait that sees the whole round; one per group, not
+// per request, keeps the cost to one kernel switch per tile miss or batch.
+//
+// The TLM-2.0 target socket stays for initiators outside this code base: its
+// debug transport reads and writes without timing, and its b_transport is a
+// one-request group through the same arbiter (it waits one delta, so it must
+// be called from a thread). b_transport answers byte enables, streaming and
+// out-of-range addresses with an error response, taking no time.
 #pragma once
 
 #include <tlm_utils/multi_passthrough_target_socket.h>
-#include <tlm_utils/simple_initiator_socket.h>
 
 #include <cstddef>
 #include <cstdint>
@@ -33,28 +71,110 @@
 
 namespace gpusim {
 
+// When a group of requests completes (absolute simulated times).
+struct MemoryCompletion {
+  sc_core::sc_time reads;   // the last read, SC_ZERO_TIME when there was none
+  sc_core::sc_time writes;  // the last write, likewise
+  sc_core::sc_time last() const { return reads > writes ? reads : writes; }
+};
+
 struct MemoryClientStats {
-  uint64_t requests = 0;  // successful b_transport reads and writes
+  uint64_t requests = 0;  // successful reads and writes
   uint64_t reads = 0;
   uint64_t writes = 0;
   uint64_t bytes_read = 0;
   uint64_t bytes_written = 0;
   uint64_t busy_cycles = 0;  // bus cycles its requests occupied
   sc_core::sc_time queued;   // summed waits for the bus: S - A
-  uint64_t errors = 0;       // requests answered with an error response
+  uint64_t errors = 0;       // requests answered with an error
+};
+
+// The timing half of the memory: collects a delta's requests and grants them
+// in the order of the header comment. Knows nothing of addresses or data.
+class MemoryArbiter : public sc_core::sc_prim_channel {
+ public:
+  // Where a group's completions are gathered: the requester owns it and
+  // keeps it alive until the round is resolved (pending false).
+  struct Sink {
+    MemoryCompletion done;
+    bool pending = false;  // a request of the group awaits its round
+  };
+
+  MemoryArbiter(const char* name, unsigned latency_cycles, unsigned bytes_per_cycle,
+                sc_core::sc_time cycle);
+
+  // The next client number (round-robin position). Elaboration only.
+  unsigned add_client();
+  unsigned num_clients() const { return static_cast<unsigned>(m_clients.size()); }
+
+  // Queues a request of `len` bytes arriving `offset` after now; its
+  // completion goes to `sink` in this delta's update phase.
+  void request(unsigned client, sc_core::sc_time offset, uint64_t len, bool write, Sink& sink) {
+    Client& c = m_clients[client];
+    if (c.queue.empty()) {
+      if (m_active.empty()) request_update();
+      m_active.push_back(client);
+    }
+    const uint64_t arrival = simcontext()->time_stamp().value() + offset.value();
+    const uint64_t busy = (len + m_bytes_per_cycle - 1) / m_bytes_per_cycle;
+    c.queue.push_back(Request{arrival, busy, write, &sink});
+    sink.pending = true;
+  }
+
+  // When the bus finishes its last reserved transfer.
+  sc_core::sc_time bus_free() const { return sc_core::sc_time::from_value(m_bus_free); }
+  uint64_t busy_cycles() const { return m_busy_cycles; }
+  uint64_t client_busy_cycles(unsigned client) const { return m_clients.at(client).busy_cycles; }
+  sc_core::sc_time client_queued(unsigned client) const {
+    return sc_core::sc_time::from_value(m_clients.at(client).queued);
+  }
+
+ private:
+  struct Request {
+    uint64_t arrival;  // sc_time value
+    uint64_t busy;     // bus cycles
+    bool write;
+    Sink* sink;
+  };
+  // A client's requests of this round in issue order, and its timing totals.
+  struct Client {
+    std::vector<Request> queue;
+    size_t head = 0;  // the next one to grant
+    uint64_t busy_cycles = 0;
+    uint64_t queued = 0;  // sc_time value
+  };
+
+  void update() override;
+  void grant(Client& client, const Request& r);
+
+  uint64_t m_bytes_per_cycle;
+  uint64_t m_cycle;    // sc_time value of one clock cycle
+  uint64_t m_latency;  // sc_time value of latency_cycles
+  uint64_t m_bus_free = 0;
+  uint64_t m_busy_cycles = 0;
+  unsigned m_next = 0;  // round-robin pointer: the client with the highest priority
+  std::vector<Client> m_clients;
+  std::vector<unsigned> m_active;  // clients with requests this round
 };
 
 class Memory : public sc_core::sc_module {
  public:
-  tlm_utils::multi_passthrough_target_socket<Memory> socket;
+  // Debug transport, and b_transport through the arbiter (header comment);
+  // optional: the GPU's own clients do not use it.
+  tlm_utils::multi_passthrough_target_socket_optional<Memory> socket;
 
   // `size` bytes, zero-filled. Timing as in the header comment; `cycle` is the
   // clock period (GpuConfig::cycle()).
   Memory(sc_core::sc_module_name name, uint64_t size, unsigned latency_cycles,
          unsigned bytes_per_cycle, sc_core::sc_time cycle);
 
-  // Binds `initiator` as the next client and names it (names must be unique);
-  // returns its index. Elaboration only.
+  // Registers a client named `client_name` (unique) and returns its number:
+  // clients are numbered in the order they are added, which is their order
+  // on the arbiter's round-robin. Elaboration only. MemoryPort::bind() calls
+  // it; so does bind() below for a TLM initiator. An initiator bound to
+  // `socket` directly becomes a client named "client<n>" at the end of
+  // elaboration, after every client added explicitly.
+  unsigned add_client(const std::string& client_name);
   unsigned bind(tlm::tlm_initiator_socket<>& initiator, const std::string& client_name);
 
   uint64_t size() const { return m_data.size(); }
@@ -67,13 +187,19 @@ class Memory : public sc_core::sc_module {
   void debug_read(uint64_t addr, void* dst, uint64_t len) const;
   void debug_write(uint64_t addr, const void* src, uint64_t len);
 
-  // Clients seen so far: the named ones and every index that made a request.
+  // A timed request of client `client` (MemoryPort's path): copies the data
+  // now and queues the timing on the arbiter, completion to `sink`. Returns
+  // false, counting an error and queueing nothing, when [addr, addr + len)
+  // is not inside the store.
+  bool issue(unsigned client, bool write, uint64_t addr, void* data, uint64_t len,
+             sc_core::sc_time offset, MemoryArbiter::Sink& sink);
+
   unsigned num_clients() const { return static_cast<unsigned>(m_clients.size()); }
   const std::string& client_name(unsigned index) const { return m_clients.at(index).name; }
-  const MemoryClientStats& client_stats(unsigned index) const { return m_clients.at(index).stats; }
-  uint64_t busy_cycles() const { return m_busy_cycles; }
-  // When the bus finishes its last reserved transfer.
-  sc_core::sc_time bus_free() const { return m_bus_free; }
+  MemoryClientStats client_stats(unsigned index) const;
+  uint64_t busy_cycles() const { return m_arbiter.busy_cycles(); }
+  sc_core::sc_time bus_free() const { return m_arbiter.bus_free(); }
+  const MemoryArbiter& arbiter() const { return m_arbiter; }
 
   // {"size_bytes", "latency", "bytes_per_cycle", "busy_cycles", "utilization",
   //  "clients": {name: {requests, reads, writes, bytes_read, bytes_written,
@@ -86,18 +212,12 @@ class Memory : public sc_core::sc_module {
  private:
   struct Client {
     std::string name;
-    MemoryClientStats stats;
+    MemoryClientStats stats;  // the functional counts; timing is the arbiter's
   };
 
+  void end_of_elaboration() override;
   void b_transport(int id, tlm::tlm_generic_payload& trans, sc_core::sc_time& delay);
   unsigned int transport_dbg(int id, tlm::tlm_generic_payload& trans);
-  // Client `id`, created (named "client<id>") on its first request.
-  Client& client(int id) {
-    const auto index = static_cast<size_t>(id);
-    if (index >= m_clients.size()) add_clients(index);
-    return m_clients[index];
-  }
-  void add_clients(size_t up_to);
   bool in_range(uint64_t addr, uint64_t len) const {
     return addr <= m_data.size() && len <= m_data.size() - addr;
   }
@@ -106,39 +226,60 @@ class Memory : public sc_core::sc_module {
   unsigned m_latency;
   unsigned m_bytes_per_cycle;
   sc_core::sc_time m_cycle;
-  sc_core::sc_time m_latency_time;  // m_latency cycles
-  sc_core::sc_time m_bus_free;
-  uint64_t m_busy_cycles = 0;
   std::vector<Client> m_clients;
+  // Per socket initiator (multi-socket index): its client number.
+  std::vector<int> m_socket_client;
+  MemoryArbiter m_arbiter;
 };
 
-// The initiator side a stage owns: one socket and one reusable transaction,
-// so a request allocates nothing. Construct it inside the owning module
-// (it holds a port), then bind(memory).
-class MemoryPort {
+// A stage's connection to the memory. Construct it inside the owning module
+// (it is an sc_object, named "mem" by default), then bind(memory): the
+// client takes the owning module's name (e.g. "depth_test_0").
+class MemoryPort : public sc_core::sc_object {
  public:
   explicit MemoryPort(const char* name = "mem");
+  const char* kind() const override { return "gpusim_memory_port"; }
 
-  // Registers as a client named after the socket's hierarchical name.
   void bind(Memory& memory);
+  const std::string& client_name() const { return m_client_name; }
 
-  // Performs the access and returns its delay from now (see Memory); the
-  // caller decides when to wait. `delay` is the caller's local time offset at
-  // which the request is issued. An error response is a model bug and raises
+  // Issue a request at local time offset `offset` from now: the data moves
+  // at once, the timing is decided at the end of this delta (see Memory).
+  // An address outside the memory is a model bug and raises
   // SC_REPORT_ERROR.
-  sc_core::sc_time read(uint64_t addr, void* dst, uint64_t len,
-                        sc_core::sc_time delay = sc_core::SC_ZERO_TIME);
-  sc_core::sc_time write(uint64_t addr, const void* src, uint64_t len,
-                         sc_core::sc_time delay = sc_core::SC_ZERO_TIME);
+  void read(uint64_t addr, void* dst, uint64_t len,
+            sc_core::sc_time offset = sc_core::SC_ZERO_TIME) {
+    issue(false, addr, dst, len, offset);
+  }
+  void write(uint64_t addr, const void* src, uint64_t len,
+             sc_core::sc_time offset = sc_core::SC_ZERO_TIME) {
+    // The data pointer is shared with reads, but a write only reads it.
+    issue(true, addr, const_cast<void*>(src), len, offset);
+  }
 
-  tlm_utils::simple_initiator_socket<MemoryPort>& socket() { return m_socket; }
+  // When the requests issued since the previous call complete: waits one
+  // delta first if any of them has not been through its round yet (no
+  // simulated time passes). A group whose requests were all resolved
+  // already (posted writes from an earlier delta) returns at once; no
+  // request at all gives zero times. Threads only, when it waits.
+  MemoryCompletion wait_round() {
+    if (m_sink.pending) sc_core::wait(sc_core::SC_ZERO_TIME);
+    const MemoryCompletion done = m_sink.done;
+    m_sink.done = MemoryCompletion{};
+    return done;
+  }
 
  private:
-  sc_core::sc_time transport(tlm::tlm_command cmd, uint64_t addr, void* data, uint64_t len,
-                             sc_core::sc_time delay);
+  void issue(bool write, uint64_t addr, void* data, uint64_t len, sc_core::sc_time offset) {
+    if (!m_memory || !m_memory->issue(m_client, write, addr, data, len, offset, m_sink))
+      fail(write, addr, len);
+  }
+  void fail(bool write, uint64_t addr, uint64_t len) const;
 
-  tlm_utils::simple_initiator_socket<MemoryPort> m_socket;
-  tlm::tlm_generic_payload m_trans;
+  Memory* m_memory = nullptr;
+  unsigned m_client = 0;
+  std::string m_client_name;
+  MemoryArbiter::Sink m_sink;
 };
 
 }  // namespace gpusim

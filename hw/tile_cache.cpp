@@ -52,10 +52,9 @@ unsigned TileCache::lookup(int tx, int ty, sc_core::sc_time& t) {
   Entry& e = m_entries[index];
   if (e.valid) {
     if (e.dirty) {
-      // Posted: the stage does not wait, but the rows take the bus before
-      // the read below.
-      m_writes_done = std::max(m_writes_done,
-                               sc_core::sc_time_stamp() + transfer(true, e.tile, e.data.data(), t));
+      // Posted: the stage does not wait for it, but it is issued before the
+      // fill, so at the same arrival the arbiter grants it first.
+      transfer(true, e.tile, e.data.data(), t);
       ++m_writebacks;
     }
     m_entry_of_tile[static_cast<size_t>(e.tile)] = -1;
@@ -69,12 +68,18 @@ unsigned TileCache::lookup(int tx, int ty, sc_core::sc_time& t) {
   e.y0 = ty * static_cast<int>(m_layout.tile_size);
   e.last_use = ++m_tick;
   if (m_cleared[static_cast<size_t>(tile)]) {
+    // No read, so nothing to wait for: a write-back posted above is
+    // collected by the next wait_round().
     m_cleared[static_cast<size_t>(tile)] = 0;
     fill_clear(e);
     e.dirty = true;
     ++m_clear_fills;
   } else {
-    t = transfer(false, tile, e.data.data(), t);
+    transfer(false, tile, e.data.data(), t);
+    // The data is in the entry already; the round says when it arrived.
+    const MemoryCompletion done = m_mem.wait_round();
+    m_writes_done = std::max(m_writes_done, done.writes);
+    t = done.reads - sc_core::sc_time_stamp();
     e.dirty = false;
     ++m_misses;
   }
@@ -98,16 +103,14 @@ void TileCache::clear(const uint8_t* value) {
 
 void TileCache::flush(sc_core::sc_time& t) {
   const sc_core::sc_time issue = t;
-  const sc_core::sc_time now = sc_core::sc_time_stamp();
-  sc_core::sc_time done =
-      std::max(issue, m_writes_done > now ? m_writes_done - now : sc_core::SC_ZERO_TIME);
   for (Entry& e : m_entries) {
     if (!e.valid || !e.dirty) continue;
-    done = std::max(done, transfer(true, e.tile, e.data.data(), issue));
+    transfer(true, e.tile, e.data.data(), issue);
     e.dirty = false;
     ++m_writebacks;
   }
-  // Tiles never touched since the clear: written from one scratch tile.
+  // Tiles never touched since the clear: written from one scratch tile
+  // (each write copies its bytes when issued).
   std::vector<uint8_t> scratch;
   for (size_t tile = 0; tile < m_cleared.size(); ++tile) {
     if (!m_cleared[tile]) continue;
@@ -118,15 +121,18 @@ void TileCache::flush(sc_core::sc_time& t) {
       fill_clear(tmp);
       scratch.swap(tmp.data);
     }
-    done = std::max(done, transfer(true, static_cast<int>(tile), scratch.data(), issue));
+    transfer(true, static_cast<int>(tile), scratch.data(), issue);
     m_cleared[tile] = 0;
     ++m_writebacks;
   }
-  m_writes_done = std::max(m_writes_done, now + done);
-  t = done;
+  // One round for the whole flush; it also returns any write-back posted
+  // earlier and not yet collected.
+  m_writes_done = std::max(m_writes_done, m_mem.wait_round().writes);
+  const sc_core::sc_time now = sc_core::sc_time_stamp();
+  t = std::max(issue, m_writes_done > now ? m_writes_done - now : sc_core::SC_ZERO_TIME);
 }
 
-sc_core::sc_time TileCache::transfer(bool write, int tile, uint8_t* data, sc_core::sc_time t) {
+void TileCache::transfer(bool write, int tile, uint8_t* data, sc_core::sc_time t) {
   const int size = static_cast<int>(m_layout.tile_size);
   const int x0 = (tile % m_tiles_x) * size;
   const int y0 = (tile / m_tiles_x) * size;
@@ -135,19 +141,19 @@ sc_core::sc_time TileCache::transfer(bool write, int tile, uint8_t* data, sc_cor
   const uint64_t bpp = m_layout.bytes_per_pixel;
   const uint64_t len = static_cast<uint64_t>(w) * bpp;
   const size_t stride = static_cast<size_t>(size) * bpp;
-  sc_core::sc_time done = t;
   for (int r = 0; r < h; ++r) {
     const uint64_t addr =
         m_layout.base + (static_cast<uint64_t>(y0 + r) * static_cast<uint64_t>(m_layout.width) +
                          static_cast<uint64_t>(x0)) *
                             bpp;
     uint8_t* row = data + static_cast<size_t>(r) * stride;
-    const sc_core::sc_time d =
-        write ? m_mem.write(addr, row, len, t) : m_mem.read(addr, row, len, t);
-    done = std::max(done, d);
+    if (write) {
+      m_mem.write(addr, row, len, t);
+    } else {
+      m_mem.read(addr, row, len, t);
+    }
   }
   (write ? m_bytes_written : m_bytes_read) += len * static_cast<uint64_t>(h);
-  return done;
 }
 
 void TileCache::fill_clear(Entry& e) {

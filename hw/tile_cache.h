@@ -12,10 +12,16 @@
 // Memory traffic: a tile moves as one request per pixel row (the buffer is
 // row-major, row 0 at the bottom, so a tile row is contiguous), every row of
 // a transfer issued at the same local time offset: the bus streams them back
-// to back and the memory latency is paid once per tile.
+// to back and the memory latency is paid once per tile. The requests of one
+// miss, or of one flush, are one group on the memory's arbiter
+// (hw/memory.h): issued together, then one MemoryPort::wait_round() (a
+// delta, no simulated time) tells when they complete.
 //   - Miss: the victim's rows are written back if it is dirty (posted: the
-//     stage does not wait for them, but they take the bus first), then the
-//     new tile's rows are read; the caller waits for the last read.
+//     stage does not wait for them, but they are issued first, so the
+//     arbiter grants them the bus first), then the new tile's rows are read;
+//     the caller waits for the last read. A miss on a cleared tile reads
+//     nothing and so does not wait for the round at all: its write-back's
+//     completion is collected by the next round the cache waits for.
 //   - Fast clear: clear() drops every entry without writing it back and marks
 //     every owned tile "cleared" (one flag per tile, as a fast-clear table in
 //     hardware). The first access to a cleared tile fills an entry with the
@@ -99,8 +105,8 @@ class TileCache {
   };
 
   // Issues one request per row of the tile's part inside the framebuffer, at
-  // local offset t; returns the completion of the last one.
-  sc_core::sc_time transfer(bool write, int tile, uint8_t* data, sc_core::sc_time t);
+  // local offset t (their completion comes from the port's next round).
+  void transfer(bool write, int tile, uint8_t* data, sc_core::sc_time t);
   void fill_clear(Entry& e);
   unsigned choose_victim() const;
   bool owned(int tx, int ty) const {

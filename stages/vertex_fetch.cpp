@@ -75,11 +75,13 @@ sc_core::sc_time VertexFetch::fetch_batch(const DrawState& draw, VertexBatch& ba
   const DrawBuffers& b = draw.buffers;
   const bool indexed = b.indices != kNoBuffer;
   const uint32_t n = batch.slot_count;
+  const sc_core::sc_time now = sc_core::sc_time_stamp();
   sc_core::sc_time memory = sc_core::SC_ZERO_TIME;
 
   if (indexed) {
-    memory =
-        mem.read(b.indices + uint64_t{batch.first_slot} * 4, m_indices.data(), uint64_t{n} * 4);
+    // The indices are in m_indices at once; the round says when they arrive.
+    mem.read(b.indices + uint64_t{batch.first_slot} * 4, m_indices.data(), uint64_t{n} * 4);
+    memory = mem.wait_round().reads - now;
     ++m_requests;
     m_bytes += uint64_t{n} * 4;
   } else {
@@ -112,15 +114,14 @@ sc_core::sc_time VertexFetch::fetch_batch(const DrawState& draw, VertexBatch& ba
   batch.vertex_count = fetched;
   m_fetched += fetched;
 
-  // Attribute bursts, issued once the indices are back (at `issue`), queued
-  // on the bus in order; the memory time is when the last one completes.
+  // Attribute bursts, issued together once the indices are back (at
+  // `issue`), one round; the memory time is when the last one completes.
   const sc_core::sc_time issue = memory;
   const bool normals = draw.lighting && b.normals != kNoBuffer;
   const bool colors = b.colors != kNoBuffer;
   const auto read = [&](uint64_t base, uint32_t index, void* dst, uint64_t bytes, uint32_t count) {
     const uint64_t len = bytes * count;
-    const sc_core::sc_time done = mem.read(base + bytes * index, dst, len, issue);
-    memory = std::max(memory, done);
+    mem.read(base + bytes * index, dst, len, issue);
     ++m_requests;
     m_bytes += len;
   };
@@ -134,6 +135,7 @@ sc_core::sc_time VertexFetch::fetch_batch(const DrawState& draw, VertexBatch& ba
     if (colors) read(b.colors, index, &batch.colors[first], kColorBytes, count);
     first += count;
   }
+  if (fetched > 0) memory = std::max(memory, mem.wait_round().reads - now);
   return memory;
 }
 

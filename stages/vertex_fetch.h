@@ -20,9 +20,11 @@
 // Cost model, per batch: the stage is busy ii(vertex_fetch) x slots cycles
 // generating addresses; its reads stay in flight meanwhile (the next batch's
 // requests queue behind them on the shared bus, so bandwidth still limits).
-// The memory time is the delay of the index read (0 when not indexed) plus
-// the attribute reads, issued together once the indices are back and queued
-// on the bus in order: the time until the last one completes. The batch is
+// The memory time runs from the batch's start to the completion of its last
+// read: the index read (none when not indexed), then the attribute reads,
+// issued together once the indices are back. Each is one group on the
+// memory's arbiter (hw/memory.h), so a batch costs two rounds (one delta
+// each, no simulated time), or one when not indexed. The batch is
 // readable by the shader max(ii x slots, memory time) + latency(vertex_fetch)
 // cycles after the batch started; the output FIFO's depth bounds the batches
 // in flight. Control tokens cost ii and are forwarded in order.

@@ -1,7 +1,9 @@
 // Memory data, timing and statistics. Clock 1 ns, latency 20 cycles, 32 bytes
 // per cycle: a request of len bytes on an idle bus completes after
 // ceil(len / 32) + 20 cycles. One sc_start per TEST (ctest: one process each).
+// The arbitration order itself: hw_memory_arbiter_test.cpp.
 #include <gtest/gtest.h>
+#include <tlm_utils/simple_initiator_socket.h>
 
 #include <array>
 #include <cstring>
@@ -35,6 +37,12 @@ struct Client : sc_core::sc_module {
   void run() { body(*this); }
 };
 
+// The delay from now until the port's group completes, in cycles (what the
+// old call-order interface returned per request).
+double group_delay(MemoryPort& port) {
+  return in_cycles(port.wait_round().last() - sc_core::sc_time_stamp());
+}
+
 std::vector<uint8_t> pattern(size_t n, uint8_t seed) {
   std::vector<uint8_t> v(n);
   for (size_t i = 0; i < n; ++i) v[i] = static_cast<uint8_t>(seed + 7 * i);
@@ -49,16 +57,18 @@ TEST(Memory, WrittenDataReadsBackWithSingleRequestTiming) {
   std::vector<double> delays;
   std::vector<uint8_t> back(64), back_door(16), odd(33);
   Client a("a", mem, [&](Client& c) {
-    sc_time d = c.port.write(128, data.data(), data.size());
-    delays.push_back(in_cycles(d));
-    sc_core::wait(d);
-    d = c.port.read(128, back.data(), back.size());
-    delays.push_back(in_cycles(d));
-    sc_core::wait(d);
-    d = c.port.read(1000, back_door.data(), back_door.size());  // 16 bytes: 1 cycle
-    delays.push_back(in_cycles(d));
-    sc_core::wait(d);
-    delays.push_back(in_cycles(c.port.read(2000, odd.data(), 33)));  // 2 cycles
+    const auto wait_for = [&] {
+      delays.push_back(group_delay(c.port));
+      sc_core::wait(delays.back() * kCycle);
+    };
+    c.port.write(128, data.data(), data.size());
+    wait_for();
+    c.port.read(128, back.data(), back.size());
+    wait_for();
+    c.port.read(1000, back_door.data(), back_door.size());  // 16 bytes: 1 cycle
+    wait_for();
+    c.port.read(2000, odd.data(), 33);  // 2 cycles
+    delays.push_back(group_delay(c.port));
   });
   sc_core::sc_start();
 
@@ -72,51 +82,63 @@ TEST(Memory, WrittenDataReadsBackWithSingleRequestTiming) {
   EXPECT_EQ(mem.busy_cycles(), 7u);
 }
 
-// One client issues requests without waiting in between:
+// One client issues a group of requests, one round: granted by arrival,
+// then in issue order.
 //   64 B, arrives 0:             bus [0,2)   -> 2 + 20 = 22
 //   64 B, arrives 0:             bus [2,4)   -> 24 (queued 2)
-//   64 B, incoming delay 10:     bus [10,12) -> 32 (bus idle from 4 to 10)
-//   64 B, incoming delay 1:      bus [12,14) -> 34 (queued 11: no backfilling)
+//   64 B, incoming offset 10:    bus [10,12) -> 32 (bus idle from 6 to 10)
+//   64 B, incoming offset 1:     bus [4,6)   -> 26 (queued 3; granted third)
+// Then, in a later round at the same time, 64 B arriving at 1 queues behind
+// the slot reserved up to 12 (no backfilling): bus [12,14) -> 34, queued 11.
 TEST(Memory, BackToBackRequestsQueueOnTheBus) {
   Memory mem("mem", kSize, 20, 32, kCycle);
-  std::vector<double> delays;
+  double first = 0, second = 0;
   Client a("a", mem, [&](Client& c) {
     std::array<uint8_t, 64> buf{};
-    delays.push_back(in_cycles(c.port.read(0, buf.data(), 64)));
-    delays.push_back(in_cycles(c.port.read(64, buf.data(), 64)));
-    delays.push_back(in_cycles(c.port.read(128, buf.data(), 64, 10 * kCycle)));
-    delays.push_back(in_cycles(c.port.read(192, buf.data(), 64, kCycle)));
+    c.port.read(0, buf.data(), 64);
+    c.port.read(64, buf.data(), 64);
+    c.port.read(128, buf.data(), 64, 10 * kCycle);
+    c.port.read(192, buf.data(), 64, kCycle);
+    first = group_delay(c.port);
+    c.port.read(0, buf.data(), 64, kCycle);
+    second = group_delay(c.port);
   });
   sc_core::sc_start();
-  EXPECT_EQ(delays, (std::vector<double>{22, 24, 32, 34}));
+  EXPECT_EQ(first, 32);
+  EXPECT_EQ(second, 34);
   EXPECT_EQ(in_cycles(mem.bus_free()), 14);
-  EXPECT_EQ(mem.client_stats(0).busy_cycles, 8u);
-  EXPECT_EQ(in_cycles(mem.client_stats(0).queued), 13);
-  EXPECT_EQ(mem.stats_json()["clients"]["a.mem"]["queued_cycles"], 13.0);
+  EXPECT_EQ(mem.client_stats(0).busy_cycles, 10u);
+  EXPECT_EQ(in_cycles(mem.client_stats(0).queued), 2 + 3 + 11);
+  EXPECT_EQ(mem.stats_json()["clients"]["a"]["queued_cycles"], 16.0);
 }
 
-// Two clients at the same instant share the bus in call order. At t=0 both
-// read 64 B (whoever calls first gets 22, the other 24). At t=30, `b` one
-// delta after `a`: a reads 96 B -> bus [30,33) -> 23; b reads 32 B -> bus
-// [33,34) -> 24.
+// Two clients at the same instant share the bus in round-robin order, the
+// pointer starting at the first client bound (a). At t=0 both read 64 B: a
+// gets 22, b 24, and the pointer moves past b (back to a). At t=30, b one
+// delta after a, so in a later round: a reads 96 B -> bus [30,33) -> 23; b
+// reads 32 B -> bus [33,34) -> 24.
 TEST(Memory, ConcurrentClientsShareTheBandwidth) {
   Memory mem("mem", kSize, 20, 32, kCycle);
   double a0 = 0, b0 = 0, a1 = 0, b1 = 0;
   std::array<uint8_t, 96> buf_a{}, buf_b{};
   Client a("a", mem, [&](Client& c) {
-    a0 = in_cycles(c.port.read(0, buf_a.data(), 64));
+    c.port.read(0, buf_a.data(), 64);
+    a0 = group_delay(c.port);
     sc_core::wait(30 * kCycle);
-    a1 = in_cycles(c.port.read(0, buf_a.data(), 96));
+    c.port.read(0, buf_a.data(), 96);
+    a1 = group_delay(c.port);
   });
   Client b("b", mem, [&](Client& c) {
-    b0 = in_cycles(c.port.read(512, buf_b.data(), 64));
+    c.port.read(512, buf_b.data(), 64);
+    b0 = group_delay(c.port);
     sc_core::wait(30 * kCycle);
     sc_core::wait(sc_core::SC_ZERO_TIME);
-    b1 = in_cycles(c.port.read(512, buf_b.data(), 32));
+    c.port.read(512, buf_b.data(), 32);
+    b1 = group_delay(c.port);
   });
   sc_core::sc_start();
-  EXPECT_EQ(std::min(a0, b0), 22);
-  EXPECT_EQ(std::max(a0, b0), 24);
+  EXPECT_EQ(a0, 22);
+  EXPECT_EQ(b0, 24);
   EXPECT_EQ(a1, 23);
   EXPECT_EQ(b1, 24);
   EXPECT_EQ(mem.busy_cycles(), 2u + 2u + 3u + 1u);
@@ -128,19 +150,24 @@ TEST(Memory, PerClientStatistics) {
   Memory mem("mem", kSize, 20, 32, kCycle);
   std::vector<uint8_t> buf(100, 0x5a);
   Client a("a", mem, [&](Client& c) {
-    sc_core::wait(c.port.write(0, buf.data(), 100));
-    sc_core::wait(c.port.read(0, buf.data(), 64));
+    c.port.write(0, buf.data(), 100);
+    sc_core::wait(group_delay(c.port) * kCycle);
+    c.port.read(0, buf.data(), 64);
+    sc_core::wait(group_delay(c.port) * kCycle);
   });
   std::vector<uint8_t> buf_b(32);
   Client b("b", mem, [&](Client& c) {
-    sc_core::wait(c.port.read(200, buf_b.data(), 32));
-    sc_core::wait(c.port.write(300, buf_b.data(), 8));
+    c.port.read(200, buf_b.data(), 32);
+    sc_core::wait(group_delay(c.port) * kCycle);
+    c.port.write(300, buf_b.data(), 8);
+    sc_core::wait(group_delay(c.port) * kCycle);
   });
   sc_core::sc_start();
 
   ASSERT_EQ(mem.num_clients(), 2u);
-  EXPECT_EQ(mem.client_name(0), "a.mem");
-  EXPECT_EQ(mem.client_name(1), "b.mem");
+  // Named after the stage owning the port.
+  EXPECT_EQ(mem.client_name(0), "a");
+  EXPECT_EQ(mem.client_name(1), "b");
   const MemoryClientStats& sa = mem.client_stats(0);
   EXPECT_EQ(sa.requests, 2u);
   EXPECT_EQ(sa.reads, 1u);
@@ -153,19 +180,20 @@ TEST(Memory, PerClientStatistics) {
   EXPECT_EQ(sb.bytes_written, 8u);
   EXPECT_EQ(sb.busy_cycles, 2u);
 
-  // Whatever the order of calls, the bus was busy 4 + 2 + 1 + 1 cycles.
+  // Whatever the order of grants, the bus was busy 4 + 2 + 1 + 1 cycles.
   const nlohmann::json j = mem.stats_json();
   EXPECT_EQ(j["busy_cycles"], 8);
   EXPECT_EQ(j["size_bytes"], kSize);
   EXPECT_EQ(j["latency"], 20);
   EXPECT_EQ(j["bytes_per_cycle"], 32);
-  EXPECT_EQ(j["clients"]["a.mem"]["bytes_written"], 100);
-  EXPECT_EQ(j["clients"]["b.mem"]["bytes_read"], 32);
-  EXPECT_EQ(j["clients"]["b.mem"]["requests"], 2);
+  EXPECT_EQ(j["clients"]["a"]["bytes_written"], 100);
+  EXPECT_EQ(j["clients"]["b"]["bytes_read"], 32);
+  EXPECT_EQ(j["clients"]["b"]["requests"], 2);
   EXPECT_DOUBLE_EQ(j["utilization"].get<double>(), 8.0 / in_cycles(sc_core::sc_time_stamp()));
 }
 
-// A raw TLM initiator bound straight to the socket, after a named port.
+// A raw TLM initiator bound straight to the socket, between two named ports:
+// its b_transport goes through the arbiter like a port's request.
 struct RawInitiator : sc_core::sc_module {
   tlm_utils::simple_initiator_socket<RawInitiator> socket{"socket"};
   explicit RawInitiator(sc_core::sc_module_name name) : sc_core::sc_module(name) {}
@@ -220,19 +248,20 @@ TEST(Memory, ErrorsAndDebugTransport) {
                         tlm::TLM_ADDRESS_ERROR_RESPONSE, tlm::TLM_ADDRESS_ERROR_RESPONSE,
                         tlm::TLM_OK_RESPONSE, tlm::TLM_BYTE_ENABLE_ERROR_RESPONSE,
                         tlm::TLM_BURST_ERROR_RESPONSE}));
-  // Errors take no time; the good read arrives at 3 and takes 1 + 20.
+  // Errors take no time; the good read arrives at 3 and takes 1 + 20 (its
+  // round takes a delta, no simulated time, so the delay is from 0).
   EXPECT_EQ(delays, (std::vector<double>{3, 3, 24, 3, 3}));
   EXPECT_EQ(dbg_clipped, 4u);
   EXPECT_EQ(dbg_outside, 0u);
 
-  // Clients are numbered in bind order: the two named ports, then the raw
-  // socket bound directly.
+  // Clients are numbered in the order they were added: the two named ports,
+  // then, at the end of elaboration, the raw socket bound directly.
   ASSERT_EQ(mem.num_clients(), 3u);
-  EXPECT_EQ(mem.client_name(0), "named.mem");
-  EXPECT_EQ(mem.client_name(1), "client1");
-  EXPECT_EQ(mem.client_name(2), "driver.mem");
-  EXPECT_EQ(mem.client_stats(1).errors, 4u);
-  EXPECT_EQ(mem.client_stats(1).requests, 1u);
+  EXPECT_EQ(mem.client_name(0), "named");
+  EXPECT_EQ(mem.client_name(1), "driver");
+  EXPECT_EQ(mem.client_name(2), "client2");
+  EXPECT_EQ(mem.client_stats(2).errors, 4u);
+  EXPECT_EQ(mem.client_stats(2).requests, 1u);
   EXPECT_EQ(mem.busy_cycles(), 1u);
 
   EXPECT_THROW(mem.data(kSize - 4, 8), std::out_of_range);

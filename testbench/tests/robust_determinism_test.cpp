@@ -1,13 +1,16 @@
 // Determinism (docs/robustness.md, "Determinism"): the same input gives the
 // same output bytes (frame.exr, frame.png, stats.json with every statistic)
 // run after run, for gpusim golden and gpusim run, and the same results when
-// a process runs the same frame twice.
+// a process runs the same frame twice; and the cycle model's statistics do
+// not change when something outside the modelled GPU adds processes to the
+// simulation (a progress line, tracing, --check, the watchdog).
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 
@@ -67,6 +70,80 @@ TEST_P(SameBytes, GoldenAndCycleModel) {
 INSTANTIATE_TEST_SUITE_P(Scenes, SameBytes,
                          ::testing::Values("default", "spider", "clipping", "states",
                                            "zfight_offset", "shared_edges"));
+
+// Pairs of `gpusim run` on the default scene that differ only in something
+// outside the modelled GPU: stats.json must be the same bytes. Each of these
+// adds or drops SystemC processes or waits, which changes the order in which
+// the kernel runs the processes of one delta; the memory's arbiter must not
+// let that order reach the timing (hw/memory.h).
+class SameStats : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::path(::testing::TempDir()) / ("gpusim_obs_" + std::to_string(getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  // `gpusim run default.json --out DIR/out <args>`, under `wrapper` (a
+  // shell prefix taking the command as its last argument, or empty); returns
+  // stats.json.
+  std::string run(const std::string& out, const std::string& args,
+                  const std::string& wrapper = "") {
+    const std::string gpusim = std::string(GPUSIM_BINARY_DIR) + "/gpusim run " + GPUSIM_SOURCE_DIR +
+                               "/testbench/scenes/default.json --out " + (dir_ / out).string() +
+                               " " + args;
+    const std::string cmd =
+        (wrapper.empty() ? gpusim : wrapper + " '" + gpusim + "' /dev/null") + " >/dev/null 2>&1";
+    const int st = std::system(cmd.c_str());
+    EXPECT_TRUE(WIFEXITED(st) && WEXITSTATUS(st) == 0) << cmd;
+    const std::string stats = slurp(dir_ / out / "stats.json");
+    EXPECT_FALSE(stats.empty()) << cmd;
+    return stats;
+  }
+  fs::path dir_;
+};
+
+// stderr on a terminal turns on the progress line (testbench/main.cpp), a
+// thread waking every 100,000 cycles and on FIFO activity. script(1) (from
+// bsdutils, which scripts/setup installs) runs gpusim on a pseudo-terminal.
+TEST_F(SameStats, PipedOrOnATerminal) {
+  ASSERT_EQ(std::system("command -v script >/dev/null"), 0)
+      << "script(1) is missing: scripts/setup installs it (package bsdutils)";
+  const std::string piped = run("piped", "");
+  const std::string terminal = run("terminal", "", "script -qec");
+  EXPECT_TRUE(piped == terminal) << "stats.json differs between a pipe and a terminal";
+}
+
+TEST_F(SameStats, TracedOrNot) {
+  const std::string plain = run("plain", "");
+  const std::string traced = run("traced", "--trace " + (dir_ / "trace").string());
+  EXPECT_TRUE(plain == traced) << "stats.json differs with --trace";
+}
+
+TEST_F(SameStats, CheckedOrNot) {
+  const std::string plain = run("plain", "");
+  const std::string checked = run("checked", "--check");
+  EXPECT_TRUE(plain == checked) << "stats.json differs with --check";
+}
+
+// The watchdog cannot be turned off from the command line; at its maximum,
+// 10^12 cycles, it wakes every 2.5 * 10^11 cycles, never during this frame,
+// and at 1000 every 250 cycles. stats.json records the setting itself, so
+// that one field is left out of the comparison.
+TEST_F(SameStats, WatchdogOftenOrNever) {
+  std::ofstream(dir_ / "often.json") << R"({"watchdog_cycles": 1000})";
+  std::ofstream(dir_ / "never.json") << R"({"watchdog_cycles": 1000000000000})";
+  const auto without_setting = [](const std::string& text) {
+    nlohmann::json j = nlohmann::json::parse(text);
+    j.at("config").erase("watchdog_cycles");
+    return j.dump(2);
+  };
+  const std::string often = run("often", "--config " + (dir_ / "often.json").string());
+  const std::string never = run("never", "--config " + (dir_ / "never.json").string());
+  EXPECT_TRUE(without_setting(often) == without_setting(never))
+      << "stats.json differs with the watchdog waking every 250 cycles";
+}
 
 // Twice in one process (a fresh SystemC context each time), with random
 // stalls at every FIFO: identical frames, counters and timing statistics.

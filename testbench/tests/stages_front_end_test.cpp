@@ -661,7 +661,7 @@ TEST(VertexFetch, CacheHitsFollowFifoReplacement) {
   EXPECT_EQ(bench.stat(bench.clipper.stats(), "cache_writes"), 18u);
   EXPECT_EQ(bench.stat(bench.clipper.stats(), "cache_reads"), 6u);
   // The memory saw the same traffic.
-  const nlohmann::json m = bench.memory.stats_json().at("clients").at("bench.vertex_fetch.mem");
+  const nlohmann::json m = bench.memory.stats_json().at("clients").at("vertex_fetch");
   EXPECT_EQ(m.at("bytes_read").get<uint64_t>(), 2u * (48u + 9u * 16u));
   EXPECT_EQ(m.at("reads").get<uint64_t>(), 6u);
 }
