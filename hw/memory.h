@@ -199,7 +199,6 @@ class Memory : public sc_core::sc_module {
   MemoryClientStats client_stats(unsigned index) const;
   uint64_t busy_cycles() const { return m_arbiter.busy_cycles(); }
   sc_core::sc_time bus_free() const { return m_arbiter.bus_free(); }
-  const MemoryArbiter& arbiter() const { return m_arbiter; }
 
   // {"size_bytes", "latency", "bytes_per_cycle", "busy_cycles", "utilization",
   //  "clients": {name: {requests, reads, writes, bytes_read, bytes_written,
