@@ -7,8 +7,8 @@
 namespace gpusim {
 namespace {
 
-bool same_triangle(const std::shared_ptr<const RasterTriangle>& a,
-                   const std::shared_ptr<const RasterTriangle>& b) {
+bool same_triangle(const std::shared_ptr<const RasterPrimitive>& a,
+                   const std::shared_ptr<const RasterPrimitive>& b) {
   if (a == b) return true;
   return a && b && *a == *b;
 }
@@ -37,8 +37,8 @@ std::ostream& operator<<(std::ostream& os, const Command& c) {
   return os << "}";
 }
 
-std::ostream& operator<<(std::ostream& os, const ClippedTriangle& t) {
-  os << "ClippedTriangle{" << t.kind;
+std::ostream& operator<<(std::ostream& os, const ClippedPrimitive& t) {
+  os << "ClippedPrimitive{" << t.kind;
   if (t.kind != PacketKind::work) return os << "}";
   os << " draw " << t.draw_id << " prim " << t.primitive_id;
   for (const ClippedVertex& v : t.v) {
@@ -56,16 +56,16 @@ int log2_side(unsigned side) {
   return n;
 }
 
-bool RasterTriangle::operator==(const RasterTriangle& o) const {
-  auto tie = [](const RasterTriangle& t) {
+bool RasterPrimitive::operator==(const RasterPrimitive& o) const {
+  auto tie = [](const RasterPrimitive& t) {
     return std::tie(t.draw_id, t.primitive_id, t.x, t.y, t.area2, t.edge, t.x0, t.y0, t.x1, t.y1,
                     t.z, t.inv_w, t.color_over_w, t.flat_color, t.has_depth_offset, t.depth_offset);
   };
   return tie(*this) == tie(o);
 }
 
-std::ostream& operator<<(std::ostream& os, const RasterTriangle& t) {
-  os << "RasterTriangle{draw " << t.draw_id << " prim " << t.primitive_id;
+std::ostream& operator<<(std::ostream& os, const RasterPrimitive& t) {
+  os << "RasterPrimitive{draw " << t.draw_id << " prim " << t.primitive_id;
   for (int i = 0; i < 3; ++i) os << " (" << t.x[i] << ", " << t.y[i] << ", z " << t.z[i] << ")";
   os << " area2 " << t.area2 << " box [" << t.x0 << ".." << t.x1 << "] x [" << t.y0 << ".." << t.y1
      << "] flat ";

@@ -46,18 +46,18 @@ struct ClippedVertex {
 };
 
 // Clipper -> triangle setup.
-struct ClippedTriangle {
+struct ClippedPrimitive {
   PacketKind kind = PacketKind::work;
   uint32_t draw_id = 0;
   int64_t primitive_id = 0;
   std::array<ClippedVertex, 3> v;
   glm::vec4 flat_color{0.0f};  // the provoking vertex's colour
-  bool operator==(const ClippedTriangle& o) const {
+  bool operator==(const ClippedPrimitive& o) const {
     return kind == o.kind && draw_id == o.draw_id && primitive_id == o.primitive_id && v == o.v &&
            flat_color == o.flat_color;
   }
 };
-std::ostream& operator<<(std::ostream& os, const ClippedTriangle& t);
+std::ostream& operator<<(std::ostream& os, const ClippedPrimitive& t);
 
 // Edge function E(px, py) = a * px + b * py + c over subpixel coordinates:
 // for the edge from (Xa, Ya) to (Xb, Yb), a = -(Yb - Ya), b = Xb - Xa,
@@ -75,7 +75,7 @@ struct EdgeEquation {
 
 // Triangle setup's result, counter-clockwise; edge k is opposite vertex k
 // (E0 = edge v1 -> v2, E1 = v2 -> v0, E2 = v0 -> v1).
-struct RasterTriangle {
+struct RasterPrimitive {
   uint32_t draw_id = 0;
   int64_t primitive_id = 0;
   std::array<Subpixel, 3> x{}, y{};
@@ -88,14 +88,14 @@ struct RasterTriangle {
   glm::vec4 flat_color{0.0f};
   bool has_depth_offset = false;
   float depth_offset = 0.0f;
-  bool operator==(const RasterTriangle& o) const;
+  bool operator==(const RasterPrimitive& o) const;
 };
-std::ostream& operator<<(std::ostream& os, const RasterTriangle& t);
+std::ostream& operator<<(std::ostream& os, const RasterPrimitive& t);
 
 // Triangle setup -> tile distributor -> each tile rasterizer unit.
 struct SetupPacket {
   PacketKind kind = PacketKind::work;
-  std::shared_ptr<const RasterTriangle> triangle;  // work only
+  std::shared_ptr<const RasterPrimitive> triangle;  // work only
   bool operator==(const SetupPacket& o) const;
   friend void swap(SetupPacket& a, SetupPacket& b) noexcept {
     std::swap(a.kind, b.kind);
@@ -121,7 +121,7 @@ struct Stamp {
 // covers in one tile, in the order the unit walked them.
 struct StampBatch {
   PacketKind kind = PacketKind::work;
-  std::shared_ptr<const RasterTriangle> triangle;
+  std::shared_ptr<const RasterPrimitive> triangle;
   std::vector<Stamp> stamps;
   // Per covered pixel (stamp order, then bit order), the depth value the
   // depth test computed, for stages after it; empty before the depth test.
@@ -140,7 +140,7 @@ std::ostream& operator<<(std::ostream& os, const StampBatch& b);
 // pixel (stamp order, then bit order).
 struct ShadedStampBatch {
   PacketKind kind = PacketKind::work;
-  std::shared_ptr<const RasterTriangle> triangle;
+  std::shared_ptr<const RasterPrimitive> triangle;
   std::vector<Stamp> stamps;
   std::vector<glm::vec4> colors;
   bool operator==(const ShadedStampBatch& o) const;

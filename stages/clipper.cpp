@@ -56,13 +56,13 @@ void Clipper::run() {
     if (batch.kind == PacketKind::work) {
       busy = process_batch(batch);
     } else {
-      ClippedTriangle token;
+      ClippedPrimitive token;
       token.kind = batch.kind;
       m_out.push_back(token);
     }
     m_busy_cycles += busy;
     if (busy > 0) sc_core::wait(clock_cycles(busy));
-    for (const ClippedTriangle& t : m_out) {
+    for (const ClippedPrimitive& t : m_out) {
       out->write(t, sc_core::sc_time_stamp() + m_latency);
       ++m_tokens_out;
     }
@@ -175,7 +175,7 @@ void Clipper::process_triangle(uint32_t draw_id, int64_t primitive_id, const Ver
     ++m_invalid;
     return;
   }
-  ClippedTriangle t;
+  ClippedPrimitive t;
   t.kind = PacketKind::work;
   t.draw_id = draw_id;
   t.primitive_id = primitive_id;

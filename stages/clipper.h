@@ -45,7 +45,7 @@ namespace gpusim {
 class Clipper : public sc_core::sc_module {
  public:
   FifoInPort<ShadedBatch> in;
-  FifoOutPort<ClippedTriangle> out;
+  FifoOutPort<ClippedPrimitive> out;
 
   Clipper(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame);
 
@@ -96,7 +96,7 @@ class Clipper : public sc_core::sc_module {
   std::vector<ShadedVertex> m_poly, m_next;  // reused: no allocation per triangle
   std::vector<float> m_dist;
   std::vector<ClippedVertex> m_window;
-  std::vector<ClippedTriangle> m_out;
+  std::vector<ClippedPrimitive> m_out;
 
   StatGroup m_stats{name()};
   uint64_t& m_busy_cycles =

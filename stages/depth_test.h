@@ -81,7 +81,7 @@ class DepthTest : public sc_core::sc_module {
   void test_stamps(StampBatch& batch, sc_core::sc_time& t, const RenderState& st,
                    FragmentProbe* probe);
   // Fills m_offset for the triangle's edge steps (kept while they are unchanged).
-  void update_offsets(const RasterTriangle& tri);
+  void update_offsets(const RasterPrimitive& tri);
 
   const GpuConfig& m_config;
   const FrameState& m_frame;

@@ -191,7 +191,7 @@ class Gpu : public sc_core::sc_module {
   VertexShader m_shader;
   Fifo<ShadedBatch> m_shader_to_clipper;
   Clipper m_clipper;
-  Fifo<ClippedTriangle> m_clipper_to_setup;
+  Fifo<ClippedPrimitive> m_clipper_to_setup;
   TriangleSetup m_setup;
   Fifo<SetupPacket> m_setup_to_distributor;
   TileDistributor m_distributor;

@@ -57,7 +57,7 @@ void Interpolator::run() {
   }
 }
 
-void Interpolator::update_offsets(const RasterTriangle& tri) {
+void Interpolator::update_offsets(const RasterPrimitive& tri) {
   std::array<EdgeValue, 3> step_x, step_y;
   for (int k = 0; k < 3; ++k) {
     step_x[k] = tri.edge[k].a * kSubpixelOne;
@@ -78,7 +78,7 @@ void Interpolator::update_offsets(const RasterTriangle& tri) {
 }
 
 void Interpolator::shade(const StampBatch& batch, ShadedStampBatch& result) {
-  const RasterTriangle& tri = *batch.triangle;
+  const RasterPrimitive& tri = *batch.triangle;
   const RenderState& st = m_frame.draws.at(tri.draw_id).state;
   // Full stamps need no count (popcount is a libgcc call on baseline x86-64).
   const uint64_t full = m_stamp_pixels == 64 ? ~uint64_t{0} : (uint64_t{1} << m_stamp_pixels) - 1;

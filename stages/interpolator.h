@@ -42,7 +42,7 @@ class Interpolator : public sc_core::sc_module {
   void run();
   void shade(const StampBatch& batch, ShadedStampBatch& result);
   // Fills m_offset for the triangle's edge steps (kept while they are unchanged).
-  void update_offsets(const RasterTriangle& tri);
+  void update_offsets(const RasterPrimitive& tri);
 
   const GpuConfig& m_config;
   const FrameState& m_frame;

@@ -35,7 +35,7 @@ class TileDistributor : public sc_core::sc_module {
  private:
   void run();
   // targets[u]: unit u owns a tile of the triangle's box; returns how many do.
-  unsigned target_units(const RasterTriangle& t, std::vector<bool>& targets) const;
+  unsigned target_units(const RasterPrimitive& t, std::vector<bool>& targets) const;
 
   const GpuConfig& m_config;
   const FrameState& m_frame;

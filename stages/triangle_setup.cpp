@@ -11,7 +11,7 @@ namespace gpusim {
 namespace {
 
 // Spec section 10, in the written float order (the build forbids FMA).
-float polygon_offset(const RasterTriangle& t, const RenderState& st, DepthFormat fmt) {
+float polygon_offset(const RasterPrimitive& t, const RenderState& st, DepthFormat fmt) {
   const float s = 1.0f / static_cast<float>(kSubpixelOne);
   const float dx1 = static_cast<float>(t.x[1] - t.x[0]) * s;
   const float dy1 = static_cast<float>(t.y[1] - t.y[0]) * s;
@@ -43,7 +43,7 @@ TriangleSetup::TriangleSetup(sc_core::sc_module_name name, const GpuConfig& conf
   SC_THREAD(run);
 }
 
-std::shared_ptr<RasterTriangle> TriangleSetup::setup(const ClippedTriangle& in_tri) {
+std::shared_ptr<RasterPrimitive> TriangleSetup::setup(const ClippedPrimitive& in_tri) {
   std::array<Subpixel, 3> x, y;
   for (int i = 0; i < 3; ++i) {
     x[i] = snap_to_subpixel(in_tri.v[i].x);
@@ -65,7 +65,7 @@ std::shared_ptr<RasterTriangle> TriangleSetup::setup(const ClippedTriangle& in_t
   }
   ++m_rasterized;
 
-  auto t = std::make_shared<RasterTriangle>();
+  auto t = std::make_shared<RasterPrimitive>();
   t->draw_id = in_tri.draw_id;
   t->primitive_id = in_tri.primitive_id;
   t->flat_color = in_tri.flat_color;
@@ -117,7 +117,7 @@ std::shared_ptr<RasterTriangle> TriangleSetup::setup(const ClippedTriangle& in_t
 
 void TriangleSetup::run() {
   for (;;) {
-    const ClippedTriangle tri = in->read();
+    const ClippedPrimitive tri = in->read();
     ++m_tokens_in;
     sc_core::wait(clock_cycles(m_cost.ii));
     m_busy_cycles += m_cost.ii;
@@ -126,7 +126,7 @@ void TriangleSetup::run() {
     SetupPacket p;
     p.kind = tri.kind;
     if (tri.kind == PacketKind::work) {
-      std::shared_ptr<RasterTriangle> t = setup(tri);
+      std::shared_ptr<RasterPrimitive> t = setup(tri);
       if (!t) continue;
       if (t->x0 > t->x1 || t->y0 > t->y1) {
         ++m_offscreen;

@@ -29,7 +29,7 @@ namespace gpusim {
 
 class TriangleSetup : public sc_core::sc_module {
  public:
-  FifoInPort<ClippedTriangle> in;
+  FifoInPort<ClippedPrimitive> in;
   FifoOutPort<SetupPacket> out;
 
   TriangleSetup(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame);
@@ -39,9 +39,9 @@ class TriangleSetup : public sc_core::sc_module {
  private:
   void run();
   // The setup of one triangle, without timing: nullptr when the triangle is
-  // degenerate or culled (the reason goes to the counters). A RasterTriangle
+  // degenerate or culled (the reason goes to the counters). A RasterPrimitive
   // with an empty box (x0 > x1 or y0 > y1) is returned all the same.
-  std::shared_ptr<RasterTriangle> setup(const ClippedTriangle& t);
+  std::shared_ptr<RasterPrimitive> setup(const ClippedPrimitive& t);
 
   const GpuConfig& m_config;
   const FrameState& m_frame;

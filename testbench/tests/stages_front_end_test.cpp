@@ -1,7 +1,7 @@
 // The geometry front end (command processor -> vertex fetch -> vertex shader
 // -> clipper) against the golden model's rules: scenes are built here (or
 // loaded), put into a Memory and a FrameState as a driver would, run through
-// the four stages, and the ClippedTriangle stream is compared with what
+// the four stages, and the ClippedPrimitive stream is compared with what
 // golden::shade_vertex, assemble_triangles, clip_triangle and to_window give,
 // bit for bit. Also: cache hit counts and memory traffic for known index
 // patterns, exact timing of simple cases, and unchanged outputs under random
@@ -96,10 +96,10 @@ struct Bench : sc_core::sc_module {
   VertexShader shader;
   Fifo<ShadedBatch> shader_to_clipper;
   Clipper clipper;
-  Fifo<ClippedTriangle> results;
+  Fifo<ClippedPrimitive> results;
 
   std::vector<Command> script;
-  std::vector<ClippedTriangle> got;
+  std::vector<ClippedPrimitive> got;
   std::vector<sc_time> times;  // when the sink read each result
 
   SC_HAS_PROCESS(Bench);
@@ -241,14 +241,14 @@ bool same_bits(const glm::vec4& a, const glm::vec4& b) {
 
 // Compares the work triangles of `got` (between the clear and end-of-frame
 // tokens) with the expected ones; stops at the first few differences.
-void expect_stream(const std::vector<ClippedTriangle>& got, const Expected& want) {
+void expect_stream(const std::vector<ClippedPrimitive>& got, const Expected& want) {
   ASSERT_GE(got.size(), 2u);
   EXPECT_EQ(got.front().kind, PacketKind::clear);
   EXPECT_EQ(got.back().kind, PacketKind::end_of_frame);
   ASSERT_EQ(got.size() - 2, want.triangles.size());
   int failures = 0;
   for (size_t i = 0; i < want.triangles.size() && failures < 5; ++i) {
-    const ClippedTriangle& g = got[i + 1];
+    const ClippedPrimitive& g = got[i + 1];
     const ExpectedTriangle& w = want.triangles[i];
     std::ostringstream where;
     where << "triangle " << i << " (prim " << w.primitive_id << "): " << g;
