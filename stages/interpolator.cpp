@@ -78,8 +78,10 @@ void Interpolator::update_offsets(const RasterPrimitive& tri) {
 }
 
 void Interpolator::shade(const StampBatch& batch, ShadedStampBatch& result) {
-  const RasterPrimitive& tri = *batch.triangle;
-  const RenderState& st = m_frame.draws.at(tri.draw_id).state;
+  const RasterPrimitive& prim = *batch.triangle;
+  const DrawState& draw = m_frame.draws.at(prim.draw_id);
+  const RenderState& st = draw.state;
+  const VaryingLayout& layout = draw.varyings;
   // Full stamps need no count (popcount is a libgcc call on baseline x86-64).
   const uint64_t full = m_stamp_pixels == 64 ? ~uint64_t{0} : (uint64_t{1} << m_stamp_pixels) - 1;
   size_t n = 0;
@@ -88,7 +90,9 @@ void Interpolator::shade(const StampBatch& batch, ShadedStampBatch& result) {
                         : static_cast<size_t>(__builtin_popcountll(s.mask));
   }
   if (st.shading == Shading::flat) {
-    result.colors.assign(n, tri.flat_color);
+    // Every pixel takes the provoking vertex's varyings; the ROP its colour.
+    const float* flat = prim.flat_varyings.data() + layout.color;
+    result.colors.assign(n, glm::vec4(flat[0], flat[1], flat[2], flat[3]));
     m_flat_fragments += n;
     return;
   }
@@ -101,20 +105,27 @@ void Interpolator::shade(const StampBatch& batch, ShadedStampBatch& result) {
   // Pixel p of a stamp is at offset m_offset[k][p] = i * a_k * 256 +
   // j * b_k * 256 from the origin's edge value: the same exact int64 sum as
   // stepping per pixel, looked up instead of multiplied.
-  update_offsets(tri);
+  update_offsets(prim);
   const EdgeValue *o0 = m_offset[0].data(), *o1 = m_offset[1].data(), *o2 = m_offset[2].data();
-  const std::array<float, 3>& q = tri.inv_w;
-  const std::array<glm::vec4, 3>& cw = tri.color_over_w;
+  const std::array<float, 3>& q = prim.inv_w;
+  const float* vw0 = prim.varyings_over_w[0].data();
+  const float* vw1 = prim.varyings_over_w[1].data();
+  const float* vw2 = prim.varyings_over_w[2].data();
+  const unsigned color = layout.color;
 #if defined(__SSE2__)
-  // The four channels in the four lanes of one register: each lane performs
-  // the spec's operations in the spec's order (IEEE single, no contraction),
-  // so the results equal the scalar ones bit for bit. clamp01 is
-  // min(max(v, 0), 1) with maxps/minps taking the second operand when the
-  // first is NaN: NaN -> 0, -0 -> +0, as clamp01.
-  const __m128 cw0 = _mm_loadu_ps(&cw[0][0]), cw1 = _mm_loadu_ps(&cw[1][0]),
-               cw2 = _mm_loadu_ps(&cw[2][0]);
+  // Four components in the four lanes of one register, a group at a time
+  // over the draw's groups (components past `count` in the last group are 0
+  // in the packet and their results unused): each lane performs the spec's
+  // operations in the spec's order (IEEE single, no contraction), so the
+  // results equal the scalar ones bit for bit. clamp01 is min(max(v, 0), 1)
+  // with maxps/minps taking the second operand when the first is NaN:
+  // NaN -> 0, -0 -> +0, as clamp01.
+  const unsigned group_end = layout.groups() * kVaryingGroup;
   const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
+#else
+  const unsigned count = layout.count;
 #endif
+  alignas(16) Varyings v;  // the pixel's varyings
   for (const Stamp& s : batch.stamps) {
     const EdgeValue e0 = s.e[0], e1 = s.e[1], e2 = s.e[2];
     for (uint64_t bits = s.mask; bits != 0; bits &= bits - 1) {
@@ -124,16 +135,19 @@ void Interpolator::shade(const StampBatch& batch, ShadedStampBatch& result) {
       const float f2 = static_cast<float>(e2 + o2[idx]);
       const float den = f0 * q[0] + f1 * q[1] + f2 * q[2];
 #if defined(__SSE2__)
-      const __m128 num =
-          _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_set1_ps(f0), cw0), _mm_mul_ps(_mm_set1_ps(f1), cw1)),
-                     _mm_mul_ps(_mm_set1_ps(f2), cw2));
-      const __m128 c = _mm_div_ps(num, _mm_set1_ps(den));
+      const __m128 m0 = _mm_set1_ps(f0), m1 = _mm_set1_ps(f1), m2 = _mm_set1_ps(f2);
+      const __m128 d = _mm_set1_ps(den);
+      for (unsigned g = 0; g < group_end; g += kVaryingGroup) {
+        const __m128 num = _mm_add_ps(_mm_add_ps(_mm_mul_ps(m0, _mm_loadu_ps(vw0 + g)),
+                                                 _mm_mul_ps(m1, _mm_loadu_ps(vw1 + g))),
+                                      _mm_mul_ps(m2, _mm_loadu_ps(vw2 + g)));
+        _mm_store_ps(&v[g], _mm_div_ps(num, d));
+      }
+      const __m128 c = _mm_loadu_ps(&v[color]);
       _mm_storeu_ps(&(*out)[0], _mm_min_ps(_mm_max_ps(c, zero), one));
 #else
-      for (int k = 0; k < 4; ++k) {
-        const float num = f0 * cw[0][k] + f1 * cw[1][k] + f2 * cw[2][k];
-        (*out)[k] = clamp01(num / den);
-      }
+      for (unsigned k = 0; k < count; ++k) v[k] = (f0 * vw0[k] + f1 * vw1[k] + f2 * vw2[k]) / den;
+      for (unsigned k = 0; k < kColorComponents; ++k) (*out)[k] = clamp01(v[color + k]);
 #endif
       ++out;
     }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <utility>
 
 #include "hw/fixed_point.h"
@@ -44,6 +45,15 @@ TriangleSetup::TriangleSetup(sc_core::sc_module_name name, const GpuConfig& conf
 }
 
 std::shared_ptr<RasterPrimitive> TriangleSetup::setup(const ClippedPrimitive& in_tri) {
+  // The clipper assembles triangles only; another kind here is a model bug.
+  if (in_tri.primitive_kind != PrimitiveKind::triangle ||
+      in_tri.vertex_count != vertex_count_of(PrimitiveKind::triangle)) {
+    std::ostringstream msg;
+    msg << name() << ": triangle setup cannot set up a " << in_tri.primitive_kind << " of "
+        << unsigned{in_tri.vertex_count} << " vertices (primitive " << in_tri.primitive_id << ")";
+    SC_REPORT_ERROR("gpusim/triangle_setup", msg.str().c_str());
+    return nullptr;
+  }
   std::array<Subpixel, 3> x, y;
   for (int i = 0; i < 3; ++i) {
     x[i] = snap_to_subpixel(in_tri.v[i].x);
@@ -67,8 +77,10 @@ std::shared_ptr<RasterPrimitive> TriangleSetup::setup(const ClippedPrimitive& in
 
   auto t = std::make_shared<RasterPrimitive>();
   t->draw_id = in_tri.draw_id;
+  t->primitive_kind = PrimitiveKind::triangle;
+  t->vertex_count = vertex_count_of(PrimitiveKind::triangle);
   t->primitive_id = in_tri.primitive_id;
-  t->flat_color = in_tri.flat_color;
+  t->flat_varyings = in_tri.flat_varyings;
   // Clockwise: swap v1 and v2 (with their attributes) so that area2 > 0.
   const std::array<int, 3> order = ccw ? std::array<int, 3>{0, 1, 2} : std::array<int, 3>{0, 2, 1};
   if (!ccw) ++m_swapped;
@@ -78,7 +90,7 @@ std::shared_ptr<RasterPrimitive> TriangleSetup::setup(const ClippedPrimitive& in
     t->y[i] = y[order[i]];
     t->z[i] = v.z;
     t->inv_w[i] = v.inv_w;
-    t->color_over_w[i] = v.color_over_w;
+    t->varyings_over_w[i] = v.varyings_over_w;
   }
   t->area2 = ccw ? area2 : -area2;
 

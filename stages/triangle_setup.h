@@ -4,7 +4,10 @@
 // triangles counter-clockwise, and derives what the rasterizer and the back
 // end need once per triangle: the three edge equations with their fill-rule
 // bias, the pixel bounding box clamped to the framebuffer and the polygon
-// offset. The result is shared read-only by every unit (shared_ptr).
+// offset; the vertices' varyings (already divided by w) and the provoking
+// vertex's flat varyings pass through unchanged. The result is shared
+// read-only by every unit (shared_ptr). Only triangles are assembled today:
+// a primitive of another kind is a model error (SC_REPORT_ERROR).
 //
 // Cost model: every input token (triangle or control token) read at time t
 // occupies the stage for ii(triangle_setup) cycles, whether or not a triangle

@@ -94,7 +94,8 @@ std::shared_ptr<RasterPrimitive> setup(std::array<WindowVertex, 3> v, const Rend
     t->y[k] = v[k].y;
     t->z[k] = v[k].z;
     t->inv_w[k] = v[k].inv_w;
-    t->color_over_w[k] = v[k].color_over_w;
+    // The colour-only layout every draw has (varying_layout_for): 0-3.
+    for (int c = 0; c < 4; ++c) t->varyings_over_w[k][c] = v[k].color_over_w[c];
     const WindowVertex& a = v[(k + 1) % 3];
     const WindowVertex& b = v[(k + 2) % 3];
     EdgeEquation& e = t->edge[k];
@@ -103,7 +104,7 @@ std::shared_ptr<RasterPrimitive> setup(std::array<WindowVertex, 3> v, const Rend
     e.c = (EdgeValue{b.y} - a.y) * a.x - (EdgeValue{b.x} - a.x) * a.y;
     e.bias = golden::edge_owns_boundary(a, b) ? 0 : 1;
   }
-  t->flat_color = flat;
+  for (int c = 0; c < 4; ++c) t->flat_varyings[c] = flat[c];
   if (st.offset_factor != 0.0f || st.offset_units != 0.0f) {
     t->has_depth_offset = true;
     t->depth_offset = polygon_offset(v, area2, st, fb.depth_format);
@@ -126,7 +127,7 @@ std::array<WindowVertex, 3> window_vertices(const RasterPrimitive& t) {
     v[k].y = t.y[k];
     v[k].z = t.z[k];
     v[k].inv_w = t.inv_w[k];
-    v[k].color_over_w = t.color_over_w[k];
+    for (int c = 0; c < 4; ++c) v[k].color_over_w[c] = t.varyings_over_w[k][c];
   }
   return v;
 }
@@ -753,7 +754,8 @@ TEST(Interpolator, ColoursEqualTheSpecPerPixel) {
       for (int bit = 0; bit < 64; ++bit) {
         if (!(st.mask >> bit & 1)) continue;
         const int x = st.x + bit % 4, y = st.y + bit / 4;
-        glm::vec4 want = t.flat_color;
+        glm::vec4 want(t.flat_varyings[0], t.flat_varyings[1], t.flat_varyings[2],
+                       t.flat_varyings[3]);
         if (!is_flat) {
           const float f0 = static_cast<float>(
               golden::edge_function(v[1], v[2], pixel_center(x), pixel_center(y)));

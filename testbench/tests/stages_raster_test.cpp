@@ -440,9 +440,11 @@ void check_setup(const Bench& b, const std::vector<ClippedPrimitive>& tokens,
       const ClippedVertex& src = t.v[x.from[i]];
       EXPECT_EQ(r.z[i], src.z);
       EXPECT_EQ(r.inv_w[i], src.inv_w);
-      EXPECT_EQ(r.color_over_w[i], src.color_over_w);
+      EXPECT_EQ(r.varyings_over_w[i], src.varyings_over_w);
     }
-    EXPECT_EQ(r.flat_color, t.flat_color);
+    EXPECT_EQ(r.flat_varyings, t.flat_varyings);
+    EXPECT_EQ(r.primitive_kind, PrimitiveKind::triangle);
+    EXPECT_EQ(r.vertex_count, 3);
     for (int k = 0; k < 3; ++k) {
       EXPECT_EQ(r.edge[k].bias, x.bias[k]);
       for (const auto& pr : probes) {
@@ -472,9 +474,17 @@ ClippedPrimitive window_triangle(int64_t id, uint32_t draw, std::array<float, 6>
     t.v[i].y = xy[2 * i + 1];
     t.v[i].z = 0.1f * static_cast<float>(i + 1) + 0.01f * static_cast<float>(id % 7);
     t.v[i].inv_w = 1.0f + static_cast<float>(i);
-    t.v[i].color_over_w = glm::vec4(0.1f * i, 0.2f, 0.3f, static_cast<float>(id));
+    // Colour (components 0-3) and three more, distinct per vertex, so a
+    // vertex swapped without its varyings shows; setup passes them all.
+    const std::array<float, 7> v = {0.1f * i, 0.2f,      0.3f,    static_cast<float>(id),
+                                    1.0f * i, -2.0f * i, 0.5f + i};
+    std::copy(v.begin(), v.end(), t.v[i].varyings_over_w.begin());
   }
-  t.flat_color = glm::vec4(0.5f, 0.25f, 0.125f, 1.0f);
+  t.flat_varyings[0] = 0.5f;
+  t.flat_varyings[1] = 0.25f;
+  t.flat_varyings[2] = 0.125f;
+  t.flat_varyings[3] = 1.0f;
+  t.flat_varyings[6] = 3.0f;
   return t;
 }
 
@@ -842,9 +852,9 @@ TEST_P(RasterVsRender, CountsLastWriterAndDepthEqualGolden) {
         v.x = (c.x * v.inv_w + 1.0f) * half_w;
         v.y = (c.y * v.inv_w + 1.0f) * half_h;
         v.z = (c.z * v.inv_w + 1.0f) * 0.5f;
-        for (int k = 0; k < 4; ++k) v.color_over_w[k] = draw.colors[t + i][k] * v.inv_w;
+        for (int k = 0; k < 4; ++k) v.varyings_over_w[k] = draw.colors[t + i][k] * v.inv_w;
       }
-      ct.flat_color = draw.colors[t + 2];
+      for (int k = 0; k < 4; ++k) ct.flat_varyings[k] = draw.colors[t + 2][k];
       tokens.push_back(ct);
     }
     DrawState ds;
