@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "hw/render_state.h"
+#include "hw/varying_layout.h"
 
 namespace gpusim {
 
@@ -69,7 +70,21 @@ struct DrawState {
   glm::mat3 normal_matrix{1.0f};
   RenderState state;
   int64_t first_primitive_id = 0;  // id of the draw's first assembled triangle
+  // What the components of its vertices' Varyings hold: varying_layout_for()
+  // of this draw, set when the frame state is built. The default is the same
+  // colour-only layout, so a DrawState built by hand (tests) is consistent.
+  VaryingLayout varyings;
 };
+
+// The varyings a draw's vertices carry, laid out once per draw when the frame
+// state is built (testbench/sim/gpu_run.cpp, load_frame). Today every draw,
+// lit or not, Gouraud or flat, carries its colour and nothing else.
+inline VaryingLayout varying_layout_for(const DrawState& /*draw*/) {
+  VaryingLayout layout;
+  layout.count = 0;
+  layout.color = static_cast<uint8_t>(layout.append(kColorComponents));
+  return layout;
+}
 
 // The colour buffer stores 4 bytes (rgba8) or 8 bytes (rgba16f, half bits)
 // per pixel; the depth buffer 2 bytes (unorm16) or 4 (unorm24 in the low 24

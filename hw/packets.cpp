@@ -1,5 +1,6 @@
 #include "hw/packets.h"
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 #include <tuple>
@@ -7,14 +8,25 @@
 namespace gpusim {
 namespace {
 
-bool same_triangle(const std::shared_ptr<const RasterTriangle>& a,
-                   const std::shared_ptr<const RasterTriangle>& b) {
+bool same_triangle(const std::shared_ptr<const RasterPrimitive>& a,
+                   const std::shared_ptr<const RasterPrimitive>& b) {
   if (a == b) return true;
   return a && b && *a == *b;
 }
 
-std::ostream& print_vec(std::ostream& os, const glm::vec4& v) {
-  return os << "(" << v.x << ", " << v.y << ", " << v.z << ", " << v.w << ")";
+// The layout, which knows how many components are in use, is per draw; the
+// components after the last non-zero one (0 in every unused component) are
+// left out.
+std::ostream& print_varyings(std::ostream& os, const Varyings& v) {
+  size_t n = v.size();
+  while (n > 0 && v[n - 1] == 0.0f) --n;
+  os << "(";
+  for (size_t i = 0; i < n; ++i) os << (i ? ", " : "") << v[i];
+  return os << ")";
+}
+
+std::ostream& print_primitive(std::ostream& os, PrimitiveKind kind, uint8_t vertex_count) {
+  return os << kind << "/" << unsigned{vertex_count};
 }
 
 }  // namespace
@@ -37,13 +49,38 @@ std::ostream& operator<<(std::ostream& os, const Command& c) {
   return os << "}";
 }
 
-std::ostream& operator<<(std::ostream& os, const ClippedTriangle& t) {
-  os << "ClippedTriangle{" << t.kind;
+std::ostream& operator<<(std::ostream& os, PrimitiveKind k) {
+  switch (k) {
+    case PrimitiveKind::point:
+      return os << "point";
+    case PrimitiveKind::line:
+      return os << "line";
+    case PrimitiveKind::triangle:
+      return os << "triangle";
+  }
+  return os << "invalid";
+}
+
+bool ClippedPrimitive::operator==(const ClippedPrimitive& o) const {
+  // Vertices from vertex_count on are unused and not compared.
+  const size_t n = std::min<size_t>(vertex_count, kMaxPrimitiveVertices);
+  return kind == o.kind && primitive_kind == o.primitive_kind && vertex_count == o.vertex_count &&
+         draw_id == o.draw_id && primitive_id == o.primitive_id &&
+         std::equal(v.begin(), v.begin() + n, o.v.begin()) && flat_varyings == o.flat_varyings;
+}
+
+std::ostream& operator<<(std::ostream& os, const ClippedPrimitive& t) {
+  os << "ClippedPrimitive{" << t.kind;
   if (t.kind != PacketKind::work) return os << "}";
+  os << " ";
+  print_primitive(os, t.primitive_kind, t.vertex_count);
   os << " draw " << t.draw_id << " prim " << t.primitive_id;
-  for (const ClippedVertex& v : t.v) {
+  for (size_t i = 0; i < t.vertex_count && i < kMaxPrimitiveVertices; ++i) {
+    const ClippedVertex& v = t.v[i];
     os << " [" << v.x << ", " << v.y << ", " << v.z << ", 1/w " << v.inv_w << "]";
   }
+  os << " flat ";
+  print_varyings(os, t.flat_varyings);
   return os << "}";
 }
 
@@ -56,20 +93,24 @@ int log2_side(unsigned side) {
   return n;
 }
 
-bool RasterTriangle::operator==(const RasterTriangle& o) const {
-  auto tie = [](const RasterTriangle& t) {
-    return std::tie(t.draw_id, t.primitive_id, t.x, t.y, t.area2, t.edge, t.x0, t.y0, t.x1, t.y1,
-                    t.z, t.inv_w, t.color_over_w, t.flat_color, t.has_depth_offset, t.depth_offset);
+bool RasterPrimitive::operator==(const RasterPrimitive& o) const {
+  auto tie = [](const RasterPrimitive& t) {
+    return std::tie(t.primitive_kind, t.vertex_count, t.draw_id, t.primitive_id, t.x, t.y, t.area2,
+                    t.edge, t.x0, t.y0, t.x1, t.y1, t.z, t.inv_w, t.varyings_over_w,
+                    t.flat_varyings, t.has_depth_offset, t.depth_offset);
   };
   return tie(*this) == tie(o);
 }
 
-std::ostream& operator<<(std::ostream& os, const RasterTriangle& t) {
-  os << "RasterTriangle{draw " << t.draw_id << " prim " << t.primitive_id;
-  for (int i = 0; i < 3; ++i) os << " (" << t.x[i] << ", " << t.y[i] << ", z " << t.z[i] << ")";
+std::ostream& operator<<(std::ostream& os, const RasterPrimitive& t) {
+  os << "RasterPrimitive{";
+  print_primitive(os, t.primitive_kind, t.vertex_count);
+  os << " draw " << t.draw_id << " prim " << t.primitive_id;
+  for (size_t i = 0; i < t.vertex_count && i < 3; ++i)
+    os << " (" << t.x[i] << ", " << t.y[i] << ", z " << t.z[i] << ")";
   os << " area2 " << t.area2 << " box [" << t.x0 << ".." << t.x1 << "] x [" << t.y0 << ".." << t.y1
      << "] flat ";
-  print_vec(os, t.flat_color);
+  print_varyings(os, t.flat_varyings);
   if (t.has_depth_offset) os << " offset " << t.depth_offset;
   return os << "}";
 }

@@ -5,6 +5,30 @@
 // buffers have a member-wise swap(): a FIFO exchanges packets with its slots
 // (hw/fifo.h), and swapping the members is a few pointer exchanges, where the
 // generic std::swap moves everything three times.
+//
+// After assembly the packets are primitive-generic: a ClippedPrimitive and a
+// RasterPrimitive name their kind (point, line, triangle) and vertex count
+// (1, 2, 3), in vertex slots sized for a triangle; only triangles are
+// assembled today. Every vertex carries its draw's varyings as one
+// fixed-capacity array, Varyings (kMaxVaryings = 12 float32 components,
+// hw/varying_layout.h), whose meaning the draw's VaryingLayout gives; the
+// stages loop over the draw's `count` components without knowing what they
+// are. 12 holds what is planned: colour 4, eye-space normal 3 and position 3,
+// texture coordinate 2.
+//
+// Widths, as hardware would carry them (float32 components):
+// - ClippedVertex: x, y, z, 1/w and 12 varyings: 16 words, 512 bits.
+// - ClippedPrimitive: 3 vertices and 12 flat-shading varyings, 1920 bits,
+//   plus a header of packet kind (2 bits), primitive kind (2), vertex count
+//   (2), draw id (32) and primitive id (64).
+// - RasterPrimitive: 3 x 12 varyings over w and 12 flat ones, 1536 bits;
+//   z and 1/w, 192; snapped vertices, area2, edge equations, pixel box and
+//   polygon offset at the widths hw/fixed_point.h proves, about 600; plus
+//   the header above.
+// A draw uses only its `count` components (4 today, so 8 words per clipped
+// vertex), which is what hardware would move; the model keeps the full
+// capacity in every packet so that packets have one fixed size and nothing is
+// allocated per vertex or primitive.
 #pragma once
 
 #include <array>
@@ -16,6 +40,7 @@
 #include <vector>
 
 #include "hw/fixed_point.h"
+#include "hw/varying_layout.h"
 
 namespace gpusim {
 
@@ -34,30 +59,43 @@ struct Command {
 };
 std::ostream& operator<<(std::ostream& os, const Command& c);
 
+// What an assembled primitive is. Only triangles are assembled today; the
+// kind travels with every primitive so lines and points can share the packets.
+enum class PrimitiveKind : uint8_t { point, line, triangle };
+std::ostream& operator<<(std::ostream& os, PrimitiveKind k);
+// Vertices of a primitive of kind k: 1, 2 or 3.
+constexpr uint8_t vertex_count_of(PrimitiveKind k) {
+  return k == PrimitiveKind::point ? 1 : k == PrimitiveKind::line ? 2 : 3;
+}
+// Vertex slots in a primitive packet: a triangle's.
+constexpr unsigned kMaxPrimitiveVertices = 3;
+
 // A vertex leaving the clipper: window coordinates before snapping
-// (docs/pipeline-spec.md, section 5).
+// (docs/pipeline-spec.md, section 5), and the draw's varyings times 1/w, which
+// the interpolator divides by the interpolated 1/w (perspective correction).
 struct ClippedVertex {
   float x = 0.0f, y = 0.0f, z = 0.0f;
   float inv_w = 0.0f;
-  glm::vec4 color_over_w{0.0f};
+  Varyings varyings_over_w{};
   bool operator==(const ClippedVertex& o) const {
-    return x == o.x && y == o.y && z == o.z && inv_w == o.inv_w && color_over_w == o.color_over_w;
+    return x == o.x && y == o.y && z == o.z && inv_w == o.inv_w &&
+           varyings_over_w == o.varyings_over_w;
   }
 };
 
-// Clipper -> triangle setup.
-struct ClippedTriangle {
+// Clipper -> triangle setup: one primitive, v[0, vertex_count) in use.
+struct ClippedPrimitive {
   PacketKind kind = PacketKind::work;
+  PrimitiveKind primitive_kind = PrimitiveKind::triangle;
+  uint8_t vertex_count = vertex_count_of(PrimitiveKind::triangle);
   uint32_t draw_id = 0;
   int64_t primitive_id = 0;
-  std::array<ClippedVertex, 3> v;
-  glm::vec4 flat_color{0.0f};  // the provoking vertex's colour
-  bool operator==(const ClippedTriangle& o) const {
-    return kind == o.kind && draw_id == o.draw_id && primitive_id == o.primitive_id && v == o.v &&
-           flat_color == o.flat_color;
-  }
+  std::array<ClippedVertex, kMaxPrimitiveVertices> v;
+  // The provoking vertex's varyings (not divided by w), for flat shading.
+  Varyings flat_varyings{};
+  bool operator==(const ClippedPrimitive& o) const;
 };
-std::ostream& operator<<(std::ostream& os, const ClippedTriangle& t);
+std::ostream& operator<<(std::ostream& os, const ClippedPrimitive& t);
 
 // Edge function E(px, py) = a * px + b * py + c over subpixel coordinates:
 // for the edge from (Xa, Ya) to (Xb, Yb), a = -(Yb - Ya), b = Xb - Xa,
@@ -73,9 +111,12 @@ struct EdgeEquation {
   }
 };
 
-// Triangle setup's result, counter-clockwise; edge k is opposite vertex k
+// Triangle setup's result. Only triangles are set up today: vertex_count is
+// 3, the vertices are counter-clockwise and edge k is opposite vertex k
 // (E0 = edge v1 -> v2, E1 = v2 -> v0, E2 = v0 -> v1).
-struct RasterTriangle {
+struct RasterPrimitive {
+  PrimitiveKind primitive_kind = PrimitiveKind::triangle;
+  uint8_t vertex_count = vertex_count_of(PrimitiveKind::triangle);
   uint32_t draw_id = 0;
   int64_t primitive_id = 0;
   std::array<Subpixel, 3> x{}, y{};
@@ -84,18 +125,18 @@ struct RasterTriangle {
   int32_t x0 = 0, y0 = 0, x1 = -1,
           y1 = -1;  // pixel bounding box, inclusive, inside the framebuffer
   std::array<float, 3> z{}, inv_w{};
-  std::array<glm::vec4, 3> color_over_w{};
-  glm::vec4 flat_color{0.0f};
+  std::array<Varyings, 3> varyings_over_w{};  // as ClippedVertex
+  Varyings flat_varyings{};                   // as ClippedPrimitive
   bool has_depth_offset = false;
   float depth_offset = 0.0f;
-  bool operator==(const RasterTriangle& o) const;
+  bool operator==(const RasterPrimitive& o) const;
 };
-std::ostream& operator<<(std::ostream& os, const RasterTriangle& t);
+std::ostream& operator<<(std::ostream& os, const RasterPrimitive& t);
 
 // Triangle setup -> tile distributor -> each tile rasterizer unit.
 struct SetupPacket {
   PacketKind kind = PacketKind::work;
-  std::shared_ptr<const RasterTriangle> triangle;  // work only
+  std::shared_ptr<const RasterPrimitive> triangle;  // work only
   bool operator==(const SetupPacket& o) const;
   friend void swap(SetupPacket& a, SetupPacket& b) noexcept {
     std::swap(a.kind, b.kind);
@@ -121,7 +162,7 @@ struct Stamp {
 // covers in one tile, in the order the unit walked them.
 struct StampBatch {
   PacketKind kind = PacketKind::work;
-  std::shared_ptr<const RasterTriangle> triangle;
+  std::shared_ptr<const RasterPrimitive> triangle;
   std::vector<Stamp> stamps;
   // Per covered pixel (stamp order, then bit order), the depth value the
   // depth test computed, for stages after it; empty before the depth test.
@@ -137,10 +178,13 @@ struct StampBatch {
 std::ostream& operator<<(std::ostream& os, const StampBatch& b);
 
 // Interpolator -> ROP, per unit: surviving stamps and a colour per covered
-// pixel (stamp order, then bit order).
+// pixel (stamp order, then bit order). A colour, not the pixel's varyings:
+// the colour is what the ROP blends, and the interpolator takes it from the
+// layout's colour slot; a per-pixel shading stage placed before the ROP will
+// compute it from the other varyings.
 struct ShadedStampBatch {
   PacketKind kind = PacketKind::work;
-  std::shared_ptr<const RasterTriangle> triangle;
+  std::shared_ptr<const RasterPrimitive> triangle;
   std::vector<Stamp> stamps;
   std::vector<glm::vec4> colors;
   bool operator==(const ShadedStampBatch& o) const;

@@ -102,7 +102,7 @@ class TraceProbes {
   virtual FifoProbe<Command>* fifo_probe(size_t fifo, ProbeTag<Command>) = 0;
   virtual FifoProbe<VertexBatch>* fifo_probe(size_t fifo, ProbeTag<VertexBatch>) = 0;
   virtual FifoProbe<ShadedBatch>* fifo_probe(size_t fifo, ProbeTag<ShadedBatch>) = 0;
-  virtual FifoProbe<ClippedTriangle>* fifo_probe(size_t fifo, ProbeTag<ClippedTriangle>) = 0;
+  virtual FifoProbe<ClippedPrimitive>* fifo_probe(size_t fifo, ProbeTag<ClippedPrimitive>) = 0;
   virtual FifoProbe<SetupPacket>* fifo_probe(size_t fifo, ProbeTag<SetupPacket>) = 0;
   virtual FifoProbe<StampBatch>* fifo_probe(size_t fifo, ProbeTag<StampBatch>) = 0;
   virtual FifoProbe<ShadedStampBatch>* fifo_probe(size_t fifo, ProbeTag<ShadedStampBatch>) = 0;

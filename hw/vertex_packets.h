@@ -16,6 +16,7 @@
 #include <ostream>
 
 #include "hw/packets.h"
+#include "hw/varying_layout.h"
 
 namespace gpusim {
 
@@ -65,11 +66,13 @@ struct VertexBatch : BatchHeader {
 };
 std::ostream& operator<<(std::ostream& os, const VertexBatch& b);
 
-// A vertex after transform and lighting (docs/pipeline-spec.md, section 2).
+// A vertex after transform and lighting (docs/pipeline-spec.md, section 2):
+// its clip-space position and its varyings, laid out by its draw's
+// VaryingLayout (hw/varying_layout.h).
 struct ShadedVertex {
   glm::vec4 clip{0.0f};
-  glm::vec4 color{0.0f};
-  bool operator==(const ShadedVertex& o) const { return clip == o.clip && color == o.color; }
+  Varyings varyings{};
+  bool operator==(const ShadedVertex& o) const { return clip == o.clip && varyings == o.varyings; }
 };
 
 // Vertex shader -> clipper: the same slots, the fetched vertices shaded.

@@ -51,17 +51,18 @@ void Clipper::run() {
     if (batch.kind == PacketKind::work) {
       busy = process_batch(batch);
     } else {
-      ClippedTriangle token;
+      ClippedPrimitive token;
       token.kind = batch.kind;
       m_out.push_back(token);
     }
     work(busy);
-    for (const ClippedTriangle& t : m_out) emit(out, t);
+    for (const ClippedPrimitive& t : m_out) emit(out, t);
   }
 }
 
 uint64_t Clipper::process_batch(const ShadedBatch& batch) {
   const DrawState& draw = m_frame.draws.at(batch.draw_id);
+  m_varying_count = draw.varyings.count;
   m_batch_triangles = 0;
   m_batch_extra = 0;
   Vertex v;
@@ -154,7 +155,7 @@ ClippedVertex Clipper::to_window(const ShadedVertex& v) const {
   w.x = (v.clip.x * q + 1.0f) * m_half_width;
   w.y = (v.clip.y * q + 1.0f) * m_half_height;
   w.z = (v.clip.z * q + 1.0f) * 0.5f;
-  for (int k = 0; k < 4; ++k) w.color_over_w[k] = v.color[k] * q;
+  for (unsigned k = 0; k < m_varying_count; ++k) w.varyings_over_w[k] = v.varyings[k] * q;
   return w;
 }
 
@@ -166,11 +167,13 @@ void Clipper::process_triangle(uint32_t draw_id, int64_t primitive_id, const Ver
     ++m_invalid;
     return;
   }
-  ClippedTriangle t;
+  ClippedPrimitive t;
   t.kind = PacketKind::work;
+  t.primitive_kind = PrimitiveKind::triangle;
+  t.vertex_count = vertex_count_of(PrimitiveKind::triangle);
   t.draw_id = draw_id;
   t.primitive_id = primitive_id;
-  t.flat_color = c.v.color;  // the provoking vertex of the original triangle
+  t.flat_varyings = c.v.varyings;  // the provoking vertex of the original triangle
 
   // Outcode test: inside every plane means no cut at all.
   bool inside = true;
@@ -233,11 +236,11 @@ void Clipper::clip_polygon() {
       const float dp = from_i ? di : dj;
       const float dq = from_i ? dj : di;
       const float t = dp / (dp - dq);
+      // Every component, position and varyings alike, by the same formula.
       ShadedVertex v;
-      for (int k = 0; k < 4; ++k) {
-        v.clip[k] = p.clip[k] + t * (q.clip[k] - p.clip[k]);
-        v.color[k] = p.color[k] + t * (q.color[k] - p.color[k]);
-      }
+      for (int k = 0; k < 4; ++k) v.clip[k] = p.clip[k] + t * (q.clip[k] - p.clip[k]);
+      for (unsigned k = 0; k < m_varying_count; ++k)
+        v.varyings[k] = p.varyings[k] + t * (q.varyings[k] - p.varyings[k]);
       // Rounding can leave the cut at or below w = 0; keep 1/w finite. (As
       // std::max: a NaN w would stay NaN; finite inputs give none.)
       if (plane == 0) v.clip.w = std::max(v.clip.w, kMinClipW);

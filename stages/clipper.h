@@ -17,9 +17,14 @@
 //   buffer, cutting each edge from its endpoint nearer the plane, with the
 //   plane-0 w floor; fewer than 3 vertices left is clipped away. The polygon
 //   is split into the fan (p0, p_i, p_i+1).
+// - A cut vertex interpolates the clip position and every varying of the
+//   draw (its VaryingLayout's count, whatever they mean) with the same
+//   formula, in one loop.
 // - Each vertex is divided by w once (q = 1/w) and mapped to window
-//   coordinates, unsnapped; every output triangle carries the provoking
-//   (third) vertex's colour of the original triangle.
+//   coordinates, unsnapped; its varyings are multiplied by q for the
+//   interpolator's perspective correction. Every output triangle is a
+//   ClippedPrimitive of kind triangle carrying the provoking (third) vertex's
+//   varyings of the original triangle, for flat shading.
 //
 // Cost model, per batch: busy = ii(clipper) x (triangles assembled + extra
 // triangles), where a clipped triangle split into n > 1 triangles adds n - 1
@@ -46,7 +51,7 @@ namespace gpusim {
 class Clipper : public PipelineStage {
  public:
   FifoInPort<ShadedBatch> in;
-  FifoOutPort<ClippedTriangle> out;
+  FifoOutPort<ClippedPrimitive> out;
 
   Clipper(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame);
 
@@ -90,11 +95,12 @@ class Clipper : public PipelineStage {
   std::array<Vertex, 2> m_reg{};
   uint64_t m_batch_triangles = 0;  // assembled in the current batch, for the cost
   uint64_t m_batch_extra = 0;      // extra output triangles of clipped ones
+  unsigned m_varying_count = 0;    // components in use in the current batch's draw
 
   std::vector<ShadedVertex> m_poly, m_next;  // reused: no allocation per triangle
   std::vector<float> m_dist;
   std::vector<ClippedVertex> m_window;
-  std::vector<ClippedTriangle> m_out;
+  std::vector<ClippedPrimitive> m_out;
 
   uint64_t& m_cache_writes =
       m_stats.counter("cache_writes", "vertices", "shaded vertices stored in the vertex cache");

@@ -127,7 +127,7 @@ void DepthTest::run() {
 }
 
 void DepthTest::test(StampBatch& batch, sc_core::sc_time& t) {
-  const RasterTriangle& tri = *batch.triangle;
+  const RasterPrimitive& tri = *batch.triangle;
   const RenderState& st = m_frame.draws.at(tri.draw_id).state;
   const FramebufferDesc& fb = m_frame.framebuffer;
   const unsigned stamp_w = m_config.stamp[0];
@@ -199,7 +199,7 @@ void DepthTest::test_format(StampBatch& batch, sc_core::sc_time& t, const Render
   }
 }
 
-void DepthTest::update_offsets(const RasterTriangle& tri) {
+void DepthTest::update_offsets(const RasterPrimitive& tri) {
   std::array<EdgeValue, 2> step_x, step_y;
   for (int k = 0; k < 2; ++k) {
     step_x[k] = tri.edge[k + 1].a * kSubpixelOne;
@@ -232,7 +232,7 @@ void DepthTest::test_stamps(StampBatch& batch, sc_core::sc_time& t, const Render
   constexpr unsigned bytes = F == DepthFormat::unorm16 ? 2 : 4;
   [[maybe_unused]] constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
   (void)probe;  // unused in a build without trace hooks
-  const RasterTriangle& tri = *batch.triangle;
+  const RasterPrimitive& tri = *batch.triangle;
   const FramebufferDesc& fb = m_frame.framebuffer;
   const unsigned stamp_w = m_config.stamp[0], stamp_h = m_config.stamp[1];
   const int tile = static_cast<int>(m_config.tile_size);

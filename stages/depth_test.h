@@ -82,7 +82,7 @@ class DepthTest : public PipelineStage {
   void test_stamps(StampBatch& batch, sc_core::sc_time& t, const RenderState& st,
                    FragmentProbe* probe);
   // Fills m_offset for the triangle's edge steps (kept while they are unchanged).
-  void update_offsets(const RasterTriangle& tri);
+  void update_offsets(const RasterPrimitive& tri);
 
   // log2 of the tile side and of the stamp width (powers of two): a stamp's
   // tile is its origin >> m_tile_shift, a mask bit's row is bit >> m_stamp_shift.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <vector>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -50,7 +51,7 @@ void Interpolator::run() {
   }
 }
 
-void Interpolator::update_offsets(const RasterTriangle& tri) {
+void Interpolator::update_offsets(const RasterPrimitive& tri) {
   std::array<EdgeValue, 3> step_x, step_y;
   for (int k = 0; k < 3; ++k) {
     step_x[k] = tri.edge[k].a * kSubpixelOne;
@@ -70,9 +71,72 @@ void Interpolator::update_offsets(const RasterTriangle& tri) {
   m_offset_valid = true;
 }
 
+namespace {
+
+// Per-pixel edge offsets within a stamp, one table per edge.
+struct EdgeOffsets {
+  const EdgeValue *o0, *o1, *o2;
+};
+
+#if defined(__SSE2__)
+// Gouraud interpolation of a primitive whose draw has G groups of 4 varying
+// components (count <= 4 G), writing one colour per covered pixel to `out`.
+// Four components sit in the four lanes of one register: each lane performs
+// the spec's operations in the spec's order (IEEE single, no contraction), so
+// every component equals the scalar formula's bit for bit. Components past
+// the count in the last group are 0 in the packet; their results go unused.
+// G is a template parameter so the primitive's varyings stay in registers
+// across its pixels. clamp01 is min(max(v, 0), 1) with maxps/minps taking
+// the second operand when the first is NaN: NaN -> 0, -0 -> +0, as clamp01.
+template <unsigned G>
+void interpolate(const std::vector<Stamp>& stamps, const EdgeOffsets& o,
+                 const RasterPrimitive& prim, unsigned color, glm::vec4* out) {
+  __m128 vw[3][G];
+  for (int i = 0; i < 3; ++i) {
+    for (unsigned g = 0; g < G; ++g)
+      vw[i][g] = _mm_loadu_ps(prim.varyings_over_w[i].data() + g * kVaryingGroup);
+  }
+  const std::array<float, 3>& q = prim.inv_w;
+  const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
+  for (const Stamp& s : stamps) {
+    const EdgeValue e0 = s.e[0], e1 = s.e[1], e2 = s.e[2];
+    for (uint64_t bits = s.mask; bits != 0; bits &= bits - 1) {
+      const int idx = __builtin_ctzll(bits);
+      const float f0 = static_cast<float>(e0 + o.o0[idx]);
+      const float f1 = static_cast<float>(e1 + o.o1[idx]);
+      const float f2 = static_cast<float>(e2 + o.o2[idx]);
+      const float den = f0 * q[0] + f1 * q[1] + f2 * q[2];
+      const __m128 m0 = _mm_set1_ps(f0), m1 = _mm_set1_ps(f1), m2 = _mm_set1_ps(f2);
+      const __m128 d = _mm_set1_ps(den);
+      __m128 v[G];
+      for (unsigned g = 0; g < G; ++g) {
+        const __m128 num =
+            _mm_add_ps(_mm_add_ps(_mm_mul_ps(m0, vw[0][g]), _mm_mul_ps(m1, vw[1][g])),
+                       _mm_mul_ps(m2, vw[2][g]));
+        v[g] = _mm_div_ps(num, d);
+      }
+      __m128 c;
+      if constexpr (G == 1) {
+        c = v[0];  // 4 components in all: they are the colour
+      } else {
+        alignas(16) float all[G * kVaryingGroup];
+        for (unsigned g = 0; g < G; ++g) _mm_store_ps(all + g * kVaryingGroup, v[g]);
+        c = _mm_loadu_ps(all + color);
+      }
+      _mm_storeu_ps(&(*out)[0], _mm_min_ps(_mm_max_ps(c, zero), one));
+      ++out;
+    }
+  }
+}
+#endif
+
+}  // namespace
+
 void Interpolator::shade(const StampBatch& batch, ShadedStampBatch& result) {
-  const RasterTriangle& tri = *batch.triangle;
-  const RenderState& st = m_frame.draws.at(tri.draw_id).state;
+  const RasterPrimitive& prim = *batch.triangle;
+  const DrawState& draw = m_frame.draws.at(prim.draw_id);
+  const RenderState& st = draw.state;
+  const VaryingLayout& layout = draw.varyings;
   // Full stamps need no count (popcount is a libgcc call on baseline x86-64).
   const uint64_t full = m_stamp_pixels == 64 ? ~uint64_t{0} : (uint64_t{1} << m_stamp_pixels) - 1;
   size_t n = 0;
@@ -81,7 +145,9 @@ void Interpolator::shade(const StampBatch& batch, ShadedStampBatch& result) {
                         : static_cast<size_t>(__builtin_popcountll(s.mask));
   }
   if (st.shading == Shading::flat) {
-    result.colors.assign(n, tri.flat_color);
+    // Every pixel takes the provoking vertex's varyings; the ROP its colour.
+    const float* flat = prim.flat_varyings.data() + layout.color;
+    result.colors.assign(n, glm::vec4(flat[0], flat[1], flat[2], flat[3]));
     m_flat_fragments += n;
     return;
   }
@@ -94,43 +160,42 @@ void Interpolator::shade(const StampBatch& batch, ShadedStampBatch& result) {
   // Pixel p of a stamp is at offset m_offset[k][p] = i * a_k * 256 +
   // j * b_k * 256 from the origin's edge value: the same exact int64 sum as
   // stepping per pixel, looked up instead of multiplied.
-  update_offsets(tri);
-  const EdgeValue *o0 = m_offset[0].data(), *o1 = m_offset[1].data(), *o2 = m_offset[2].data();
-  const std::array<float, 3>& q = tri.inv_w;
-  const std::array<glm::vec4, 3>& cw = tri.color_over_w;
+  update_offsets(prim);
+  const EdgeOffsets o{m_offset[0].data(), m_offset[1].data(), m_offset[2].data()};
 #if defined(__SSE2__)
-  // The four channels in the four lanes of one register: each lane performs
-  // the spec's operations in the spec's order (IEEE single, no contraction),
-  // so the results equal the scalar ones bit for bit. clamp01 is
-  // min(max(v, 0), 1) with maxps/minps taking the second operand when the
-  // first is NaN: NaN -> 0, -0 -> +0, as clamp01.
-  const __m128 cw0 = _mm_loadu_ps(&cw[0][0]), cw1 = _mm_loadu_ps(&cw[1][0]),
-               cw2 = _mm_loadu_ps(&cw[2][0]);
-  const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
-#endif
+  switch (layout.groups()) {
+    case 1:
+      interpolate<1>(batch.stamps, o, prim, layout.color, out);
+      break;
+    case 2:
+      interpolate<2>(batch.stamps, o, prim, layout.color, out);
+      break;
+    case 3:
+      interpolate<3>(batch.stamps, o, prim, layout.color, out);
+      break;
+  }
+  static_assert(kMaxVaryings == 3 * kVaryingGroup, "a case per group count");
+#else
+  const std::array<float, 3>& q = prim.inv_w;
+  const float* vw0 = prim.varyings_over_w[0].data();
+  const float* vw1 = prim.varyings_over_w[1].data();
+  const float* vw2 = prim.varyings_over_w[2].data();
+  Varyings v;  // the pixel's varyings
   for (const Stamp& s : batch.stamps) {
     const EdgeValue e0 = s.e[0], e1 = s.e[1], e2 = s.e[2];
     for (uint64_t bits = s.mask; bits != 0; bits &= bits - 1) {
       const int idx = __builtin_ctzll(bits);
-      const float f0 = static_cast<float>(e0 + o0[idx]);
-      const float f1 = static_cast<float>(e1 + o1[idx]);
-      const float f2 = static_cast<float>(e2 + o2[idx]);
+      const float f0 = static_cast<float>(e0 + o.o0[idx]);
+      const float f1 = static_cast<float>(e1 + o.o1[idx]);
+      const float f2 = static_cast<float>(e2 + o.o2[idx]);
       const float den = f0 * q[0] + f1 * q[1] + f2 * q[2];
-#if defined(__SSE2__)
-      const __m128 num =
-          _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_set1_ps(f0), cw0), _mm_mul_ps(_mm_set1_ps(f1), cw1)),
-                     _mm_mul_ps(_mm_set1_ps(f2), cw2));
-      const __m128 c = _mm_div_ps(num, _mm_set1_ps(den));
-      _mm_storeu_ps(&(*out)[0], _mm_min_ps(_mm_max_ps(c, zero), one));
-#else
-      for (int k = 0; k < 4; ++k) {
-        const float num = f0 * cw[0][k] + f1 * cw[1][k] + f2 * cw[2][k];
-        (*out)[k] = clamp01(num / den);
-      }
-#endif
+      for (unsigned k = 0; k < layout.count; ++k)
+        v[k] = (f0 * vw0[k] + f1 * vw1[k] + f2 * vw2[k]) / den;
+      for (unsigned k = 0; k < kColorComponents; ++k) (*out)[k] = clamp01(v[layout.color + k]);
       ++out;
     }
   }
+#endif
 }
 
 }  // namespace gpusim

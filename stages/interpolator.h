@@ -1,15 +1,21 @@
-// Interpolator, one per unit (docs/pipeline-spec.md, section 9): a colour for
-// every pixel that survived the depth test. Gouraud shading is
-// perspective-correct: with f_k = float(E_k), the edge values rebuilt by
-// stepping from the stamp origin's (pixel (i, j): e_k + i * a_k * 256 +
-// j * b_k * 256, exact int64),
-//   den  = f0 q0 + f1 q1 + f2 q2                     (q = 1/w)
-//   c[k] = clamp01((f0 cw0[k] + f1 cw1[k] + f2 cw2[k]) / den)   (cw = colour/w)
-// evaluated in float in exactly that order. Flat shading gives every pixel the
-// triangle's flat_color (the provoking vertex's colour).
+// Interpolator, one per unit (docs/pipeline-spec.md, section 9): the
+// varyings of every pixel that survived the depth test, and from them the
+// colour the ROP consumes. Gouraud shading is perspective-correct: with
+// f_k = float(E_k), the edge values rebuilt by stepping from the stamp
+// origin's (pixel (i, j): e_k + i * a_k * 256 + j * b_k * 256, exact int64),
+//   den  = f0 q0 + f1 q1 + f2 q2                          (q = 1/w)
+//   v[k] = (f0 vw0[k] + f1 vw1[k] + f2 vw2[k]) / den      (vw = varyings / w)
+// evaluated in float in exactly that order, for every component k below the
+// draw's VaryingLayout count, in one loop whatever the components mean. The
+// pixel's colour is clamp01 of the four components at the layout's colour
+// slot. Flat shading takes the provoking vertex's varyings (flat_varyings)
+// unchanged instead.
 //
 // Output: the batch's stamps unchanged and one colour per covered pixel,
-// stamp order, then mask bit order.
+// stamp order, then mask bit order. Only the colour leaves: it is all the
+// ROP consumes. A per-pixel shading stage (lighting from interpolated
+// normals, texturing) will sit between this stage and the ROP and turn the
+// other varyings into the colour.
 //
 // Cost model, per token read at time t: busy = ii * stamps (at least ii for
 // any token, control tokens included); the result is written at t + busy,
@@ -41,7 +47,7 @@ class Interpolator : public PipelineStage {
   void run();
   void shade(const StampBatch& batch, ShadedStampBatch& result);
   // Fills m_offset for the triangle's edge steps (kept while they are unchanged).
-  void update_offsets(const RasterTriangle& tri);
+  void update_offsets(const RasterPrimitive& tri);
 
   const int m_stamp_shift;  // log2 of the stamp width: a mask bit's row is bit >> shift
   const int m_stamp_pixels;

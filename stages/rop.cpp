@@ -232,7 +232,7 @@ void Rop::check_pixel(int x, int y, const FramebufferDesc& fb) const {
 }
 
 void Rop::blend(const ShadedStampBatch& batch, sc_core::sc_time& t) {
-  const RasterTriangle& tri = *batch.triangle;
+  const RasterPrimitive& tri = *batch.triangle;
   const RenderState& st = m_frame.draws.at(tri.draw_id).state;
   const FramebufferDesc& fb = m_frame.framebuffer;
   m_stamps += batch.stamps.size();
@@ -323,7 +323,7 @@ template <typename Write>
 size_t Rop::for_each_fragment(const ShadedStampBatch& batch, sc_core::sc_time& t,
                               FragmentProbe* probe, Write&& write) {
   (void)probe;  // unused in a build without trace hooks
-  const RasterTriangle& tri = *batch.triangle;
+  const RasterPrimitive& tri = *batch.triangle;
   const FramebufferDesc& fb = m_frame.framebuffer;
   const ColorFormat format = fb.color_format;
   const bool half = format == ColorFormat::rgba16f;

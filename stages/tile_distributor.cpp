@@ -22,7 +22,7 @@ TileDistributor::TileDistributor(sc_core::sc_module_name name, const GpuConfig& 
   SC_THREAD(run);
 }
 
-unsigned TileDistributor::target_units(const RasterTriangle& t, std::vector<bool>& targets) const {
+unsigned TileDistributor::target_units(const RasterPrimitive& t, std::vector<bool>& targets) const {
   const unsigned units = m_config.units;
   targets.assign(units, false);
   if (t.x0 > t.x1 || t.y0 > t.y1) return 0;

@@ -34,7 +34,7 @@ class TileDistributor : public PipelineStage {
  private:
   void run();
   // targets[u]: unit u owns a tile of the triangle's box; returns how many do.
-  unsigned target_units(const RasterTriangle& t, std::vector<bool>& targets) const;
+  unsigned target_units(const RasterPrimitive& t, std::vector<bool>& targets) const;
 
   const int m_tile_shift;  // log2(tile_size): a pixel's tile is x >> m_tile_shift
   std::vector<bool> m_targets;

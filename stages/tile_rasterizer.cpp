@@ -59,7 +59,7 @@ void TileRasterizer::run() {
   }
 }
 
-void TileRasterizer::emit_batch(const std::shared_ptr<const RasterTriangle>& tri) {
+void TileRasterizer::emit_batch(const std::shared_ptr<const RasterPrimitive>& tri) {
   work(m_pending_cycles);
   m_pending_cycles = 0;
   m_batch.kind = PacketKind::work;
@@ -70,8 +70,8 @@ void TileRasterizer::emit_batch(const std::shared_ptr<const RasterTriangle>& tri
   emit(out, std::move(m_batch));
 }
 
-void TileRasterizer::rasterize(const std::shared_ptr<const RasterTriangle>& tri) {
-  const RasterTriangle& t = *tri;
+void TileRasterizer::rasterize(const std::shared_ptr<const RasterPrimitive>& tri) {
+  const RasterPrimitive& t = *tri;
   if (t.x0 > t.x1 || t.y0 > t.y1) return;
   const int sw = m_stamp_w, sh = m_stamp_h, ts = m_tile;
   const uint64_t ii = m_cost.ii;
@@ -171,7 +171,7 @@ void TileRasterizer::rasterize(const std::shared_ptr<const RasterTriangle>& tri)
 // offset table when the box is the whole stamp, else one by one (a small
 // triangle's box holds a few pixels). Either way a pixel is covered iff
 // E + offset - bias >= 0 for every edge, in exact integers.
-uint64_t TileRasterizer::coverage(const RasterTriangle& t, const std::array<EdgeValue, 3>& e,
+uint64_t TileRasterizer::coverage(const RasterPrimitive& t, const std::array<EdgeValue, 3>& e,
                                   uint64_t box) {
   const EdgeValue t0 = t.edge[0].bias - e[0], t1 = t.edge[1].bias - e[1],
                   t2 = t.edge[2].bias - e[2];

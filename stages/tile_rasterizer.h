@@ -81,13 +81,13 @@ class TileRasterizer : public PipelineStage {
   static constexpr int kMaxStampPixels = 64;
 
   void run();
-  void rasterize(const std::shared_ptr<const RasterTriangle>& tri);
+  void rasterize(const std::shared_ptr<const RasterPrimitive>& tri);
   // The edge-function core on one stamp: the pixels of `box` covered by the
   // triangle, from the raw edge values `e` at the stamp's origin.
-  uint64_t coverage(const RasterTriangle& t, const std::array<EdgeValue, 3>& e, uint64_t box);
+  uint64_t coverage(const RasterPrimitive& t, const std::array<EdgeValue, 3>& e, uint64_t box);
   // Waits the cycles walked since the last output, then writes m_batch (the
   // stamps of one tile) as the batch of `tri`.
-  void emit_batch(const std::shared_ptr<const RasterTriangle>& tri);
+  void emit_batch(const std::shared_ptr<const RasterPrimitive>& tri);
 
   const int m_tile;                // tile side, pixels
   const int m_stamp_w, m_stamp_h;  // stamp, pixels

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <utility>
 
 #include "hw/fixed_point.h"
@@ -11,7 +12,7 @@ namespace gpusim {
 namespace {
 
 // Spec section 10, in the written float order (the build forbids FMA).
-float polygon_offset(const RasterTriangle& t, const RenderState& st, DepthFormat fmt) {
+float polygon_offset(const RasterPrimitive& t, const RenderState& st, DepthFormat fmt) {
   const float s = 1.0f / static_cast<float>(kSubpixelOne);
   const float dx1 = static_cast<float>(t.x[1] - t.x[0]) * s;
   const float dy1 = static_cast<float>(t.y[1] - t.y[0]) * s;
@@ -39,7 +40,16 @@ TriangleSetup::TriangleSetup(sc_core::sc_module_name name, const GpuConfig& conf
   SC_THREAD(run);
 }
 
-std::shared_ptr<RasterTriangle> TriangleSetup::setup(const ClippedTriangle& in_tri) {
+std::shared_ptr<RasterPrimitive> TriangleSetup::setup(const ClippedPrimitive& in_tri) {
+  // The clipper assembles triangles only; another kind here is a model bug.
+  if (in_tri.primitive_kind != PrimitiveKind::triangle ||
+      in_tri.vertex_count != vertex_count_of(PrimitiveKind::triangle)) {
+    std::ostringstream msg;
+    msg << name() << ": triangle setup cannot set up a " << in_tri.primitive_kind << " of "
+        << unsigned{in_tri.vertex_count} << " vertices (primitive " << in_tri.primitive_id << ")";
+    SC_REPORT_ERROR("gpusim/triangle_setup", msg.str().c_str());
+    return nullptr;
+  }
   std::array<Subpixel, 3> x, y;
   for (int i = 0; i < 3; ++i) {
     x[i] = snap_to_subpixel(in_tri.v[i].x);
@@ -61,10 +71,12 @@ std::shared_ptr<RasterTriangle> TriangleSetup::setup(const ClippedTriangle& in_t
   }
   ++m_rasterized;
 
-  auto t = std::make_shared<RasterTriangle>();
+  auto t = std::make_shared<RasterPrimitive>();
   t->draw_id = in_tri.draw_id;
+  t->primitive_kind = PrimitiveKind::triangle;
+  t->vertex_count = vertex_count_of(PrimitiveKind::triangle);
   t->primitive_id = in_tri.primitive_id;
-  t->flat_color = in_tri.flat_color;
+  t->flat_varyings = in_tri.flat_varyings;
   // Clockwise: swap v1 and v2 (with their attributes) so that area2 > 0.
   const std::array<int, 3> order = ccw ? std::array<int, 3>{0, 1, 2} : std::array<int, 3>{0, 2, 1};
   if (!ccw) ++m_swapped;
@@ -74,7 +86,7 @@ std::shared_ptr<RasterTriangle> TriangleSetup::setup(const ClippedTriangle& in_t
     t->y[i] = y[order[i]];
     t->z[i] = v.z;
     t->inv_w[i] = v.inv_w;
-    t->color_over_w[i] = v.color_over_w;
+    t->varyings_over_w[i] = v.varyings_over_w;
   }
   t->area2 = ccw ? area2 : -area2;
 
@@ -113,13 +125,13 @@ std::shared_ptr<RasterTriangle> TriangleSetup::setup(const ClippedTriangle& in_t
 
 void TriangleSetup::run() {
   for (;;) {
-    const ClippedTriangle tri = receive(in);
+    const ClippedPrimitive tri = receive(in);
     work(m_cost.ii);
 
     SetupPacket p;
     p.kind = tri.kind;
     if (tri.kind == PacketKind::work) {
-      std::shared_ptr<RasterTriangle> t = setup(tri);
+      std::shared_ptr<RasterPrimitive> t = setup(tri);
       if (!t) continue;
       if (t->x0 > t->x1 || t->y0 > t->y1) {
         ++m_offscreen;

@@ -4,7 +4,10 @@
 // triangles counter-clockwise, and derives what the rasterizer and the back
 // end need once per triangle: the three edge equations with their fill-rule
 // bias, the pixel bounding box clamped to the framebuffer and the polygon
-// offset. The result is shared read-only by every unit (shared_ptr).
+// offset; the vertices' varyings (already divided by w) and the provoking
+// vertex's flat varyings pass through unchanged. The result is shared
+// read-only by every unit (shared_ptr). Only triangles are assembled today:
+// a primitive of another kind is a model error (SC_REPORT_ERROR).
 //
 // Cost model: every input token (triangle or control token) read at time t
 // occupies the stage for ii(triangle_setup) cycles, whether or not a triangle
@@ -30,7 +33,7 @@ namespace gpusim {
 
 class TriangleSetup : public PipelineStage {
  public:
-  FifoInPort<ClippedTriangle> in;
+  FifoInPort<ClippedPrimitive> in;
   FifoOutPort<SetupPacket> out;
 
   TriangleSetup(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame);
@@ -45,9 +48,9 @@ class TriangleSetup : public PipelineStage {
  private:
   void run();
   // The setup of one triangle, without timing: nullptr when the triangle is
-  // degenerate or culled (the reason goes to the counters). A RasterTriangle
+  // degenerate or culled (the reason goes to the counters). A RasterPrimitive
   // with an empty box (x0 > x1 or y0 > y1) is returned all the same.
-  std::shared_ptr<RasterTriangle> setup(const ClippedTriangle& t);
+  std::shared_ptr<RasterPrimitive> setup(const ClippedPrimitive& t);
 
   uint64_t& m_degenerate =
       m_stats.counter("triangles_degenerate", "triangles", "zero area after snapping, dropped");

@@ -122,14 +122,16 @@ void VertexShader::run() {
       const DrawState& draw = m_frame.draws[batch.draw_id];
       const bool lit = draw.lighting && draw.buffers.normals != kNoBuffer;
       const bool colors = draw.buffers.colors != kNoBuffer;
+      const unsigned color_slot = draw.varyings.color;
       for (uint32_t v = 0; v < batch.vertex_count; ++v) {
         const glm::vec4& p = batch.positions[v];
-        o.vertices[v].clip = transform(draw.mvp, p);
-        if (lit) {
-          o.vertices[v].color = light(draw, p, batch.normals[v]);
-        } else {
-          o.vertices[v].color = clamp01(colors ? batch.colors[v] : draw.material.diffuse);
-        }
+        ShadedVertex& sv = o.vertices[v];
+        sv.clip = transform(draw.mvp, p);
+        const glm::vec4 color = lit ? light(draw, p, batch.normals[v])
+                                    : clamp01(colors ? batch.colors[v] : draw.material.diffuse);
+        // Zeroed first: the slot may hold a vertex of a draw with more varyings.
+        sv.varyings = Varyings{};
+        for (unsigned k = 0; k < kColorComponents; ++k) sv.varyings[color_slot + k] = color[k];
       }
       m_vertices += batch.vertex_count;
       if (lit) m_lit += batch.vertex_count;

@@ -1,7 +1,8 @@
 // Vertex shader: fixed-function transform and lighting of every fetched
 // vertex of a batch (docs/pipeline-spec.md, section 2), in the spec's exact
-// floating-point order. Cached and invalid slots pass through untouched; the
-// clipper resolves them.
+// floating-point order. The colour goes into the components of the vertex's
+// varyings that the draw's VaryingLayout names. Cached and invalid slots pass
+// through untouched; the clipper resolves them.
 //
 // Cost model, per batch: busy = ii(vertex_shader) x fetched vertices, the same
 // for lit and unlit vertices and whatever the number of lights (the lighting

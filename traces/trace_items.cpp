@@ -67,7 +67,7 @@ ItemInfo ItemDescriber::describe(const BatchHeader& b) const {
   return i;
 }
 
-ItemInfo ItemDescriber::describe(const ClippedTriangle& t) const {
+ItemInfo ItemDescriber::describe(const ClippedPrimitive& t) const {
   if (t.kind != PacketKind::work) return control(t.kind);
   ItemInfo i;
   i.draw = t.draw_id;
@@ -83,7 +83,7 @@ ItemInfo ItemDescriber::describe(const SetupPacket& p) const {
   return i;
 }
 
-ItemInfo ItemDescriber::stamps(PacketKind kind, const RasterTriangle* tri,
+ItemInfo ItemDescriber::stamps(PacketKind kind, const RasterPrimitive* tri,
                                const std::vector<Stamp>& s) const {
   if (kind != PacketKind::work) return control(kind);
   ItemInfo i;

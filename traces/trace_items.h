@@ -35,7 +35,7 @@ class ItemDescriber {
   // A vertex batch: the primitives whose assembly uses any of its slots;
   // count = slots.
   ItemInfo describe(const BatchHeader& b) const;
-  ItemInfo describe(const ClippedTriangle& t) const;
+  ItemInfo describe(const ClippedPrimitive& t) const;
   ItemInfo describe(const SetupPacket& p) const;
   // Stamp batches: the tile of the first stamp's origin; count = stamps.
   ItemInfo describe(const StampBatch& b) const;
@@ -43,7 +43,7 @@ class ItemDescriber {
 
  private:
   ItemInfo control(PacketKind kind) const;
-  ItemInfo stamps(PacketKind kind, const RasterTriangle* tri, const std::vector<Stamp>& s) const;
+  ItemInfo stamps(PacketKind kind, const RasterPrimitive* tri, const std::vector<Stamp>& s) const;
 
   const FrameState& m_frame;
   int m_tile_shift;

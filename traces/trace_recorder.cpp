@@ -151,8 +151,8 @@ FifoProbe<VertexBatch>* TraceRecorder::fifo_probe(size_t fifo, ProbeTag<VertexBa
 FifoProbe<ShadedBatch>* TraceRecorder::fifo_probe(size_t fifo, ProbeTag<ShadedBatch>) {
   return make_probe<ShadedBatch>(fifo);
 }
-FifoProbe<ClippedTriangle>* TraceRecorder::fifo_probe(size_t fifo, ProbeTag<ClippedTriangle>) {
-  return make_probe<ClippedTriangle>(fifo);
+FifoProbe<ClippedPrimitive>* TraceRecorder::fifo_probe(size_t fifo, ProbeTag<ClippedPrimitive>) {
+  return make_probe<ClippedPrimitive>(fifo);
 }
 FifoProbe<SetupPacket>* TraceRecorder::fifo_probe(size_t fifo, ProbeTag<SetupPacket>) {
   return make_probe<SetupPacket>(fifo);

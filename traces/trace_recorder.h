@@ -41,7 +41,7 @@ class TraceRecorder : public TraceProbes, public FragmentProbe {
   FifoProbe<Command>* fifo_probe(size_t fifo, ProbeTag<Command>) override;
   FifoProbe<VertexBatch>* fifo_probe(size_t fifo, ProbeTag<VertexBatch>) override;
   FifoProbe<ShadedBatch>* fifo_probe(size_t fifo, ProbeTag<ShadedBatch>) override;
-  FifoProbe<ClippedTriangle>* fifo_probe(size_t fifo, ProbeTag<ClippedTriangle>) override;
+  FifoProbe<ClippedPrimitive>* fifo_probe(size_t fifo, ProbeTag<ClippedPrimitive>) override;
   FifoProbe<SetupPacket>* fifo_probe(size_t fifo, ProbeTag<SetupPacket>) override;
   FifoProbe<StampBatch>* fifo_probe(size_t fifo, ProbeTag<StampBatch>) override;
   FifoProbe<ShadedStampBatch>* fifo_probe(size_t fifo, ProbeTag<ShadedStampBatch>) override;

@@ -179,6 +179,7 @@ LoadedFrame load_frame(const Scene& scene) {
     s.normal_matrix = d.normal_matrix;
     s.state = d.state;
     s.first_primitive_id = next_primitive;
+    s.varyings = varying_layout_for(s);
     DrawBuffers& b = s.buffers;
     b.vertex_count = static_cast<uint32_t>(d.positions.size());
     b.slot_count = static_cast<uint32_t>(d.vertex_count());

@@ -71,9 +71,9 @@ float polygon_offset(const std::array<WindowVertex, 3>& v, EdgeValue area2, cons
 }
 
 // Triangle setup of three window vertices; nullptr when degenerate or culled.
-std::shared_ptr<RasterTriangle> setup(std::array<WindowVertex, 3> v, const RenderState& st,
-                                      uint32_t draw_id, int64_t id, const glm::vec4& flat,
-                                      const FramebufferDesc& fb) {
+std::shared_ptr<RasterPrimitive> setup(std::array<WindowVertex, 3> v, const RenderState& st,
+                                       uint32_t draw_id, int64_t id, const glm::vec4& flat,
+                                       const FramebufferDesc& fb) {
   EdgeValue area2 = golden::signed_area2(v[0], v[1], v[2]);
   if (area2 == 0) return nullptr;
   const bool ccw = area2 > 0;
@@ -85,7 +85,7 @@ std::shared_ptr<RasterTriangle> setup(std::array<WindowVertex, 3> v, const Rende
     std::swap(v[1], v[2]);
     area2 = -area2;
   }
-  auto t = std::make_shared<RasterTriangle>();
+  auto t = std::make_shared<RasterPrimitive>();
   t->draw_id = draw_id;
   t->primitive_id = id;
   t->area2 = area2;
@@ -94,7 +94,8 @@ std::shared_ptr<RasterTriangle> setup(std::array<WindowVertex, 3> v, const Rende
     t->y[k] = v[k].y;
     t->z[k] = v[k].z;
     t->inv_w[k] = v[k].inv_w;
-    t->color_over_w[k] = v[k].color_over_w;
+    // The colour-only layout every draw has (varying_layout_for): 0-3.
+    for (int c = 0; c < 4; ++c) t->varyings_over_w[k][c] = v[k].color_over_w[c];
     const WindowVertex& a = v[(k + 1) % 3];
     const WindowVertex& b = v[(k + 2) % 3];
     EdgeEquation& e = t->edge[k];
@@ -103,7 +104,7 @@ std::shared_ptr<RasterTriangle> setup(std::array<WindowVertex, 3> v, const Rende
     e.c = (EdgeValue{b.y} - a.y) * a.x - (EdgeValue{b.x} - a.x) * a.y;
     e.bias = golden::edge_owns_boundary(a, b) ? 0 : 1;
   }
-  t->flat_color = flat;
+  for (int c = 0; c < 4; ++c) t->flat_varyings[c] = flat[c];
   if (st.offset_factor != 0.0f || st.offset_units != 0.0f) {
     t->has_depth_offset = true;
     t->depth_offset = polygon_offset(v, area2, st, fb.depth_format);
@@ -119,21 +120,21 @@ std::shared_ptr<RasterTriangle> setup(std::array<WindowVertex, 3> v, const Rende
   return t;
 }
 
-std::array<WindowVertex, 3> window_vertices(const RasterTriangle& t) {
+std::array<WindowVertex, 3> window_vertices(const RasterPrimitive& t) {
   std::array<WindowVertex, 3> v;
   for (int k = 0; k < 3; ++k) {
     v[k].x = t.x[k];
     v[k].y = t.y[k];
     v[k].z = t.z[k];
     v[k].inv_w = t.inv_w[k];
-    v[k].color_over_w = t.color_over_w[k];
+    for (int c = 0; c < 4; ++c) v[k].color_over_w[c] = t.varyings_over_w[k][c];
   }
   return v;
 }
 
 // The stamp with origin (sx, sy): golden coverage of its pixels inside the
 // framebuffer, raw edge values at the origin's centre.
-Stamp make_stamp(const RasterTriangle& t, int sx, int sy, const GpuConfig& cfg,
+Stamp make_stamp(const RasterPrimitive& t, int sx, int sy, const GpuConfig& cfg,
                  const FramebufferDesc& fb) {
   const auto v = window_vertices(t);
   Stamp s;
@@ -162,7 +163,7 @@ Stamp make_stamp(const RasterTriangle& t, int sx, int sy, const GpuConfig& cfg,
 using UnitTokens = std::vector<std::vector<StampBatch>>;
 
 // Per unit, one batch per (triangle, owned tile) with its covered stamps.
-void rasterize(const std::shared_ptr<RasterTriangle>& t, const GpuConfig& cfg,
+void rasterize(const std::shared_ptr<RasterPrimitive>& t, const GpuConfig& cfg,
                const FramebufferDesc& fb, UnitTokens& out) {
   if (t->x0 > t->x1 || t->y0 > t->y1) return;
   const int ts = static_cast<int>(cfg.tile_size);
@@ -745,7 +746,7 @@ TEST(Interpolator, ColoursEqualTheSpecPerPixel) {
     ASSERT_EQ(s.kind, b.kind);
     ASSERT_EQ(s.stamps, b.stamps);
     if (b.kind != PacketKind::work) continue;
-    const RasterTriangle& t = *b.triangle;
+    const RasterPrimitive& t = *b.triangle;
     const auto v = window_vertices(t);
     const bool is_flat = scene.draws[t.draw_id].state.shading == Shading::flat;
     size_t c = 0;
@@ -753,7 +754,8 @@ TEST(Interpolator, ColoursEqualTheSpecPerPixel) {
       for (int bit = 0; bit < 64; ++bit) {
         if (!(st.mask >> bit & 1)) continue;
         const int x = st.x + bit % 4, y = st.y + bit / 4;
-        glm::vec4 want = t.flat_color;
+        glm::vec4 want(t.flat_varyings[0], t.flat_varyings[1], t.flat_varyings[2],
+                       t.flat_varyings[3]);
         if (!is_flat) {
           const float f0 = static_cast<float>(
               golden::edge_function(v[1], v[2], pixel_center(x), pixel_center(y)));
@@ -799,7 +801,7 @@ TEST(Interpolator, ColoursEqualTheSpecPerPixel) {
 // write-backs: B and A on eviction, C and B at end_of_frame, and the 13 tiles
 // never touched, 17 in all.
 
-std::shared_ptr<RasterTriangle> full_screen_triangle(const FramebufferDesc& fb, float z) {
+std::shared_ptr<RasterPrimitive> full_screen_triangle(const FramebufferDesc& fb, float z) {
   std::array<WindowVertex, 3> v;
   const Subpixel big = 1 << 20;
   v[0].x = -big, v[0].y = -big;
@@ -814,7 +816,7 @@ std::shared_ptr<RasterTriangle> full_screen_triangle(const FramebufferDesc& fb, 
   return setup(v, st, 0, 0, glm::vec4(1.0f), fb);
 }
 
-UnitTokens stamp_pattern(const std::shared_ptr<RasterTriangle>& t, const GpuConfig& cfg,
+UnitTokens stamp_pattern(const std::shared_ptr<RasterPrimitive>& t, const GpuConfig& cfg,
                          const FramebufferDesc& fb, const std::vector<std::array<int, 2>>& origins,
                          bool clear) {
   UnitTokens tokens(1);

@@ -65,7 +65,7 @@ struct Rng {
 struct Bench {
   GpuConfig config;
   FrameState frame;
-  Fifo<ClippedTriangle> input;
+  Fifo<ClippedPrimitive> input;
   TriangleSetup setup;
   Fifo<SetupPacket> setup_out;
   Fifo<SetupPacket> tapped;
@@ -126,9 +126,9 @@ struct Bench {
     }
   }
 
-  void feed(const std::vector<ClippedTriangle>& tokens) {
+  void feed(const std::vector<ClippedPrimitive>& tokens) {
     sc_core::sc_spawn([this, tokens] {
-      for (const ClippedTriangle& t : tokens) input.write(t);
+      for (const ClippedPrimitive& t : tokens) input.write(t);
     });
   }
 
@@ -172,7 +172,7 @@ struct Expect {
   }
 };
 
-Expect expect_for(const ClippedTriangle& t, const RenderState& st, int W, int H) {
+Expect expect_for(const ClippedPrimitive& t, const RenderState& st, int W, int H) {
   Expect x;
   std::array<WindowVertex, 3> w;
   for (int i = 0; i < 3; ++i) {
@@ -289,7 +289,7 @@ struct Totals {
 };
 
 // Per triangle (primitive id = index), the covered pixels the units emitted.
-void check_outputs(const Bench& b, const std::vector<ClippedTriangle>& tokens,
+void check_outputs(const Bench& b, const std::vector<ClippedPrimitive>& tokens,
                    const std::vector<Expect>& ex) {
   const GpuConfig& c = b.config;
   const int W = b.frame.framebuffer.width, H = b.frame.framebuffer.height;
@@ -388,7 +388,7 @@ void check_outputs(const Bench& b, const std::vector<ClippedTriangle>& tokens,
 
 // Spec section 10, transcribed from its text: with the CCW vertices, in
 // float, in the written order.
-float spec_polygon_offset(const Expect& x, const ClippedTriangle& t, const RenderState& st,
+float spec_polygon_offset(const Expect& x, const ClippedPrimitive& t, const RenderState& st,
                           DepthFormat fmt) {
   const float s = 1.0f / 256.0f;
   const float dx1 = static_cast<float>(x.v[1].x - x.v[0].x) * s;
@@ -408,7 +408,7 @@ float spec_polygon_offset(const Expect& x, const ClippedTriangle& t, const Rende
 }
 
 // Setup's packets (through the tap) against the golden setup.
-void check_setup(const Bench& b, const std::vector<ClippedTriangle>& tokens,
+void check_setup(const Bench& b, const std::vector<ClippedPrimitive>& tokens,
                  const std::vector<Expect>& ex) {
   std::vector<int64_t> expected_ids, got_ids;
   for (size_t i = 0; i < tokens.size(); ++i) {
@@ -428,10 +428,10 @@ void check_setup(const Bench& b, const std::vector<ClippedTriangle>& tokens,
       continue;
     }
     ASSERT_TRUE(p.triangle);
-    const RasterTriangle& r = *p.triangle;
+    const RasterPrimitive& r = *p.triangle;
     got_ids.push_back(r.primitive_id);
     const Expect& x = ex.at(r.primitive_id);
-    const ClippedTriangle& t = tokens.at(r.primitive_id);
+    const ClippedPrimitive& t = tokens.at(r.primitive_id);
     EXPECT_EQ(r.draw_id, t.draw_id);
     EXPECT_EQ(r.area2, x.area2);
     for (int i = 0; i < 3; ++i) {
@@ -440,9 +440,11 @@ void check_setup(const Bench& b, const std::vector<ClippedTriangle>& tokens,
       const ClippedVertex& src = t.v[x.from[i]];
       EXPECT_EQ(r.z[i], src.z);
       EXPECT_EQ(r.inv_w[i], src.inv_w);
-      EXPECT_EQ(r.color_over_w[i], src.color_over_w);
+      EXPECT_EQ(r.varyings_over_w[i], src.varyings_over_w);
     }
-    EXPECT_EQ(r.flat_color, t.flat_color);
+    EXPECT_EQ(r.flat_varyings, t.flat_varyings);
+    EXPECT_EQ(r.primitive_kind, PrimitiveKind::triangle);
+    EXPECT_EQ(r.vertex_count, 3);
     for (int k = 0; k < 3; ++k) {
       EXPECT_EQ(r.edge[k].bias, x.bias[k]);
       for (const auto& pr : probes) {
@@ -463,8 +465,8 @@ void check_setup(const Bench& b, const std::vector<ClippedTriangle>& tokens,
 // ---------------------------------------------------------------------------
 // Triangles.
 
-ClippedTriangle window_triangle(int64_t id, uint32_t draw, std::array<float, 6> xy) {
-  ClippedTriangle t;
+ClippedPrimitive window_triangle(int64_t id, uint32_t draw, std::array<float, 6> xy) {
+  ClippedPrimitive t;
   t.draw_id = draw;
   t.primitive_id = id;
   for (int i = 0; i < 3; ++i) {
@@ -472,9 +474,17 @@ ClippedTriangle window_triangle(int64_t id, uint32_t draw, std::array<float, 6> 
     t.v[i].y = xy[2 * i + 1];
     t.v[i].z = 0.1f * static_cast<float>(i + 1) + 0.01f * static_cast<float>(id % 7);
     t.v[i].inv_w = 1.0f + static_cast<float>(i);
-    t.v[i].color_over_w = glm::vec4(0.1f * i, 0.2f, 0.3f, static_cast<float>(id));
+    // Colour (components 0-3) and three more, distinct per vertex, so a
+    // vertex swapped without its varyings shows; setup passes them all.
+    const std::array<float, 7> v = {0.1f * i, 0.2f,      0.3f,    static_cast<float>(id),
+                                    1.0f * i, -2.0f * i, 0.5f + i};
+    std::copy(v.begin(), v.end(), t.v[i].varyings_over_w.begin());
   }
-  t.flat_color = glm::vec4(0.5f, 0.25f, 0.125f, 1.0f);
+  t.flat_varyings[0] = 0.5f;
+  t.flat_varyings[1] = 0.25f;
+  t.flat_varyings[2] = 0.125f;
+  t.flat_varyings[3] = 1.0f;
+  t.flat_varyings[6] = 3.0f;
   return t;
 }
 
@@ -483,8 +493,8 @@ float sub(int64_t X) {
   return static_cast<float>(X) / 256.0f;
 }
 
-ClippedTriangle control(PacketKind k) {
-  ClippedTriangle t;
+ClippedPrimitive control(PacketKind k) {
+  ClippedPrimitive t;
   t.kind = k;
   return t;
 }
@@ -517,9 +527,9 @@ FrameState raster_frame(int W, int H) {
 
 // Hundreds of triangles of every kind the brief lists, with control tokens
 // at the start, in the middle and at the end. primitive_id = token index.
-std::vector<ClippedTriangle> random_tokens(uint64_t seed, int W, int H, size_t draws) {
+std::vector<ClippedPrimitive> random_tokens(uint64_t seed, int W, int H, size_t draws) {
   Rng rng{seed};
-  std::vector<ClippedTriangle> out;
+  std::vector<ClippedPrimitive> out;
   auto next_draw = [&] { return static_cast<uint32_t>(rng.range(0, int64_t(draws) - 1)); };
   auto add = [&](std::array<int64_t, 6> v) {
     if (rng.coin()) {  // either winding
@@ -640,7 +650,7 @@ std::vector<ClippedTriangle> random_tokens(uint64_t seed, int W, int H, size_t d
   return out;
 }
 
-std::vector<Expect> expectations(const std::vector<ClippedTriangle>& tokens, const FrameState& f) {
+std::vector<Expect> expectations(const std::vector<ClippedPrimitive>& tokens, const FrameState& f) {
   std::vector<Expect> ex(tokens.size());
   for (size_t i = 0; i < tokens.size(); ++i) {
     if (tokens[i].kind == PacketKind::work) {
@@ -652,7 +662,7 @@ std::vector<Expect> expectations(const std::vector<ClippedTriangle>& tokens, con
 }
 
 // The documented costs of every stage over a token stream.
-void check_costs(const Bench& b, const std::vector<ClippedTriangle>& tokens,
+void check_costs(const Bench& b, const std::vector<ClippedPrimitive>& tokens,
                  const std::vector<Expect>& ex) {
   const GpuConfig& c = b.config;
   const unsigned setup_ii = c.stage("triangle_setup").ii;
@@ -734,7 +744,7 @@ TEST_P(RasterCore, MatchesGoldenRuleAndCosts) {
   cfg.stages["tile_rasterizer"] = {3, 4};
   const int W = 203, H = 157;  // no multiple of any tile or stamp size
   const FrameState frame = raster_frame(W, H);
-  const std::vector<ClippedTriangle> tokens =
+  const std::vector<ClippedPrimitive> tokens =
       random_tokens(0x5EED + units * 131 + tile, W, H, frame.draws.size());
   auto plain = std::make_unique<Bench>("plain", cfg, frame, true);
   auto stalled = std::make_unique<Bench>("stalled", cfg, frame, false);
@@ -806,7 +816,7 @@ TEST_P(RasterVsRender, CountsLastWriterAndDepthEqualGolden) {
   auto rnd = [&](float lo, float hi) {
     return lo + (hi - lo) * static_cast<float>(rng.next() >> 40) / 16777216.0f;
   };
-  std::vector<ClippedTriangle> tokens;
+  std::vector<ClippedPrimitive> tokens;
   int64_t id = 0;
   for (size_t d = 0; d < states.size(); ++d) {
     Draw draw;
@@ -832,7 +842,7 @@ TEST_P(RasterVsRender, CountsLastWriterAndDepthEqualGolden) {
     // The clipper's output for these triangles (spec section 5).
     const float half_w = 0.5f * static_cast<float>(W), half_h = 0.5f * static_cast<float>(H);
     for (size_t t = 0; t + 2 < draw.positions.size(); t += 3) {
-      ClippedTriangle ct;
+      ClippedPrimitive ct;
       ct.draw_id = static_cast<uint32_t>(d);
       ct.primitive_id = id++;
       for (int i = 0; i < 3; ++i) {
@@ -842,9 +852,9 @@ TEST_P(RasterVsRender, CountsLastWriterAndDepthEqualGolden) {
         v.x = (c.x * v.inv_w + 1.0f) * half_w;
         v.y = (c.y * v.inv_w + 1.0f) * half_h;
         v.z = (c.z * v.inv_w + 1.0f) * 0.5f;
-        for (int k = 0; k < 4; ++k) v.color_over_w[k] = draw.colors[t + i][k] * v.inv_w;
+        for (int k = 0; k < 4; ++k) v.varyings_over_w[k] = draw.colors[t + i][k] * v.inv_w;
       }
-      ct.flat_color = draw.colors[t + 2];
+      for (int k = 0; k < 4; ++k) ct.flat_varyings[k] = draw.colors[t + 2][k];
       tokens.push_back(ct);
     }
     DrawState ds;
@@ -882,7 +892,7 @@ TEST_P(RasterVsRender, CountsLastWriterAndDepthEqualGolden) {
   for (unsigned u = 0; u < units; ++u) {
     for (const StampBatch& b : bench->out[u]) {
       if (b.kind != PacketKind::work) continue;
-      const RasterTriangle& t = *b.triangle;
+      const RasterPrimitive& t = *b.triangle;
       for (const Stamp& st : b.stamps) {
         for (int bit = 0; bit < 64; ++bit) {
           if (!(st.mask >> bit & 1)) continue;
@@ -946,7 +956,7 @@ TEST(TriangleSetup, HandWorkedClockwiseTriangle) {
   d.state.offset_factor = 1.0f;
   d.state.offset_units = 2.0f;
   frame.draws.push_back(d);
-  ClippedTriangle t = window_triangle(0, 0, {0.0f, 0.0f, 0.0f, 4.0f, 4.0f, 0.0f});
+  ClippedPrimitive t = window_triangle(0, 0, {0.0f, 0.0f, 0.0f, 4.0f, 4.0f, 0.0f});
   t.v[0].z = 0.5f;
   t.v[1].z = 0.5f;
   t.v[2].z = 0.75f;
@@ -955,7 +965,7 @@ TEST(TriangleSetup, HandWorkedClockwiseTriangle) {
   sc_core::sc_start();
 
   ASSERT_EQ(bench->setup_packets.size(), 1u);
-  const RasterTriangle& r = *bench->setup_packets[0].triangle;
+  const RasterPrimitive& r = *bench->setup_packets[0].triangle;
   EXPECT_EQ(r.x, (std::array<Subpixel, 3>{0, 1024, 0}));
   EXPECT_EQ(r.y, (std::array<Subpixel, 3>{0, 0, 1024}));
   EXPECT_EQ(r.z, (std::array<float, 3>{0.5f, 0.75f, 0.5f}));
@@ -988,7 +998,7 @@ TEST(TriangleSetup, EmptyBoxCountsRasterizedButSendsNothing) {
   frame.framebuffer.width = 32;
   frame.framebuffer.height = 32;
   frame.draws.push_back(DrawState{});
-  const std::vector<ClippedTriangle> tokens{
+  const std::vector<ClippedPrimitive> tokens{
       window_triangle(0, 0, {10.6f, 10.6f, 10.9f, 10.6f, 10.6f, 10.9f}),
       window_triangle(1, 0, {-9.0f, 1.0f, -1.0f, 1.0f, -1.0f, 20.0f}),
       window_triangle(2, 0, {1.0f, 33.0f, 20.0f, 33.0f, 5.0f, 40.0f}),
@@ -1019,7 +1029,7 @@ TEST(TriangleSetup, EmptyBoxCountsRasterizedButSendsNothing) {
 //   256 tile tests + 120 * 16 accepted stamps + 16 * 16 evaluated stamps
 //   = 256 + 1920 + 256 = 2432 cycles; the frame 4864.
 
-std::vector<ClippedTriangle> quad_tokens() {
+std::vector<ClippedPrimitive> quad_tokens() {
   return {window_triangle(0, 0, {0, 0, 256, 0, 256, 256}),
           window_triangle(1, 0, {0, 0, 256, 256, 0, 256})};
 }

@@ -28,7 +28,7 @@ void spawn(std::function<void()> body) {
 }
 
 // Batch i of a stream: three stamps whose x values identify it.
-void fill(StampBatch& b, int i, const std::shared_ptr<const RasterTriangle>& tri) {
+void fill(StampBatch& b, int i, const std::shared_ptr<const RasterPrimitive>& tri) {
   b.kind = PacketKind::work;
   b.triangle = tri;
   b.stamps.clear();
@@ -41,7 +41,7 @@ void fill(StampBatch& b, int i, const std::shared_ptr<const RasterTriangle>& tri
 TEST(FifoRecycling, MovingWritesAndReadsIntoCirculateBuffers) {
   constexpr int kItems = 50;
   Fifo<StampBatch> f("f", 2);
-  auto tri = std::make_shared<RasterTriangle>();
+  auto tri = std::make_shared<RasterPrimitive>();
   std::vector<int> first_x;
   std::set<const Stamp*> buffers;
   spawn([&] {
@@ -73,7 +73,7 @@ TEST(FifoRecycling, MovingWritesAndReadsIntoCirculateBuffers) {
 TEST(FifoRecycling, CopyAndMoveGiveTheSameSchedule) {
   constexpr int kItems = 12;
   Fifo<StampBatch> copied("copied", 2), moved("moved", 2);
-  auto tri = std::make_shared<RasterTriangle>();
+  auto tri = std::make_shared<RasterPrimitive>();
   spawn([&] {
     StampBatch b;
     for (int i = 0; i < kItems; ++i) {

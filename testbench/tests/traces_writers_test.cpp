@@ -72,7 +72,7 @@ TEST(TraceItems, BatchesCarryThePrimitivesUsingTheirSlots) {
 
 TEST(TraceItems, StampBatchesAreInTheirFirstStampsTile) {
   const FrameState f = one_draw(PrimitiveType::triangles, 3);
-  auto tri = std::make_shared<RasterTriangle>();
+  auto tri = std::make_shared<RasterPrimitive>();
   tri->primitive_id = 7;
   StampBatch b;
   b.triangle = tri;
