@@ -27,8 +27,8 @@
 //   the header above.
 // A draw uses only its `count` components (4 today, so 8 words per clipped
 // vertex), which is what hardware would move; the model keeps the full
-// capacity in every packet so that packets have one fixed size and nothing is
-// allocated per vertex or primitive.
+// capacity in every packet so that packets have one fixed size and moving a
+// vertex allocates nothing.
 #pragma once
 
 #include <array>

@@ -25,10 +25,11 @@ namespace gpusim {
 // uses 4 (its colour). Per-pixel lighting will add an eye-space normal (3) and
 // position (3), texturing a texture coordinate (2): 12 in all, the capacity.
 // Every packet after the vertex shader carries the whole capacity, so it is
-// not larger: on the geometry-bound 1M-triangle frame (scripts/bench) 12
-// costs 2-4% of simulation time over the colour alone, 16 cost 5-7%. 12 is
-// also a whole number of the interpolator's 4-component groups
-// (kVaryingGroup), so a group never reads past the array.
+// not larger: on the geometry-bound 1M-triangle frame (scripts/bench), 16
+// components took 2-3% more simulation time than 12, which take about 1%
+// more than the colour alone did. 12 is also a whole number of the
+// interpolator's 4-component groups (kVaryingGroup), so a group never reads
+// past the array.
 constexpr unsigned kMaxVaryings = 12;
 // The interpolator evaluates varyings 4 components at a time (one SSE
 // register; in hardware, 4 interpolation lanes).

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cassert>
 #include <vector>
 
 #if defined(__SSE2__)
@@ -137,6 +138,9 @@ void Interpolator::shade(const StampBatch& batch, ShadedStampBatch& result) {
   const DrawState& draw = m_frame.draws.at(prim.draw_id);
   const RenderState& st = draw.state;
   const VaryingLayout& layout = draw.varyings;
+  // Every layout holds the colour, inside its count (so a layout of one group
+  // is the colour alone).
+  assert(layout.color + kColorComponents <= layout.count && layout.count <= kMaxVaryings);
   // Full stamps need no count (popcount is a libgcc call on baseline x86-64).
   const uint64_t full = m_stamp_pixels == 64 ? ~uint64_t{0} : (uint64_t{1} << m_stamp_pixels) - 1;
   size_t n = 0;
