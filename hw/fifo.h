@@ -41,6 +41,7 @@
 #include <vector>
 
 #include "hw/fifo_probe.h"
+#include "hw/stats.h"
 
 namespace gpusim {
 
@@ -160,9 +161,7 @@ class FifoChannel : public sc_core::sc_prim_channel {
 };
 
 inline nlohmann::json FifoChannel::descriptions() {
-  const auto d = [](const char* unit, const char* text) {
-    return nlohmann::json{{"unit", unit}, {"description", text}};
-  };
+  const auto& d = stat_description;
   return {
       {"depth", d("items", "slots")},
       {"written", d("items", "items written")},

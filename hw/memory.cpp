@@ -4,6 +4,8 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "hw/stats.h"
+
 namespace gpusim {
 
 // --- MemoryArbiter -------------------------------------------------------------
@@ -255,9 +257,7 @@ nlohmann::json Memory::stats_json() const {
 }
 
 nlohmann::json Memory::descriptions() {
-  const auto d = [](const char* unit, const char* text) {
-    return nlohmann::json{{"unit", unit}, {"description", text}};
-  };
+  const auto& d = stat_description;
   return {
       {"size_bytes", d("bytes", "memory size")},
       {"latency", d("cycles", "from the end of a bus transfer to its completion")},

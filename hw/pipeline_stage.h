@@ -46,7 +46,6 @@ class PipelineStage : public sc_core::sc_module {
 
   const StatGroup& stats() const { return m_stats; }
   StatGroup& stats() { return m_stats; }
-  uint64_t busy_cycles() const { return m_busy_cycles; }
   uint64_t tokens_in() const { return m_tokens_in; }
   uint64_t tokens_out() const { return m_tokens_out; }
 

@@ -12,6 +12,10 @@ nlohmann::json finite_or_null(double v) {
 
 }  // namespace
 
+nlohmann::json stat_description(const std::string& unit, const std::string& description) {
+  return {{"unit", unit}, {"description", description}};
+}
+
 StatGroup::Stat& StatGroup::add(const std::string& name, const std::string& unit,
                                 const std::string& description) {
   for (const auto& s : m_stats) {
@@ -48,7 +52,7 @@ nlohmann::json StatGroup::to_json() const {
 
 nlohmann::json StatGroup::descriptions() const {
   nlohmann::json j = nlohmann::json::object();
-  for (const auto& s : m_stats) j[s.name] = {{"unit", s.unit}, {"description", s.description}};
+  for (const auto& s : m_stats) j[s.name] = stat_description(s.unit, s.description);
   return j;
 }
 

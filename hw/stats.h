@@ -24,6 +24,10 @@
 
 namespace gpusim {
 
+// {"unit": unit, "description": description}: how every statistic is
+// described in stats.json, a group's counters and a channel's fields alike.
+nlohmann::json stat_description(const std::string& unit, const std::string& description);
+
 class StatGroup {
  public:
   explicit StatGroup(std::string name) : m_name(std::move(name)) {}

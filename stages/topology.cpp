@@ -146,13 +146,6 @@ const Topology::FifoNode* Topology::find_fifo(const std::string& name) const {
   return nullptr;
 }
 
-const Topology::StageNode* Topology::find_stage(const std::string& name) const {
-  for (const StageNode& s : m_stages) {
-    if (s.stage->basename() == name) return &s;
-  }
-  return nullptr;
-}
-
 std::vector<std::string> Topology::stage_kinds() const {
   std::vector<std::string> kinds;
   for (const StageNode& s : m_stages) {

@@ -87,7 +87,6 @@ class Topology {
   const std::vector<StageNode>& stages() const { return m_stages; }
   const std::vector<FifoNode>& fifos() const { return m_fifos; }
   const FifoNode* find_fifo(const std::string& name) const;
-  const StageNode* find_stage(const std::string& name) const;
   // Distinct kinds in pipeline order.
   std::vector<std::string> stage_kinds() const;
   std::vector<std::string> fifo_kinds() const;

@@ -9,6 +9,7 @@
 #include <systemc>
 
 #include "hw/input_error.h"
+#include "hw/simulation_context.h"
 #include "stages/gpu.h"
 #include "testbench/io/output_file.h"
 #include "testbench/sim/conservation.h"
@@ -192,18 +193,6 @@ LoadedFrame load_frame(const Scene& scene) {
   }
   out.memory.resize(align(out.memory.size()));
   return out;
-}
-
-// SystemC elaborates one model per simulation context and cannot restart a
-// finished one; a run after the first gets a fresh context (the old one is
-// left behind: SystemC cannot delete a context safely).
-void fresh_simulation_context() {
-  static bool used = false;
-  if (used) {
-    sc_core::sc_curr_simcontext = new sc_core::sc_simcontext;
-    sc_core::sc_default_global_context = sc_core::sc_curr_simcontext;
-  }
-  used = true;
 }
 
 GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOptions& options) {

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "hw/memory.h"
+#include "hw/simulation_context.h"
 
 namespace gpusim {
 namespace {
@@ -23,17 +24,6 @@ const sc_time kCycle(1, sc_core::SC_NS);
 constexpr uint64_t kSize = 4096;
 double in_cycles(sc_time t) {
   return t / kCycle;
-}
-
-// A model after the first in this process needs a fresh simulation context:
-// SystemC cannot elaborate twice in one (as testbench/sim/gpu_run.cpp does).
-void fresh_simulation_context() {
-  static bool used = false;
-  if (used) {
-    sc_core::sc_curr_simcontext = new sc_core::sc_simcontext;
-    sc_core::sc_default_global_context = sc_core::sc_curr_simcontext;
-  }
-  used = true;
 }
 
 // One request of a script, and where its completion is recorded.

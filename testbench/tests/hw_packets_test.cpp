@@ -79,7 +79,11 @@ TEST(ClippedPrimitive, PrintsKindVertexCountAndItsVertices) {
 }
 
 TEST(ClippedPrimitive, ComparesKindVertexCountAndVaryings) {
-  EXPECT_EQ(triangle(), triangle());
+  // Vertex slots past vertex_count are not part of the primitive.
+  ClippedPrimitive unused = line();
+  unused.v[2].x = 123.0f;
+  unused.v[2].varyings_over_w[0] = 7.0f;
+  EXPECT_TRUE(unused == line());
   EXPECT_FALSE(line() == triangle());
   ClippedPrimitive two = triangle();
   two.vertex_count = 2;  // the kind alone agreeing is not enough
