@@ -66,7 +66,8 @@ bool ClippedPrimitive::operator==(const ClippedPrimitive& o) const {
   const size_t n = std::min<size_t>(vertex_count, kMaxPrimitiveVertices);
   return kind == o.kind && primitive_kind == o.primitive_kind && vertex_count == o.vertex_count &&
          draw_id == o.draw_id && primitive_id == o.primitive_id &&
-         std::equal(v.begin(), v.begin() + n, o.v.begin()) && flat_varyings == o.flat_varyings;
+         std::equal(v.begin(), v.begin() + n, o.v.begin()) && flat_varyings == o.flat_varyings &&
+         draw_first == o.draw_first && draw_last == o.draw_last;
 }
 
 std::ostream& operator<<(std::ostream& os, const ClippedPrimitive& t) {
@@ -81,6 +82,10 @@ std::ostream& operator<<(std::ostream& os, const ClippedPrimitive& t) {
   }
   os << " flat ";
   print_varyings(os, t.flat_varyings);
+  if (t.primitive_kind == PrimitiveKind::line) {
+    os << " ends " << (t.draw_first ? "drawn" : "skipped") << "/"
+       << (t.draw_last ? "drawn" : "skipped");
+  }
   return os << "}";
 }
 

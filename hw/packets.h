@@ -93,6 +93,9 @@ struct ClippedPrimitive {
   std::array<ClippedVertex, kMaxPrimitiveVertices> v;
   // The provoking vertex's varyings (not divided by w), for flat shading.
   Varyings flat_varyings{};
+  // Lines: whether the Bresenham rule draws the first and the last pixel
+  // (docs/pipeline-spec.md, section 3: a strip's shared vertices once).
+  bool draw_first = true, draw_last = true;
   bool operator==(const ClippedPrimitive& o) const;
 };
 std::ostream& operator<<(std::ostream& os, const ClippedPrimitive& t);

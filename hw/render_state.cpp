@@ -8,8 +8,10 @@ namespace {
 template <typename Enum, size_t N>
 using NameTable = std::array<std::string_view, N>;
 
-constexpr NameTable<PrimitiveType, 3> kPrimitiveNames{"triangles", "triangle_strip",
-                                                      "triangle_fan"};
+constexpr NameTable<PrimitiveType, 7> kPrimitiveNames{
+    "triangles", "triangle_strip", "triangle_fan", "points", "lines", "line_strip", "line_loop"};
+constexpr NameTable<LineRasterization, 2> kLineRasterizationNames{"diamond_exit", "bresenham"};
+constexpr NameTable<PolygonMode, 3> kPolygonModeNames{"fill", "line", "point"};
 constexpr NameTable<CullMode, 3> kCullNames{"none", "back", "front"};
 constexpr NameTable<FrontFace, 2> kFrontFaceNames{"ccw", "cw"};
 constexpr NameTable<CompareFunc, 8> kCompareNames{"never",   "less",     "equal",  "lequal",
@@ -57,6 +59,14 @@ constexpr const auto& names_of<BlendEquation>() {
   return kBlendEquationNames;
 }
 template <>
+constexpr const auto& names_of<LineRasterization>() {
+  return kLineRasterizationNames;
+}
+template <>
+constexpr const auto& names_of<PolygonMode>() {
+  return kPolygonModeNames;
+}
+template <>
 constexpr const auto& names_of<Shading>() {
   return kShadingNames;
 }
@@ -99,6 +109,12 @@ std::string_view to_string(BlendEquation v) {
 std::string_view to_string(Shading v) {
   return name_of(v);
 }
+std::string_view to_string(LineRasterization v) {
+  return name_of(v);
+}
+std::string_view to_string(PolygonMode v) {
+  return name_of(v);
+}
 std::string_view to_string(ColorFormat v) {
   return name_of(v);
 }
@@ -135,15 +151,50 @@ GPUSIM_INSTANTIATE(CompareFunc)
 GPUSIM_INSTANTIATE(BlendFactor)
 GPUSIM_INSTANTIATE(BlendEquation)
 GPUSIM_INSTANTIATE(Shading)
+GPUSIM_INSTANTIATE(LineRasterization)
+GPUSIM_INSTANTIATE(PolygonMode)
 GPUSIM_INSTANTIATE(ColorFormat)
 GPUSIM_INSTANTIATE(DepthFormat)
 #undef GPUSIM_INSTANTIATE
+
+PrimitiveClass primitive_class(PrimitiveType t) {
+  switch (t) {
+    case PrimitiveType::points:
+      return PrimitiveClass::point;
+    case PrimitiveType::lines:
+    case PrimitiveType::line_strip:
+    case PrimitiveType::line_loop:
+      return PrimitiveClass::line;
+    default:
+      return PrimitiveClass::triangle;
+  }
+}
+
+uint64_t primitive_count(PrimitiveType t, uint64_t n) {
+  switch (t) {
+    case PrimitiveType::triangles:
+      return n / 3;
+    case PrimitiveType::triangle_strip:
+    case PrimitiveType::triangle_fan:
+      return n >= 3 ? n - 2 : 0;
+    case PrimitiveType::points:
+      return n;
+    case PrimitiveType::lines:
+      return n / 2;
+    case PrimitiveType::line_strip:
+      return n >= 2 ? n - 1 : 0;
+    case PrimitiveType::line_loop:
+      return n >= 2 ? n : 0;
+  }
+  return 0;
+}
 
 bool RenderState::operator==(const RenderState& o) const {
   auto tie = [](const RenderState& s) {
     return std::tie(s.cull, s.front_face, s.depth_test, s.depth_func, s.depth_write,
                     s.offset_factor, s.offset_units, s.blend, s.blend_src, s.blend_dst,
-                    s.blend_equation, s.color_mask, s.shading);
+                    s.blend_equation, s.color_mask, s.shading, s.line_width, s.point_size,
+                    s.line_rasterization, s.polygon_mode);
   };
   return tie(*this) == tie(o);
 }
@@ -160,7 +211,9 @@ std::ostream& operator<<(std::ostream& os, const RenderState& s) {
     os << "off";
   }
   os << " mask=" << s.color_mask[0] << s.color_mask[1] << s.color_mask[2] << s.color_mask[3]
-     << " shading=" << to_string(s.shading) << "}";
+     << " shading=" << to_string(s.shading) << " line_width=" << s.line_width
+     << " point_size=" << s.point_size << " line_rasterization=" << to_string(s.line_rasterization)
+     << " polygon_mode=" << to_string(s.polygon_mode) << "}";
   return os;
 }
 

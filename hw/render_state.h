@@ -11,7 +11,29 @@
 
 namespace gpusim {
 
-enum class PrimitiveType : uint8_t { triangles, triangle_strip, triangle_fan };
+// Largest line width and point size, as llvmpipe's (GL's minimum maximum is 1).
+constexpr float kMaxLineWidth = 255.0f;
+
+enum class PrimitiveType : uint8_t {
+  triangles,
+  triangle_strip,
+  triangle_fan,
+  points,
+  lines,
+  line_strip,
+  line_loop,
+};
+// Whether a draw of this type assembles points, lines or triangles.
+enum class PrimitiveClass : uint8_t { point, line, triangle };
+PrimitiveClass primitive_class(PrimitiveType t);
+// Primitives a draw of `slots` vertex slots assembles (docs/pipeline-spec.md,
+// section 3): partial primitives are ignored.
+uint64_t primitive_count(PrimitiveType t, uint64_t slots);
+// How a line is turned into fragments (docs/pipeline-spec.md, section 8b).
+enum class LineRasterization : uint8_t { diamond_exit, bresenham };
+// How a triangle that survives culling is drawn: filled, as its edges, or as
+// its vertices (GL's glPolygonMode).
+enum class PolygonMode : uint8_t { fill, line, point };
 enum class CullMode : uint8_t { none, back, front };
 enum class FrontFace : uint8_t { ccw, cw };
 enum class CompareFunc : uint8_t { never, less, equal, lequal, greater, notequal, gequal, always };
@@ -49,6 +71,12 @@ struct RenderState {
   BlendEquation blend_equation = BlendEquation::add;
   std::array<bool, 4> color_mask{true, true, true, true};
   Shading shading = Shading::gouraud;
+  // Lines and points (docs/pipeline-spec.md, sections 8b and 8c): sizes in
+  // pixels, 0 < size <= kMaxLineWidth.
+  float line_width = 1.0f;
+  float point_size = 1.0f;
+  LineRasterization line_rasterization = LineRasterization::diamond_exit;
+  PolygonMode polygon_mode = PolygonMode::fill;
 
   bool operator==(const RenderState& o) const;
   bool operator!=(const RenderState& o) const { return !(*this == o); }
@@ -63,6 +91,8 @@ std::string_view to_string(CompareFunc v);
 std::string_view to_string(BlendFactor v);
 std::string_view to_string(BlendEquation v);
 std::string_view to_string(Shading v);
+std::string_view to_string(LineRasterization v);
+std::string_view to_string(PolygonMode v);
 std::string_view to_string(ColorFormat v);
 std::string_view to_string(DepthFormat v);
 

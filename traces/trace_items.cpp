@@ -4,11 +4,6 @@
 
 namespace gpusim {
 
-uint64_t primitives_of(PrimitiveType type, uint64_t slots) {
-  if (slots < 3) return 0;
-  return type == PrimitiveType::triangles ? slots / 3 : slots - 2;
-}
-
 ItemDescriber::ItemDescriber(const FrameState& frame, unsigned tile_size)
     : m_frame(frame), m_tile_shift(log2_side(tile_size)) {}
 
@@ -23,7 +18,7 @@ ItemInfo ItemDescriber::describe(const Command& c) const {
   ItemInfo i;
   i.draw = c.draw_id;
   const DrawState& d = m_frame.draws.at(c.draw_id);
-  const uint64_t n = primitives_of(d.primitive, d.buffers.slot_count);
+  const uint64_t n = primitive_count(d.primitive, d.buffers.slot_count);
   i.count = static_cast<uint32_t>(n);
   if (n > 0) {
     i.prim_first = d.first_primitive_id;
@@ -40,10 +35,12 @@ ItemInfo ItemDescriber::describe(const BatchHeader& b) const {
   i.first_slot = b.first_slot;
   i.is_batch = true;
   const DrawState& d = m_frame.draws.at(b.draw_id);
-  const int64_t n = static_cast<int64_t>(primitives_of(d.primitive, d.buffers.slot_count));
+  const int64_t n = static_cast<int64_t>(primitive_count(d.primitive, d.buffers.slot_count));
   if (n == 0 || b.slot_count == 0) return i;
   const int64_t lo = b.first_slot, hi = lo + b.slot_count - 1;
-  // Primitive k uses slots 3k..3k+2 (list), k..k+2 (strip), 0, k+1, k+2 (fan).
+  // Triangle k uses slots 3k..3k+2 (list), k..k+2 (strip), 0, k+1, k+2 (fan);
+  // point k slot k; line k slots 2k, 2k+1 (list), k, k+1 (strip, loop), and
+  // a loop's last line n-1 and 0.
   int64_t first = 0, last = 0;
   switch (d.primitive) {
     case PrimitiveType::triangles:
@@ -57,6 +54,22 @@ ItemInfo ItemDescriber::describe(const BatchHeader& b) const {
     case PrimitiveType::triangle_fan:
       first = lo == 0 ? 0 : lo - 2;
       last = lo == 0 ? n - 1 : hi - 1;
+      break;
+    case PrimitiveType::points:
+      first = lo;
+      last = hi;
+      break;
+    case PrimitiveType::lines:
+      first = lo / 2;
+      last = hi / 2;
+      break;
+    case PrimitiveType::line_strip:
+      first = lo - 1;
+      last = hi;
+      break;
+    case PrimitiveType::line_loop:
+      first = lo == 0 ? 0 : lo - 1;
+      last = lo == 0 ? n - 1 : hi;
       break;
   }
   first = std::max<int64_t>(first, 0);

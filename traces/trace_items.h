@@ -22,9 +22,6 @@ struct ItemInfo {
   bool is_batch = false;    // a vertex batch (names slots in the timeline)
 };
 
-// Primitives assembled from a draw with `slots` vertex slots (spec section 3).
-uint64_t primitives_of(PrimitiveType type, uint64_t slots);
-
 // Turns packets into ItemInfo. The frame must outlive it.
 class ItemDescriber {
  public:

@@ -450,7 +450,7 @@ void TraceRecorder::write_manifest(uint64_t cycles) {
   json draws = json::array();
   for (const DrawState& d : m_frame.draws) {
     draws.push_back({{"first_primitive_id", d.first_primitive_id},
-                     {"primitives", primitives_of(d.primitive, d.buffers.slot_count)}});
+                     {"primitives", primitive_count(d.primitive, d.buffers.slot_count)}});
   }
   const json manifest = {
       {"format", "gpusim-trace"},

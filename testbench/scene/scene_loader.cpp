@@ -479,7 +479,11 @@ Out out_state(const RenderState& s) {
           {"polygon_offset", Out::array({tidy(s.offset_factor), tidy(s.offset_units)})},
           {"blend", blend},
           {"color_mask", s.color_mask},
-          {"shading", std::string(to_string(s.shading))}};
+          {"shading", std::string(to_string(s.shading))},
+          {"line_width", tidy(s.line_width)},
+          {"point_size", tidy(s.point_size)},
+          {"line_rasterization", std::string(to_string(s.line_rasterization))},
+          {"polygon_mode", std::string(to_string(s.polygon_mode))}};
 }
 
 void SceneReader::read_lights(const At& root, Scene& scene) {
@@ -608,7 +612,8 @@ Material SceneReader::read_material(const At& a) const {
 RenderState SceneReader::read_state(const At& a) const {
   expect_object(a);
   check_keys(a, {"cull", "front_face", "depth_test", "depth_write", "polygon_offset", "blend",
-                 "color_mask", "shading"});
+                 "color_mask", "shading", "line_width", "point_size", "line_rasterization",
+                 "polygon_mode"});
   RenderState s;
   if (has(a, "cull")) s.cull = enumeration<CullMode>(member(a, "cull"));
   if (has(a, "front_face")) s.front_face = enumeration<FrontFace>(member(a, "front_face"));
@@ -649,6 +654,17 @@ RenderState SceneReader::read_state(const At& a) const {
     for (size_t i = 0; i < 4; ++i) s.color_mask[i] = boolean(element(m, i));
   }
   if (has(a, "shading")) s.shading = enumeration<Shading>(member(a, "shading"));
+  for (auto [key, value] :
+       {std::pair{"line_width", &s.line_width}, {"point_size", &s.point_size}}) {
+    if (!has(a, key)) continue;
+    const At w = member(a, key);
+    *value = real(w);
+    if (!(*value > 0.0f && *value <= kMaxLineWidth)) fail_value(w, "expected 0 < value <= 255");
+  }
+  if (has(a, "line_rasterization")) {
+    s.line_rasterization = enumeration<LineRasterization>(member(a, "line_rasterization"));
+  }
+  if (has(a, "polygon_mode")) s.polygon_mode = enumeration<PolygonMode>(member(a, "polygon_mode"));
   return s;
 }
 
@@ -768,14 +784,13 @@ void SceneReader::finish_draw(Draw& d, const glm::mat4& model, const At& a, Scen
   }
 
   const size_t n = d.vertex_count();
-  const size_t triangles = d.primitive == PrimitiveType::triangles ? n / 3 : (n >= 3 ? n - 2 : 0);
   resolved["name"] = d.name;
   resolved["primitive"] = std::string(to_string(d.primitive));
   resolved["positions"] = d.positions.size();
   resolved["normals"] = d.normals.size();
   resolved["colors"] = d.colors.size();
   resolved["indices"] = d.indices.size();
-  resolved["triangles"] = triangles;
+  resolved["primitives"] = primitive_count(d.primitive, n);
   resolved["lighting"] = d.lighting;
   resolved["material"] = out_material(d.material);
   resolved["state"] = out_state(d.state);

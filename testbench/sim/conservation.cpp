@@ -271,7 +271,7 @@ std::vector<std::string> conservation_errors(const nlohmann::json& stats,
   uint64_t slots = 0, triangles = 0;
   for (const DrawState& d : frame.draws) {
     slots += d.buffers.slot_count;
-    triangles += triangle_count(d.primitive, d.buffers.slot_count);
+    triangles += primitive_count(d.primitive, d.buffers.slot_count);
   }
   const uint64_t control =
       l.stage("command_processor", "clears") + l.stage("command_processor", "frames");

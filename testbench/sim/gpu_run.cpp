@@ -152,11 +152,6 @@ Framebuffer read_framebuffer(Memory& memory, const FrameState& frame) {
 
 }  // namespace
 
-uint64_t triangle_count(PrimitiveType type, uint64_t slots) {
-  if (slots < 3) return 0;
-  return type == PrimitiveType::triangles ? slots / 3 : slots - 2;
-}
-
 LoadedFrame load_frame(const Scene& scene) {
   LoadedFrame out;
   FrameState& f = out.frame;
@@ -188,7 +183,7 @@ LoadedFrame load_frame(const Scene& scene) {
     if (s.lighting) b.normals = append(out.memory, d.normals.data(), d.normals.size());
     if (!d.colors.empty()) b.colors = append(out.memory, d.colors.data(), d.colors.size());
     if (!d.indices.empty()) b.indices = append(out.memory, d.indices.data(), d.indices.size());
-    next_primitive += static_cast<int64_t>(triangle_count(d.primitive, b.slot_count));
+    next_primitive += static_cast<int64_t>(primitive_count(d.primitive, b.slot_count));
     f.draws.push_back(s);
   }
   out.memory.resize(align(out.memory.size()));
@@ -253,7 +248,7 @@ GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOp
     gpu.attach_trace(*recorder);
   }
   uint64_t triangles = 0;
-  for (const Draw& d : scene.draws) triangles += triangle_count(d.primitive, d.vertex_count());
+  for (const Draw& d : scene.draws) triangles += primitive_count(d.primitive, d.vertex_count());
   Host host("host", gpu, scene.draws.size(), triangles, options.progress, config.cycle(),
             options.fault_withhold_end_of_frame);
   std::unique_ptr<Watchdog> watchdog;

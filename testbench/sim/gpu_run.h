@@ -34,9 +34,6 @@ struct LoadedFrame {
 };
 LoadedFrame load_frame(const Scene& scene);
 
-// Assembled triangles of a draw with this many vertex slots (spec section 3).
-uint64_t triangle_count(PrimitiveType type, uint64_t slots);
-
 struct GpuRunOptions {
   bool record_last_writer = false;  // per-pixel primitive id, for --check
   bool progress = false;            // a progress line on stderr

@@ -47,7 +47,7 @@ uint64_t scene_array_bytes(const Scene& s) {
 uint64_t golden_draw_bytes(const Scene& s) {
   uint64_t most = 0;
   for (const Draw& d : s.draws) {
-    const uint64_t triangles = triangle_count(d.primitive, d.vertex_count());
+    const uint64_t triangles = primitive_count(d.primitive, d.vertex_count());
     most = std::max<uint64_t>(most, d.positions.size() * 2 * sizeof(glm::vec4) + triangles * 12);
   }
   return most;

@@ -191,7 +191,7 @@ TEST_F(SceneLoaderTest, RelativeObjIsTriangulatedAndLinesIgnored) {
   EXPECT_EQ(d.positions.size(), 9u);
   EXPECT_EQ(d.normals.size(), 9u);  // generated (the file has none)
   EXPECT_FALSE(d.lighting);         // no lights in the scene
-  EXPECT_EQ(s.resolved["draws"][0]["triangles"], 5);
+  EXPECT_EQ(s.resolved["draws"][0]["primitives"], 5);
   EXPECT_EQ(fs::path(s.resolved["draws"][0]["mesh"].get<std::string>()), dir_ / "shapes.obj");
   // Generated normals of a flat mesh in the z = 0 plane wound CCW point to +z.
   for (const glm::vec3& n : d.normals) expect_near(n, glm::vec3(0, 0, 1), 1e-5f);
@@ -480,7 +480,7 @@ TEST_F(SceneLoaderTest, DefaultsAreFilledIn) {
   EXPECT_EQ(rd["name"], "draws[0]");
   EXPECT_EQ(rd["primitive"], "triangles");
   EXPECT_EQ(rd["positions"], 3);
-  EXPECT_EQ(rd["triangles"], 1);
+  EXPECT_EQ(rd["primitives"], 1);
   EXPECT_EQ(rd["lighting"], false);
   EXPECT_EQ(rd["state"]["depth_test"], "less");
   EXPECT_EQ(rd["state"]["blend"], "off");
@@ -524,10 +524,10 @@ TEST_F(SceneLoaderTest, ExplicitSettingsAndCounts) {
   expect_near(m.emission, glm::vec4(0, 0.5f, 0, 1));
   EXPECT_EQ(m.shininess, 128.0f);
   // strip: n - 2; fan: n - 2 of the 6 indices; triangles: floor(7 / 3).
-  EXPECT_EQ(s.resolved["draws"][0]["triangles"], 3);
-  EXPECT_EQ(s.resolved["draws"][1]["triangles"], 4);
+  EXPECT_EQ(s.resolved["draws"][0]["primitives"], 3);
+  EXPECT_EQ(s.resolved["draws"][1]["primitives"], 4);
   EXPECT_EQ(s.resolved["draws"][1]["indices"], 6);
-  EXPECT_EQ(s.resolved["draws"][2]["triangles"], 2);
+  EXPECT_EQ(s.resolved["draws"][2]["primitives"], 2);
   EXPECT_EQ(s.resolved["draws"][0]["material_from"], "default");
   EXPECT_EQ(s.resolved["draws"][2]["material_from"], "scene");
   EXPECT_EQ(s.resolved["framebuffer"]["depth_format"], "float32");
@@ -678,7 +678,7 @@ TEST_F(SceneLoaderTest, TypeAndRangeErrors) {
       {R"({"draws": [{"positions": [[0, 0]]}]})",
        "draws[0].positions[0]: expected an array of 3 or 4 numbers, got an array of 2 elements"},
       {R"({"draws": [{"primitive": "quads", "positions": []}]})",
-       R"(draws[0].primitive: expected one of triangles, triangle_strip, triangle_fan, got "quads")"},
+       R"(draws[0].primitive: expected one of triangles, triangle_strip, triangle_fan, points, lines, line_strip, line_loop, got "quads")"},
       {R"({"draws": [{"positions": [[0,0,0],[0,0,0],[0,0,0]], "colors": [[1,1,1,1]]}]})",
        "draws[0].colors: expected an array of 3 colours (one per position), got an array of 1 "
        "element"},
