@@ -109,6 +109,33 @@ void write_frame_outputs(const std::string& dir, const Framebuffer& fb,
   files.commit();
 }
 
+// The summary's primitive and fragment lines from the counters both models
+// report (docs/pipeline-spec.md, section 13); lines and points only when the
+// frame has some.
+void print_counts(const nlohmann::json& c) {
+  auto n = [&](const char* key) { return c.value(key, uint64_t{0}); };
+  auto u = [](uint64_t v) { return static_cast<unsigned long long>(v); };
+  std::printf("  triangles: %llu in, %llu culled, %llu clipped, %llu rasterized",
+              u(n("triangles_in")), u(n("triangles_culled")), u(n("triangles_clipped")),
+              u(n("triangles_rasterized")));
+  if (n("triangles_unfilled") > 0) {
+    std::printf(", %llu drawn as lines or points", u(n("triangles_unfilled")));
+  }
+  std::printf("\n");
+  if (n("lines_in") > 0 || n("lines_rasterized") > 0) {
+    std::printf("  lines: %llu in, %llu clipped away, %llu clipped, %llu rasterized\n",
+                u(n("lines_in")), u(n("lines_clipped_away")), u(n("lines_clipped")),
+                u(n("lines_rasterized")));
+  }
+  if (n("points_in") > 0 || n("points_rasterized") > 0) {
+    std::printf("  points: %llu in, %llu clipped away, %llu rasterized\n", u(n("points_in")),
+                u(n("points_clipped_away")), u(n("points_rasterized")));
+  }
+  std::printf("  fragments: %llu generated, %llu passed depth, %llu written\n",
+              u(n("fragments_generated")), u(n("fragments_passed_depth")),
+              u(n("fragments_written")));
+}
+
 int run_golden(const std::string& scene_path, const std::string& out_dir, uint64_t memory_mib) {
   const Scene scene = load_scene(scene_path);
   check_scene_limits(scene);
@@ -134,17 +161,8 @@ int run_golden(const std::string& scene_path, const std::string& out_dir, uint64
   };
   write_frame_outputs(out_dir, result.framebuffer, stats);
 
-  const golden::Stats& s = result.stats;
   std::printf("golden: %s rendered in %.3f s\n", scene_path.c_str(), seconds);
-  std::printf("  triangles: %llu in, %llu culled, %llu clipped, %llu rasterized\n",
-              static_cast<unsigned long long>(s.triangles_in),
-              static_cast<unsigned long long>(s.triangles_culled),
-              static_cast<unsigned long long>(s.triangles_clipped),
-              static_cast<unsigned long long>(s.triangles_rasterized));
-  std::printf("  fragments: %llu generated, %llu passed depth, %llu written\n",
-              static_cast<unsigned long long>(s.fragments_generated),
-              static_cast<unsigned long long>(s.fragments_passed_depth),
-              static_cast<unsigned long long>(s.fragments_written));
+  print_counts(result.stats.to_json());
   std::printf("  frame: %s/frame.exr (%dx%d), %s/frame.png, %s/stats.json\n", out_dir.c_str(),
               result.framebuffer.width, result.framebuffer.height, out_dir.c_str(),
               out_dir.c_str());
@@ -259,13 +277,7 @@ int run_cycle_model(const RunArgs& args) {
       args.scene.c_str(), config.units, static_cast<unsigned long long>(result.cycles),
       static_cast<double>(result.cycles) / (mhz * 1e3), mhz, result.wall_seconds,
       static_cast<double>(result.cycles) / std::max(result.wall_seconds, 1e-9));
-  const nlohmann::json& c = result.counts;
-  std::printf("  triangles: %s in, %s culled, %s clipped, %s rasterized\n",
-              c["triangles_in"].dump().c_str(), c["triangles_culled"].dump().c_str(),
-              c["triangles_clipped"].dump().c_str(), c["triangles_rasterized"].dump().c_str());
-  std::printf("  fragments: %s generated, %s passed depth, %s written\n",
-              c["fragments_generated"].dump().c_str(), c["fragments_passed_depth"].dump().c_str(),
-              c["fragments_written"].dump().c_str());
+  print_counts(result.counts);
   std::printf("  frame: %s/frame.exr, %s/frame.png, %s/stats.json\n", args.out_dir.c_str(),
               args.out_dir.c_str(), args.out_dir.c_str());
   if (!args.trace_dir.empty()) {

@@ -161,9 +161,91 @@ def states():
     }
 
 
+def lines_random():
+    """Lines, strips and loops in every direction, at random 1/256 end points
+    and on pixel centres, widths 1-6, both line rules, flat and Gouraud,
+    crossing the framebuffer's edges and (in a perspective draw) the near
+    plane, with a depth test, 80x60."""
+    rng = random.Random(4242)
+    w, h = 80, 60
+    draws = []
+
+    def ndc(px, size):
+        return r(px / size * 2 - 1)
+
+    for k in range(24):
+        prim = ["lines", "line_strip", "line_loop"][k % 3]
+        n = rng.randint(2, 7)
+        centred = k % 4 == 1  # end points exactly on pixel centres
+        pos = []
+        for _ in range(n):
+            if centred:
+                x, y = rng.randint(-3, w + 2) + 0.5, rng.randint(-3, h + 2) + 0.5
+            else:
+                x, y = rng.uniform(-6, w + 6), rng.uniform(-6, h + 6)
+            pos.append([ndc(x, w), ndc(y, h), r(rng.uniform(-0.9, 0.9)), 1])
+        draws.append({
+            "primitive": prim, "positions": pos,
+            "colors": [[r(rng.random()), r(rng.random()), r(rng.random()), 1] for _ in pos],
+            "state": {"line_width": [1, 1, 2, 3, 1.5, 6, 2.5, 4][k % 8],
+                      "line_rasterization": "bresenham" if k % 5 == 2 else "diamond_exit",
+                      "shading": "flat" if k % 3 == 1 else "gouraud",
+                      "depth_test": "lequal"}})
+    # Clip-space end points (no camera: positions are clip coordinates) across
+    # the near plane (z < -w), the far plane and w < 0.
+    draws.append({"primitive": "lines",
+                  "positions": [[-0.5, 0.2, -1.5, 1], [0.4, -0.1, 0.5, 1], [0.8, 0.5, 0.2, 1.2],
+                                [-0.6, -0.4, 0.1, -0.8], [-0.3, -0.3, 0.9, 0.5], [0.2, 0.4, 2.5, 1.5]],
+                  "colors": [[1, 0, 0, 1], [0, 1, 0, 1], [0, 0, 1, 1], [1, 1, 0, 1], [0, 1, 1, 1],
+                             [1, 0, 1, 1]],
+                  "state": {"line_width": 2}})
+    return {
+        "framebuffer": {"width": w, "height": h, "depth_format": "unorm24",
+                        "clear_color": [0.05, 0.05, 0.05, 1]},
+        "draws": draws,
+    }
+
+
+def points_wireframe():
+    """Points of sizes 1-24 (integer and fractional) on and off the
+    framebuffer's edges, and triangles in polygon mode line and point with
+    culling, flat shading and a near-plane cut, 96x72."""
+    rng = random.Random(515)
+    w, h = 96, 72
+    pos, col = [], []
+    for _ in range(60):
+        pos.append([r(rng.uniform(-1.1, 1.1)), r(rng.uniform(-1.1, 1.1)), r(rng.uniform(-0.9, 0.9)), 1])
+        col.append([r(rng.random()), r(rng.random()), r(rng.random()), 1])
+    draws = []
+    for k, size in enumerate([1, 2, 3, 1.5, 4.7, 8, 13, 24]):
+        draws.append({"primitive": "points", "positions": pos[k::8], "colors": col[k::8],
+                      "state": {"point_size": size, "depth_test": "lequal"}})
+    tri = []
+    tcol = []
+    for _ in range(12):
+        cx, cy = rng.uniform(-1, 1), rng.uniform(-1, 1)
+        for _ in range(3):
+            tri.append([r(cx + rng.uniform(-0.4, 0.4)), r(cy + rng.uniform(-0.4, 0.4)),
+                        r(rng.uniform(-0.5, 0.5)), 1])
+            tcol.append([r(rng.random()), r(rng.random()), r(rng.random()), 1])
+    modes = [("line", "none", "gouraud", "diamond_exit", 1), ("line", "back", "flat", "bresenham", 2),
+             ("point", "front", "gouraud", "diamond_exit", 3), ("line", "none", "flat", "diamond_exit", 3)]
+    for k, (mode, cull, shading, rule, size) in enumerate(modes):
+        draws.append({"primitive": "triangles", "positions": tri[9 * k:9 * k + 9],
+                      "colors": tcol[9 * k:9 * k + 9],
+                      "state": {"polygon_mode": mode, "cull": cull, "shading": shading,
+                                "line_rasterization": rule, "line_width": size, "point_size": size}})
+    return {
+        "framebuffer": {"width": w, "height": h, "depth_format": "float32"},
+        "draws": draws,
+    }
+
+
 if __name__ == "__main__":
     write("tiny_triangles.json", tiny_triangles())
     write("shared_edges.json", shared_edges())
     write("clipping.json", clipping())
     write("zfight_offset.json", zfight())
     write("states.json", states())
+    write("lines_random.json", lines_random())
+    write("points_wireframe.json", points_wireframe())
