@@ -611,6 +611,23 @@ TEST(GoldenBresenham, MatchesTheTextbookLoopInEveryOctant) {
   for (int o = 0; o < 8; ++o) EXPECT_GT(octants[o], 1000) << "octant " << o;
 }
 
+// Lines starting or ending off-screen: the on-screen part of the textbook line.
+TEST(GoldenBresenham, OffScreenPartsAreCut) {
+  std::mt19937_64 rng(4242);
+  constexpr int W = 40, H = 30;
+  std::uniform_int_distribution<int64_t> coord(-256 * 50, 256 * 90);
+  for (int n = 0; n < 5000; ++n) {
+    const int64_t ax = coord(rng), ay = coord(rng), bx = coord(rng), by = coord(rng);
+    const auto pixel = [](int64_t v) { return static_cast<int>(std::floor(v / 256.0)); };
+    std::vector<Pixel> want;
+    for (const Pixel& p : textbook_bresenham(pixel(ax), pixel(ay), pixel(bx), pixel(by))) {
+      if (p.x >= 0 && p.y >= 0 && p.x < W && p.y < H) want.push_back(p);
+    }
+    ASSERT_EQ(golden::bresenham_pixels(ax, ay, bx, by, true, true, 1, W, H), want)
+        << "line (" << ax << ", " << ay << ") -> (" << bx << ", " << by << ")";
+  }
+}
+
 // Through the renderer: a `lines` draw with both ends, then the same path as
 // a strip (shared vertices once).
 TEST(GoldenBresenham, LinesAndStripsThroughTheRenderer) {
