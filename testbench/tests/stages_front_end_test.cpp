@@ -1043,6 +1043,42 @@ TEST(FrontEndPolygonMode, TheClippedEdgeIsNotDrawn) {
   EXPECT_EQ(r.clipper.at("points_in"), 0u);
 }
 
+TEST(FrontEndPolygonMode, ATriangleEnclosingTheGuardBandHasNoEdgeLeft) {
+  // The guard band of 128 pixels is -513 w <= x, y <= 511 w: this triangle
+  // contains it, so the clipped polygon is the band's square, every edge
+  // along a plane, and line mode draws nothing, though the triangle is
+  // unfilled (not culled or degenerate).
+  const FrontEndRun r = run_front_end(clip_space_scene({unfilled(PolygonMode::line, CullMode::back,
+                                                                 {{-5000.0f, -5000.0f, 0.0f, 1.0f},
+                                                                  {5000.0f, -5000.0f, 0.0f, 1.0f},
+                                                                  {0.0f, 5000.0f, 0.0f, 1.0f}})}));
+  EXPECT_EQ(r.prims.size(), 0u);
+  EXPECT_EQ(r.clipper.at("triangles_unfilled"), 1u);
+  EXPECT_EQ(r.clipper.at("triangles_clipped"), 1u);
+}
+
+TEST(FrontEndPolygonMode, AVertexOnAPlaneIsDrawnTwiceInPointMode) {
+  // Section 4d taken literally: v2 lies on the near plane (z + w = 0), v1
+  // behind it. The edge (v1 v2) enters the inside at v2 itself: the cut
+  // starts from v2 (distance 0), t = 0, and the new vertex, equal to v2,
+  // takes v1's flag (set); v2 keeps its own. Polygon v0, c1 (leaving, clear),
+  // c' = v2, v2: the points v0, v2, v2; the lines (v0 c1), (v2 v2) of zero
+  // length, (v2 v0).
+  const std::vector<glm::vec4> v = {kCcw[0], {0.5f, -0.5f, -3.0f, 1.0f}, {0.0f, 0.5f, -1.0f, 1.0f}};
+  const FrontEndRun r =
+      run_front_end(clip_space_scene({unfilled(PolygonMode::point, CullMode::none, v),
+                                      unfilled(PolygonMode::line, CullMode::none, v)}));
+  ASSERT_EQ(r.prims.size(), 6u);
+  EXPECT_EQ(r.prims[0].v[0].x, 32.0f);
+  for (size_t i : {1, 2}) {
+    EXPECT_EQ(r.prims[i].v[0].x, 64.0f);
+    EXPECT_EQ(r.prims[i].v[0].y, 96.0f);
+    EXPECT_EQ(r.prims[i].v[0].z, 0.0f);
+  }
+  EXPECT_EQ(r.prims[4].v[0], r.prims[4].v[1]);
+  EXPECT_EQ(r.prims[5].v[1].x, 32.0f);
+}
+
 TEST(FrontEndPolygonMode, PointModeDrawsTheVertices) {
   const FrontEndRun r =
       run_front_end(clip_space_scene({unfilled(PolygonMode::point, CullMode::front, kCw)}));
