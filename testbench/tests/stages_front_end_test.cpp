@@ -1091,6 +1091,193 @@ TEST(FrontEndPolygonMode, PointModeDrawsTheVertices) {
   }
 }
 
+// Random lines, strips, loops and points (vertices of every kind that
+// random_clip_vertex makes: near and far, guard band, w around 0, behind the
+// eye, huge) against the rules of sections 3, 4b and 4c written out here
+// from the spec's text, on golden::clip_distance and golden::to_window.
+
+struct ExpectedLinePoint {
+  uint32_t draw_id = 0;
+  int64_t primitive_id = 0;
+  std::vector<golden::ShadedVertex> v;  // clipped, 1 or 2
+  glm::vec4 flat_color{0.0f};
+  bool first = true, last = true;
+};
+
+struct ExpectedLinesPoints {
+  std::vector<ExpectedLinePoint> prims;
+  uint64_t lines_in = 0, lines_invalid = 0, lines_away = 0, lines_clipped = 0;
+  uint64_t points_in = 0, points_invalid = 0, points_away = 0;
+};
+
+// Section 4b: false when nothing is left; `clipped` when step 2 ran.
+bool spec_clip_line(golden::ShadedVertex& a, golden::ShadedVertex& b, const golden::GuardBand& gb,
+                    bool& clipped) {
+  clipped = false;
+  bool accept = true;
+  for (int p = 0; p < golden::kClipPlaneCount; ++p) {
+    const float da = golden::clip_distance(p, a.clip, gb),
+                db = golden::clip_distance(p, b.clip, gb);
+    if (da < 0.0f && db < 0.0f) return false;
+    accept = accept && da >= 0.0f && db >= 0.0f;
+  }
+  if (accept) return true;
+  for (int p = 0; p < golden::kClipPlaneCount; ++p) {
+    const float da = golden::clip_distance(p, a.clip, gb),
+                db = golden::clip_distance(p, b.clip, gb);
+    if (da >= 0.0f && db >= 0.0f) continue;
+    if (da < 0.0f && db < 0.0f) return false;
+    golden::ShadedVertex& out = da < 0.0f ? a : b;
+    const golden::ShadedVertex in = da < 0.0f ? b : a;
+    const float d_out = da < 0.0f ? da : db, d_in = da < 0.0f ? db : da;
+    // From the endpoint nearer the plane, the inside one on a tie.
+    const bool from_in = std::fabs(d_in) <= std::fabs(d_out);
+    const golden::ShadedVertex& s = from_in ? in : out;
+    const golden::ShadedVertex& e = from_in ? out : in;
+    const float ds = from_in ? d_in : d_out, de = from_in ? d_out : d_in;
+    const float t = ds / (ds - de);
+    golden::ShadedVertex v;
+    for (int k = 0; k < 4; ++k) {
+      v.clip[k] = s.clip[k] + t * (e.clip[k] - s.clip[k]);
+      v.color[k] = s.color[k] + t * (e.color[k] - s.color[k]);
+    }
+    if (p == 0 && v.clip.w < golden::kMinClipW) v.clip.w = golden::kMinClipW;
+    out = v;
+  }
+  clipped = true;
+  return true;
+}
+
+ExpectedLinesPoints expected_lines_points(const Scene& scene) {
+  ExpectedLinesPoints e;
+  const golden::GuardBand gb =
+      golden::guard_band_for(scene.framebuffer.width, scene.framebuffer.height);
+  int64_t id = 0;
+  for (uint32_t d = 0; d < scene.draws.size(); ++d) {
+    const Draw& draw = scene.draws[d];
+    const uint32_t n = static_cast<uint32_t>(draw.vertex_count());
+    // Slot -> vertex, or nothing when invalid (index or non-finite clip).
+    const auto vertex = [&](uint32_t slot, golden::ShadedVertex& out) {
+      const uint32_t vi = draw.indices.empty() ? slot : draw.indices[slot];
+      if (vi >= draw.positions.size()) return false;
+      out = golden::shade_vertex(scene, draw, vi);
+      return finite4(out.clip);
+    };
+    if (draw.primitive == PrimitiveType::points) {
+      for (uint32_t i = 0; i < n; ++i, ++id) {
+        ++e.points_in;
+        golden::ShadedVertex v;
+        if (!vertex(i, v)) {
+          ++e.points_invalid;
+          continue;
+        }
+        const glm::vec4& c = v.clip;
+        if (!(c.w - golden::kMinClipW >= 0.0f && c.x + c.w >= 0.0f && c.w - c.x >= 0.0f &&
+              c.y + c.w >= 0.0f && c.w - c.y >= 0.0f && c.z + c.w >= 0.0f && c.w - c.z >= 0.0f)) {
+          ++e.points_away;
+          continue;
+        }
+        e.prims.push_back({d, id, {v}, v.color, true, true});
+      }
+      continue;
+    }
+    // Section 3's table.
+    std::vector<std::array<uint32_t, 2>> lines;
+    std::vector<std::pair<bool, bool>> flags;
+    if (draw.primitive == PrimitiveType::lines) {
+      for (uint32_t i = 0; 2 * i + 1 < n; ++i) {
+        lines.push_back({2 * i, 2 * i + 1});
+        flags.push_back({true, true});
+      }
+    } else {
+      for (uint32_t i = 0; i + 1 < n; ++i) {
+        lines.push_back({i, i + 1});
+        flags.push_back({i == 0, true});
+      }
+      if (draw.primitive == PrimitiveType::line_loop && n >= 2) {
+        lines.push_back({n - 1, 0});
+        flags.push_back({false, false});
+      }
+    }
+    for (size_t i = 0; i < lines.size(); ++i, ++id) {
+      ++e.lines_in;
+      golden::ShadedVertex a, b;
+      if (!vertex(lines[i][0], a) || !vertex(lines[i][1], b)) {
+        ++e.lines_invalid;
+        continue;
+      }
+      const glm::vec4 flat = b.color;
+      bool clipped = false;
+      if (!spec_clip_line(a, b, gb, clipped)) {
+        ++e.lines_away;
+        continue;
+      }
+      if (clipped) ++e.lines_clipped;
+      e.prims.push_back({d, id, {a, b}, flat, flags[i].first, flags[i].second});
+    }
+  }
+  return e;
+}
+
+TEST(FrontEndLines, RandomLinesAndPointsFollowTheSpec) {
+  std::mt19937 rng(11);
+  Scene s;
+  s.framebuffer.width = 256;
+  s.framebuffer.height = 192;
+  s.draws.push_back(random_draw(rng, PrimitiveType::lines, 400, true, 0));
+  s.draws.push_back(random_draw(rng, PrimitiveType::line_strip, 131, true, 0));
+  s.draws.push_back(random_draw(rng, PrimitiveType::line_loop, 97, false, 0));
+  s.draws.push_back(random_draw(rng, PrimitiveType::points, 300, true, 0));
+  Draw indexed = random_draw(rng, PrimitiveType::line_loop, 60, true, 150);
+  indexed.indices[7] = 60;      // out of range
+  indexed.indices[149] = 1000;  // the loop's last slot: its last two lines invalid
+  s.draws.push_back(indexed);
+  Draw points = random_draw(rng, PrimitiveType::points, 50, true, 90);
+  points.indices[40] = 77;
+  s.draws.push_back(points);
+  s.draws.push_back(random_draw(rng, PrimitiveType::line_strip, 33, true, 0));
+  s.draws.push_back(random_draw(rng, PrimitiveType::line_loop, 2, true, 0));
+  const ExpectedLinesPoints want = expected_lines_points(s);
+  EXPECT_GT(want.lines_clipped, 50u);
+  EXPECT_GT(want.lines_away, 50u);
+  EXPECT_GT(want.points_away, 50u);
+  EXPECT_GT(want.lines_invalid, 3u);
+
+  const FrontEndRun r = run_front_end(s, config_with(16, 2));
+  ASSERT_EQ(r.prims.size(), want.prims.size());
+  const float half_w = 0.5f * s.framebuffer.width, half_h = 0.5f * s.framebuffer.height;
+  int failures = 0;
+  for (size_t i = 0; i < want.prims.size() && failures < 5; ++i) {
+    const ClippedPrimitive& g = r.prims[i];
+    const ExpectedLinePoint& w = want.prims[i];
+    bool ok = g.draw_id == w.draw_id && g.primitive_id == w.primitive_id &&
+              g.vertex_count == w.v.size() &&
+              g.primitive_kind == (w.v.size() == 1 ? PrimitiveKind::point : PrimitiveKind::line) &&
+              holds_color(g.flat_varyings, w.flat_color);
+    if (w.v.size() == 2) ok = ok && g.draw_first == w.first && g.draw_last == w.last;
+    for (size_t k = 0; k < w.v.size(); ++k) {
+      const golden::WindowVertex wv =
+          golden::to_window(w.v[k], s.framebuffer.width, s.framebuffer.height);
+      const float x = (w.v[k].clip.x * wv.inv_w + 1.0f) * half_w;
+      const float y = (w.v[k].clip.y * wv.inv_w + 1.0f) * half_h;
+      ok = ok && bits(g.v[k].x) == bits(x) && bits(g.v[k].y) == bits(y) &&
+           bits(g.v[k].z) == bits(wv.z) && bits(g.v[k].inv_w) == bits(wv.inv_w) &&
+           holds_color(g.v[k].varyings_over_w, wv.color_over_w);
+    }
+    if (!ok) {
+      ++failures;
+      ADD_FAILURE() << "primitive " << i << " (prim " << w.primitive_id << "): " << g;
+    }
+  }
+  EXPECT_EQ(r.clipper.at("lines_in"), want.lines_in);
+  EXPECT_EQ(r.clipper.at("lines_invalid"), want.lines_invalid);
+  EXPECT_EQ(r.clipper.at("lines_clipped_away"), want.lines_away);
+  EXPECT_EQ(r.clipper.at("lines_clipped"), want.lines_clipped);
+  EXPECT_EQ(r.clipper.at("points_in"), want.points_in);
+  EXPECT_EQ(r.clipper.at("points_invalid"), want.points_invalid);
+  EXPECT_EQ(r.clipper.at("points_clipped_away"), want.points_away);
+}
+
 // ---------------------------------------------------------------------------
 // Timing, the documented defaults: command processor ii 1 / latency 2, vertex fetch 1 / 2,
 // vertex shader 4 / 24, clipper 2 / 8; memory latency 20, 32 bytes/cycle;
