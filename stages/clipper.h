@@ -87,7 +87,8 @@ class Clipper : public PipelineStage {
 
   Clipper(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame);
 
-  uint64_t triangles_in() const { return m_in; }
+  // Primitives of every kind assembled so far.
+  uint64_t primitives_in() const { return m_in + m_lines_in + m_points_in; }
   // The golden model's counters this stage keeps (docs/pipeline-spec.md,
   // section 13). triangles_degenerate and triangles_culled are polygon
   // mode's only; Gpu::pipeline_counts adds setup's.
