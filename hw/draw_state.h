@@ -69,7 +69,7 @@ struct DrawState {
   glm::mat4 mvp{1.0f};
   glm::mat3 normal_matrix{1.0f};
   RenderState state;
-  int64_t first_primitive_id = 0;  // id of the draw's first assembled triangle
+  int64_t first_primitive_id = 0;  // id of the draw's first assembled primitive
   // What the components of its vertices' Varyings hold: varying_layout_for()
   // of this draw, set when the frame state is built. The default is the same
   // colour-only layout, so a DrawState built by hand (tests) is consistent.

@@ -19,7 +19,7 @@ bool is_finite(const glm::vec4& v) {
 
 Clipper::Clipper(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame)
     : PipelineStage(name, "clipper", -1, config, frame, "batches and control tokens read",
-                    "triangles and control tokens written"),
+                    "primitives and control tokens written"),
       in("in"),
       out("out"),
       m_cache(config.vertex_cache_entries) {
@@ -36,6 +36,8 @@ Clipper::Clipper(sc_core::sc_module_name name, const GpuConfig& config, const Fr
   // A triangle cut by all 7 planes has at most 10 vertices.
   m_poly.reserve(16);
   m_next.reserve(16);
+  m_flags.reserve(16);
+  m_next_flags.reserve(16);
   m_dist.reserve(16);
   m_window.reserve(16);
   m_out.reserve(4 * kVertexBatchSlots);
@@ -63,7 +65,8 @@ void Clipper::run() {
 uint64_t Clipper::process_batch(const ShadedBatch& batch) {
   const DrawState& draw = m_frame.draws.at(batch.draw_id);
   m_varying_count = draw.varyings.count;
-  m_batch_triangles = 0;
+  m_state = &draw.state;
+  m_batch_primitives = 0;
   m_batch_extra = 0;
   Vertex v;
   for (uint32_t i = 0; i < batch.slot_count; ++i) {
@@ -87,7 +90,7 @@ uint64_t Clipper::process_batch(const ShadedBatch& batch) {
     }
     assemble(draw, batch.draw_id, batch.first_slot + i, v);
   }
-  return uint64_t{m_cost.ii} * (m_batch_triangles + m_batch_extra);
+  return uint64_t{m_cost.ii} * (m_batch_primitives + m_batch_extra);
 }
 
 void Clipper::assemble(const DrawState& draw, uint32_t draw_id, uint32_t slot, const Vertex& v) {
@@ -122,6 +125,34 @@ void Clipper::assemble(const DrawState& draw, uint32_t draw_id, uint32_t slot, c
         process_triangle(draw_id, draw.first_primitive_id + (slot - 2), m_reg[0], m_reg[1], v);
       // Register 0 keeps the fan's centre; register 1 the last vertex.
       m_reg[slot == 0 ? 0 : 1] = v;
+      break;
+    case PrimitiveType::points:
+      process_point(draw_id, draw.first_primitive_id + slot, v);
+      break;
+    case PrimitiveType::lines:
+      if (slot % 2 == 0) {
+        m_reg[0] = v;
+      } else {
+        process_line(draw_id, draw.first_primitive_id + slot / 2, m_reg[0], v, true, true);
+      }
+      break;
+    case PrimitiveType::line_strip:
+    case PrimitiveType::line_loop:
+      // Line i = slot - 1 from register 0 (the previous vertex); lines after
+      // the first share their first vertex with the previous line's last, so
+      // Bresenham draws it once (draw_first clear).
+      if (slot >= 1) {
+        process_line(draw_id, draw.first_primitive_id + (slot - 1), m_reg[0], v, slot == 1, true);
+      } else if (draw.primitive == PrimitiveType::line_loop) {
+        m_reg[1] = v;  // the loop's first vertex, kept until the draw's last slot
+      }
+      m_reg[0] = v;
+      // The loop's closing line (n - 1, 0), id n - 1: both of its ends are
+      // drawn by its neighbours. A draw's slot count is one of its registers.
+      if (draw.primitive == PrimitiveType::line_loop && slot >= 1 &&
+          slot + 1 == draw.buffers.slot_count) {
+        process_line(draw_id, draw.first_primitive_id + slot, v, m_reg[1], false, false);
+      }
       break;
   }
 }
@@ -162,7 +193,7 @@ ClippedVertex Clipper::to_window(const ShadedVertex& v) const {
 void Clipper::process_triangle(uint32_t draw_id, int64_t primitive_id, const Vertex& a,
                                const Vertex& b, const Vertex& c) {
   ++m_in;
-  ++m_batch_triangles;
+  ++m_batch_primitives;
   if (!(a.valid && b.valid && c.valid)) {
     ++m_invalid;
     return;
@@ -181,6 +212,13 @@ void Clipper::process_triangle(uint32_t draw_id, int64_t primitive_id, const Ver
     inside = distance(plane, a.v.clip) >= 0.0f && distance(plane, b.v.clip) >= 0.0f &&
              distance(plane, c.v.clip) >= 0.0f;
   }
+  const bool unfilled = m_state->polygon_mode != PolygonMode::fill;
+  if (inside && unfilled) {
+    m_poly.assign({a.v, b.v, c.v});
+    m_flags.assign({1, 1, 1});
+    draw_unfilled(t);
+    return;
+  }
   if (inside) {
     t.v = {to_window(a.v), to_window(b.v), to_window(c.v)};
     m_out.push_back(t);
@@ -189,7 +227,12 @@ void Clipper::process_triangle(uint32_t draw_id, int64_t primitive_id, const Ver
   }
 
   m_poly.assign({a.v, b.v, c.v});
-  clip_polygon();
+  if (unfilled) {
+    m_flags.assign({1, 1, 1});  // each original edge lies on the triangle
+    clip_polygon<true>();
+  } else {
+    clip_polygon<false>();
+  }
   const size_t n = m_poly.size();
   if (n < 3) {
     ++m_clipped_away;
@@ -200,6 +243,10 @@ void Clipper::process_triangle(uint32_t draw_id, int64_t primitive_id, const Ver
   const bool unchanged = n == 3 && m_poly[0].clip == a.v.clip && m_poly[1].clip == b.v.clip &&
                          m_poly[2].clip == c.v.clip;
   if (!unchanged) ++m_clipped;
+  if (unfilled) {
+    draw_unfilled(t);
+    return;
+  }
   m_window.clear();
   for (const ShadedVertex& p : m_poly) m_window.push_back(to_window(p));
   for (size_t i = 1; i + 1 < n; ++i) {
@@ -210,6 +257,162 @@ void Clipper::process_triangle(uint32_t draw_id, int64_t primitive_id, const Ver
   m_batch_extra += n - 3;
 }
 
+void Clipper::draw_unfilled(ClippedPrimitive& t) {
+  const size_t n = m_poly.size();
+  m_window.clear();
+  for (const ShadedVertex& p : m_poly) m_window.push_back(to_window(p));
+  // Twice the polygon's signed area from its snapped vertices, by the
+  // shoelace formula: integer arithmetic is exact, so it equals the spec's
+  // sum of the fan triangles' area2. |X|, |Y| <= 2^24 (snapping saturates),
+  // so each product is below 2^49 and 10 of them fit int64 easily.
+  EdgeValue area2 = 0;
+  Subpixel x0 = snap_to_subpixel(m_window[n - 1].x), y0 = snap_to_subpixel(m_window[n - 1].y);
+  for (size_t i = 0; i < n; ++i) {
+    const Subpixel x1 = snap_to_subpixel(m_window[i].x), y1 = snap_to_subpixel(m_window[i].y);
+    area2 += EdgeValue{x0} * y1 - EdgeValue{x1} * y0;
+    x0 = x1;
+    y0 = y1;
+  }
+  if (area2 == 0) {
+    ++m_unfilled_degenerate;
+    return;
+  }
+  // Facing and culling on the whole polygon (spec section 7's rule).
+  const bool front = (m_state->front_face == FrontFace::ccw) == (area2 > 0);
+  if ((m_state->cull == CullMode::back && !front) || (m_state->cull == CullMode::front && front)) {
+    ++m_unfilled_culled;
+    return;
+  }
+  ++m_unfilled;
+  const bool lines = m_state->polygon_mode == PolygonMode::line;
+  t.primitive_kind = lines ? PrimitiveKind::line : PrimitiveKind::point;
+  t.vertex_count = vertex_count_of(t.primitive_kind);
+  // Every polygon vertex starts one edge: Bresenham draws each vertex once.
+  t.draw_first = true;
+  t.draw_last = false;
+  uint64_t emitted = 0;
+  for (size_t i = 0; i < n; ++i) {
+    if (!m_flags[i]) continue;
+    t.v[0] = m_window[i];
+    if (lines) t.v[1] = m_window[i + 1 == n ? 0 : i + 1];
+    m_out.push_back(t);
+    ++emitted;
+  }
+  if (lines) {
+    m_lines_out += emitted;
+    m_unfilled_lines += emitted;
+  } else {
+    m_points_out += emitted;
+    m_unfilled_points += emitted;
+  }
+  if (emitted > 1) m_batch_extra += emitted - 1;
+}
+
+void Clipper::process_line(uint32_t draw_id, int64_t primitive_id, const Vertex& a, const Vertex& b,
+                           bool draw_first, bool draw_last) {
+  ++m_lines_in;
+  ++m_batch_primitives;
+  if (!(a.valid && b.valid)) {
+    ++m_lines_invalid;
+    return;
+  }
+  ShadedVertex p = a.v, q = b.v;
+  // Outcodes: inside every plane passes untouched; both endpoints outside
+  // one plane can have no part inside.
+  bool inside = true, reject = false;
+  for (int plane = 0; plane < kPlanes; ++plane) {
+    const bool in_p = distance(plane, p.clip) >= 0.0f, in_q = distance(plane, q.clip) >= 0.0f;
+    inside = inside && in_p && in_q;
+    reject = reject || (!in_p && !in_q);
+  }
+  if (reject) {
+    ++m_lines_clipped_away;
+    return;
+  }
+  if (!inside) {
+    // Plane by plane on the current endpoints: an earlier cut can leave
+    // both outside a later plane.
+    for (int plane = 0; plane < kPlanes; ++plane) {
+      const float dp = distance(plane, p.clip), dq = distance(plane, q.clip);
+      const bool in_p = dp >= 0.0f, in_q = dq >= 0.0f;
+      if (in_p && in_q) continue;
+      if (!in_p && !in_q) {
+        ++m_lines_clipped_away;
+        return;
+      }
+      const ShadedVertex v = cut(plane, p, q, dp, dq);
+      (in_p ? q : p) = v;
+    }
+    ++m_lines_clipped;
+  }
+  ClippedPrimitive l;
+  l.kind = PacketKind::work;
+  l.primitive_kind = PrimitiveKind::line;
+  l.vertex_count = vertex_count_of(PrimitiveKind::line);
+  l.draw_id = draw_id;
+  l.primitive_id = primitive_id;
+  l.v[0] = to_window(p);
+  l.v[1] = to_window(q);
+  l.flat_varyings = b.v.varyings;  // the provoking (last) vertex, unclipped
+  l.draw_first = draw_first;
+  l.draw_last = draw_last;
+  m_out.push_back(l);
+  ++m_lines_out;
+}
+
+void Clipper::process_point(uint32_t draw_id, int64_t primitive_id, const Vertex& a) {
+  ++m_points_in;
+  ++m_batch_primitives;
+  if (!a.valid) {
+    ++m_points_invalid;
+    return;
+  }
+  // The view volume itself, not the guard band: a point is drawn whole or
+  // not at all (spec section 4c).
+  const glm::vec4& c = a.v.clip;
+  const bool inside = c.w - kMinClipW >= 0.0f && c.x + c.w >= 0.0f && c.w - c.x >= 0.0f &&
+                      c.y + c.w >= 0.0f && c.w - c.y >= 0.0f && c.z + c.w >= 0.0f &&
+                      c.w - c.z >= 0.0f;
+  if (!inside) {
+    ++m_points_clipped_away;
+    return;
+  }
+  ClippedPrimitive pt;
+  pt.kind = PacketKind::work;
+  pt.primitive_kind = PrimitiveKind::point;
+  pt.vertex_count = vertex_count_of(PrimitiveKind::point);
+  pt.draw_id = draw_id;
+  pt.primitive_id = primitive_id;
+  pt.v[0] = to_window(a.v);
+  pt.flat_varyings = a.v.varyings;
+  m_out.push_back(pt);
+  ++m_points_out;
+}
+
+ShadedVertex Clipper::cut(int plane, const ShadedVertex& i, const ShadedVertex& j, float di,
+                          float dj) const {
+  // Cut from the endpoint nearer the plane (the inside one on a tie): t
+  // stays small, and the cut depends only on the edge, so two triangles
+  // sharing it (or a line along it) cut it at the same point.
+  const bool in_i = di >= 0.0f;
+  const bool from_i = std::fabs(di) < std::fabs(dj) || (std::fabs(di) == std::fabs(dj) && in_i);
+  const ShadedVertex& p = from_i ? i : j;
+  const ShadedVertex& q = from_i ? j : i;
+  const float dp = from_i ? di : dj;
+  const float dq = from_i ? dj : di;
+  const float t = dp / (dp - dq);
+  // Every component, position and varyings alike, by the same formula.
+  ShadedVertex v;
+  for (int k = 0; k < 4; ++k) v.clip[k] = p.clip[k] + t * (q.clip[k] - p.clip[k]);
+  for (unsigned k = 0; k < m_varying_count; ++k)
+    v.varyings[k] = p.varyings[k] + t * (q.varyings[k] - p.varyings[k]);
+  // Rounding can leave the cut at or below w = 0; keep 1/w finite. (As
+  // std::max: a NaN w would stay NaN; finite inputs give none.)
+  if (plane == 0) v.clip.w = std::max(v.clip.w, kMinClipW);
+  return v;
+}
+
+template <bool kEdgeFlags>
 void Clipper::clip_polygon() {
   for (int plane = 0; plane < kPlanes && !m_poly.empty(); ++plane) {
     const size_t n = m_poly.size();
@@ -221,32 +424,23 @@ void Clipper::clip_polygon() {
     }
     if (all_inside) continue;
     m_next.clear();
+    if (kEdgeFlags) m_next_flags.clear();
     for (size_t i = 0; i < n; ++i) {
       const size_t j = i + 1 == n ? 0 : i + 1;
       const float di = m_dist[i], dj = m_dist[j];
       const bool in_i = di >= 0.0f, in_j = dj >= 0.0f;
-      if (in_i) m_next.push_back(m_poly[i]);
+      if (in_i) {
+        m_next.push_back(m_poly[i]);
+        if (kEdgeFlags) m_next_flags.push_back(m_flags[i]);
+      }
       if (in_i == in_j) continue;
-      // Cut from the endpoint nearer the plane (the inside one on a tie):
-      // t stays small, and the cut depends only on the edge, so two
-      // triangles sharing it cut it at the same point.
-      const bool from_i = std::fabs(di) < std::fabs(dj) || (std::fabs(di) == std::fabs(dj) && in_i);
-      const ShadedVertex& p = from_i ? m_poly[i] : m_poly[j];
-      const ShadedVertex& q = from_i ? m_poly[j] : m_poly[i];
-      const float dp = from_i ? di : dj;
-      const float dq = from_i ? dj : di;
-      const float t = dp / (dp - dq);
-      // Every component, position and varyings alike, by the same formula.
-      ShadedVertex v;
-      for (int k = 0; k < 4; ++k) v.clip[k] = p.clip[k] + t * (q.clip[k] - p.clip[k]);
-      for (unsigned k = 0; k < m_varying_count; ++k)
-        v.varyings[k] = p.varyings[k] + t * (q.varyings[k] - p.varyings[k]);
-      // Rounding can leave the cut at or below w = 0; keep 1/w finite. (As
-      // std::max: a NaN w would stay NaN; finite inputs give none.)
-      if (plane == 0) v.clip.w = std::max(v.clip.w, kMinClipW);
-      m_next.push_back(v);
+      m_next.push_back(cut(plane, m_poly[i], m_poly[j], di, dj));
+      // Leaving the inside, the edge from the cut runs along the plane;
+      // entering, it is the rest of edge i.
+      if (kEdgeFlags) m_next_flags.push_back(in_i ? 0 : m_flags[i]);
     }
     m_poly.swap(m_next);
+    if (kEdgeFlags) m_flags.swap(m_next_flags);
   }
   if (m_poly.size() < 3) m_poly.clear();
 }

@@ -1,35 +1,67 @@
 // Clipper: primitive assembly, the data half of the post-transform vertex
-// cache, invalid-triangle removal, clipping, perspective divide and viewport
-// (docs/pipeline-spec.md, sections 3 to 5).
+// cache, invalid-primitive removal, clipping, perspective divide and viewport
+// (docs/pipeline-spec.md, sections 3 to 5), and polygon mode's facing
+// decision (section 4d).
 //
 // - Assembly: each slot of a batch yields a vertex: a fetched slot's shaded
 //   vertex (stored into its cache entry when it has one), a cached slot's
-//   entry, or nothing for an invalid slot. Lists, strips (odd triangles swap
-//   their first two vertices) and fans are assembled from a few registers
-//   that carry over batch boundaries; a batch with first_slot 0 starts a draw.
-//   Triangle k of a draw gets primitive id first_primitive_id + k, counting
-//   every assembled triangle, including the ones dropped below.
-// - A triangle with an invalid vertex or a non-finite clip coordinate is
-//   dropped (triangles_invalid).
-// - Clipping: all 7 plane distances of the 3 vertices are computed at once;
+//   entry, or nothing for an invalid slot. Every primitive type is assembled
+//   from two registers that carry over batch boundaries; a batch with
+//   first_slot 0 starts a draw:
+//     triangles: the triangle's first two vertices; strips: the last two
+//     (odd triangles swap their first two vertices); fans: the first and the
+//     last; lines: the line's first vertex; line strips: the previous
+//     vertex; line loops: the previous vertex and the draw's first, which
+//     closes the loop when the draw's last slot arrives (slot + 1 = the
+//     draw's slot_count register, DrawBuffers); points need none.
+//   Primitive k of a draw gets id first_primitive_id + k, counting every
+//   assembled primitive, including the ones dropped below. A line carries
+//   the Bresenham end flags of section 3: a strip's (and a loop's) lines
+//   after the first clear draw_first, a loop's closing line clears both.
+// - A primitive with an invalid vertex or a non-finite clip coordinate is
+//   dropped (triangles_invalid, lines_invalid, points_invalid).
+// - Triangles: all 7 plane distances of the 3 vertices are computed at once;
 //   a triangle inside every plane (the common case) passes untouched.
 //   Otherwise Sutherland-Hodgman runs plane by plane on a small polygon
 //   buffer, cutting each edge from its endpoint nearer the plane, with the
 //   plane-0 w floor; fewer than 3 vertices left is clipped away. The polygon
 //   is split into the fan (p0, p_i, p_i+1).
+// - Lines (section 4b): the 7 distances of both endpoints give the outcodes:
+//   inside every plane passes untouched, both outside one plane is clipped
+//   away. Otherwise the planes are walked in order and the outside endpoint
+//   replaced by the cut, with the triangles' cut code (one function, so the
+//   float operations are the same).
+// - Points (section 4c): kept whole when the vertex is inside the view
+//   volume (not the guard band), else dropped.
+// - Polygon mode line or point (section 4d): the triangle is clipped as
+//   above, each polygon vertex also carrying an edge flag (the edge from it
+//   lies on the triangle's boundary). The polygon is mapped to window
+//   coordinates and snapped, and its doubled area, the shoelace sum of the
+//   snapped vertices (exactly the spec's fan sum in int64), decides
+//   degenerate (zero) and culling here, since this is the last stage that
+//   sees the whole polygon: triangles_degenerate and triangles_culled of the
+//   clipper, which Gpu::pipeline_counts adds to setup's. A surviving one
+//   (triangles_unfilled) becomes a line per flagged edge (draw_first set,
+//   draw_last clear) or a point per flagged vertex, in polygon order, with
+//   the triangle's primitive id and provoking varyings. These triangles do
+//   not count in triangles_after_clip.
 // - A cut vertex interpolates the clip position and every varying of the
 //   draw (its VaryingLayout's count, whatever they mean) with the same
 //   formula, in one loop.
 // - Each vertex is divided by w once (q = 1/w) and mapped to window
 //   coordinates, unsnapped; its varyings are multiplied by q for the
-//   interpolator's perspective correction. Every output triangle is a
-//   ClippedPrimitive of kind triangle carrying the provoking (third) vertex's
-//   varyings of the original triangle, for flat shading.
+//   interpolator's perspective correction. Every output is a
+//   ClippedPrimitive of kind triangle, line or point carrying the provoking
+//   vertex's varyings of the assembled primitive (the last one; a loop's
+//   closing line: the draw's first vertex), for flat shading.
 //
-// Cost model, per batch: busy = ii(clipper) x (triangles assembled + extra
-// triangles), where a clipped triangle split into n > 1 triangles adds n - 1
-// extra. Slots that complete no triangle cost nothing. The output triangles
-// are written after that and readable by setup latency(clipper) cycles later.
+// Cost model, per batch: busy = ii(clipper) x (primitives assembled + extra
+// primitives), where a clipped triangle split into n > 1 triangles adds
+// n - 1 extra, and a polygon-mode triangle drawn as n > 1 lines or points
+// adds n - 1 extra (one per emitted primitive beyond the first; culled or
+// degenerate ones cost their one). A line or a point costs one, clipped or
+// not. Slots that complete no primitive cost nothing. The outputs are
+// written after that and readable by setup latency(clipper) cycles later.
 // Control tokens cost ii and are forwarded in order. No memory traffic: the
 // cache data is on-chip storage of vertex_cache_entries shaded vertices.
 #pragma once
@@ -55,33 +87,58 @@ class Clipper : public PipelineStage {
 
   Clipper(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame);
 
-  uint64_t triangles_in() const { return m_in; }
-  // The golden model's clipping counters (docs/pipeline-spec.md, section 13).
+  // Primitives of every kind assembled so far.
+  uint64_t primitives_in() const { return m_in + m_lines_in + m_points_in; }
+  // The golden model's counters this stage keeps (docs/pipeline-spec.md,
+  // section 13). triangles_degenerate and triangles_culled are polygon
+  // mode's only; Gpu::pipeline_counts adds setup's.
   nlohmann::json pipeline_counts() const {
     return {{"triangles_in", m_in},
             {"triangles_invalid", m_invalid},
             {"triangles_clipped_away", m_clipped_away},
             {"triangles_clipped", m_clipped},
-            {"triangles_after_clip", m_after_clip}};
+            {"triangles_after_clip", m_after_clip},
+            {"triangles_degenerate", m_unfilled_degenerate},
+            {"triangles_culled", m_unfilled_culled},
+            {"triangles_unfilled", m_unfilled},
+            {"lines_in", m_lines_in},
+            {"lines_invalid", m_lines_invalid},
+            {"lines_clipped_away", m_lines_clipped_away},
+            {"lines_clipped", m_lines_clipped},
+            {"points_in", m_points_in},
+            {"points_invalid", m_points_invalid},
+            {"points_clipped_away", m_points_clipped_away}};
   }
 
  private:
   static constexpr int kPlanes = 7;
 
-  // An assembly register: the vertex and whether a triangle may use it.
+  // An assembly register: the vertex and whether a primitive may use it.
   struct Vertex {
     ShadedVertex v;
     bool valid = false;  // index in range and every clip coordinate finite
   };
 
   void run();
-  // Cycles the batch costs; its output triangles are appended to m_out.
+  // Cycles the batch costs; its output primitives are appended to m_out.
   uint64_t process_batch(const ShadedBatch& batch);
   void assemble(const DrawState& draw, uint32_t draw_id, uint32_t slot, const Vertex& v);
   void process_triangle(uint32_t draw_id, int64_t primitive_id, const Vertex& a, const Vertex& b,
                         const Vertex& c);
-  // Sutherland-Hodgman on m_poly; leaves the clipped polygon there.
+  // Polygon mode line or point: the clipped polygon in m_poly (edge flags in
+  // m_flags) as lines or points, after the facing decision.
+  void draw_unfilled(ClippedPrimitive& t);
+  void process_line(uint32_t draw_id, int64_t primitive_id, const Vertex& a, const Vertex& b,
+                    bool draw_first, bool draw_last);
+  void process_point(uint32_t draw_id, int64_t primitive_id, const Vertex& a);
+  // Sutherland-Hodgman on m_poly; leaves the clipped polygon there. With
+  // kEdgeFlags, m_flags holds each vertex's edge flag and is clipped along.
+  template <bool kEdgeFlags>
   void clip_polygon();
+  // The point where the edge (i, j), exactly one endpoint inside `plane`
+  // (distances di, dj), crosses it; the same for either order of i and j.
+  ShadedVertex cut(int plane, const ShadedVertex& i, const ShadedVertex& j, float di,
+                   float dj) const;
   float distance(int plane, const glm::vec4& c) const;
   ClippedVertex to_window(const ShadedVertex& v) const;
 
@@ -90,14 +147,16 @@ class Clipper : public PipelineStage {
   float m_half_width = 0.0f, m_half_height = 0.0f;
 
   std::vector<Vertex> m_cache;  // post-transform cache storage, indexed by entry
-  // Assembly registers: lists keep the triangle's first two vertices, strips
-  // the last two, fans the first and the last.
+  // Assembly registers (see the header comment for what each type keeps).
   std::array<Vertex, 2> m_reg{};
-  uint64_t m_batch_triangles = 0;  // assembled in the current batch, for the cost
-  uint64_t m_batch_extra = 0;      // extra output triangles of clipped ones
-  unsigned m_varying_count = 0;    // components in use in the current batch's draw
+  uint64_t m_batch_primitives = 0;  // assembled in the current batch, for the cost
+  uint64_t m_batch_extra = 0;       // extra outputs of clipped and unfilled triangles
+  // The current batch's draw registers.
+  unsigned m_varying_count = 0;  // components in use
+  const RenderState* m_state = nullptr;
 
   std::vector<ShadedVertex> m_poly, m_next;  // reused: no allocation per triangle
+  std::vector<uint8_t> m_flags, m_next_flags;
   std::vector<float> m_dist;
   std::vector<ClippedVertex> m_window;
   std::vector<ClippedPrimitive> m_out;
@@ -114,7 +173,33 @@ class Clipper : public PipelineStage {
   uint64_t& m_clipped =
       m_stats.counter("triangles_clipped", "triangles", "cut by a plane, a part kept");
   uint64_t& m_after_clip =
-      m_stats.counter("triangles_after_clip", "triangles", "triangles written to setup");
+      m_stats.counter("triangles_after_clip", "triangles", "filled triangles written to setup");
+  uint64_t& m_unfilled_degenerate = m_stats.counter(
+      "triangles_degenerate", "triangles", "polygon mode line or point: zero area after snapping");
+  uint64_t& m_unfilled_culled = m_stats.counter("triangles_culled", "triangles",
+                                                "polygon mode line or point: removed by culling");
+  uint64_t& m_unfilled = m_stats.counter("triangles_unfilled", "triangles",
+                                         "polygon mode line or point: drawn as lines or points");
+  uint64_t& m_unfilled_lines =
+      m_stats.counter("unfilled_lines", "lines", "lines written for polygon mode line (edges)");
+  uint64_t& m_unfilled_points = m_stats.counter("unfilled_points", "points",
+                                                "points written for polygon mode point (vertices)");
+  uint64_t& m_lines_in = m_stats.counter("lines_in", "lines", "lines assembled");
+  uint64_t& m_lines_invalid = m_stats.counter("lines_invalid", "lines",
+                                              "dropped: index out of range or non-finite position");
+  uint64_t& m_lines_clipped_away =
+      m_stats.counter("lines_clipped_away", "lines", "nothing left inside the clip volume");
+  uint64_t& m_lines_clipped =
+      m_stats.counter("lines_clipped", "lines", "cut by a plane, a part kept");
+  uint64_t& m_lines_out = m_stats.counter(
+      "lines_out", "lines", "lines written to setup (assembled ones and polygon mode's)");
+  uint64_t& m_points_in = m_stats.counter("points_in", "points", "points assembled");
+  uint64_t& m_points_invalid = m_stats.counter(
+      "points_invalid", "points", "dropped: index out of range or non-finite position");
+  uint64_t& m_points_clipped_away =
+      m_stats.counter("points_clipped_away", "points", "vertex outside the view volume");
+  uint64_t& m_points_out = m_stats.counter(
+      "points_out", "points", "points written to setup (assembled ones and polygon mode's)");
 };
 
 }  // namespace gpusim

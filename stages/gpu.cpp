@@ -81,7 +81,11 @@ void Gpu::attach_trace(TraceProbes& probes) {
 
 nlohmann::json Gpu::pipeline_counts() const {
   nlohmann::json counts = m_clipper.pipeline_counts();
-  counts.update(m_setup.pipeline_counts());
+  // Counters both stages keep add up: polygon mode's triangles are
+  // degenerate or culled in the clipper, filled ones in setup.
+  const nlohmann::json setup = m_setup.pipeline_counts();
+  for (const auto& [key, value] : setup.items())
+    counts[key] = counts.value(key, uint64_t{0}) + value.get<uint64_t>();
   uint64_t generated = 0, passed = 0, written = 0;
   for (const Unit& u : m_units) {
     generated += u.rasterizer->fragments();

@@ -66,8 +66,8 @@ class Gpu : public sc_core::sc_module {
   // the fragment probe. `probes` must outlive the simulation.
   void attach_trace(TraceProbes& probes);
 
-  // Assembled triangles the clipper has taken in so far (for progress lines).
-  uint64_t triangles_assembled() const { return m_clipper.triangles_in(); }
+  // Primitives the clipper has assembled so far (for progress lines).
+  uint64_t primitives_assembled() const { return m_clipper.primitives_in(); }
 
   // Everything stats.json reports about the run: per stage busy / stalled /
   // starved cycles and its own counters, per FIFO occupancy, per unit work,

@@ -6,7 +6,7 @@
 // For each batch:
 // - indexed draws read the batch's indices (uint32) in one request;
 // - each slot's vertex index is classified: an index >= vertex_count is
-//   invalid (nothing is read; the clipper drops its triangles); otherwise,
+//   invalid (nothing is read; the clipper drops its primitives); otherwise,
 //   for indexed draws with a cache, a tag hit is a `cached` slot and a miss
 //   takes the next entry in FIFO order (the oldest, once full) and becomes a
 //   `fetched` slot; non-indexed draws bypass the cache, every slot is fetched.

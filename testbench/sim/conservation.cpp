@@ -68,8 +68,10 @@ struct Context {
   const NetlistTables::Stage& stage;
   uint64_t draws = 0;      // in the frame
   uint64_t slots = 0;      // vertex slots of the frame's draws
-  uint64_t triangles = 0;  // assembled from them
-  uint64_t control = 0;    // control tokens every stage forwards (clears + frames)
+  uint64_t triangles = 0;  // assembled from them, by kind
+  uint64_t lines = 0;
+  uint64_t points = 0;
+  uint64_t control = 0;  // control tokens every stage forwards (clears + frames)
   uint64_t units = 0;
 
   uint64_t get(const std::string& counter) const { return l.stage(name, counter); }
@@ -117,44 +119,89 @@ const std::map<std::string, Rule>& rules() {
        }},
       {"clipper",
        [](Context& c) {
-         // Triangles in = invalid + clipped away + survivors; every survivor
-         // leaves as one triangle or more.
-         const uint64_t in = c.get("triangles_in");
-         const uint64_t dropped = c.get("triangles_invalid") + c.get("triangles_clipped_away");
+         // Per kind, primitives in = invalid + clipped away + survivors.
+         // A filled triangle leaves as one triangle or more; a polygon-mode
+         // one (line or point) is degenerate, culled or unfilled here, and
+         // an unfilled one leaves as lines or points; an assembled line or
+         // point leaves as itself.
+         const auto survivors = [&c](const std::string& kind, uint64_t assembled) {
+           const uint64_t in = c.get(kind + "_in");
+           const uint64_t dropped = c.get(kind + "_invalid") + c.get(kind + "_clipped_away");
+           c.l.equal(c.name, kind + "_in", in, kind + " assembled from the frame's draws",
+                     assembled);
+           c.l.at_most(c.name, kind + "_invalid + " + kind + "_clipped_away", dropped, kind + "_in",
+                       in);
+           return in >= dropped ? in - dropped : 0;
+         };
+         const uint64_t triangles = survivors("triangles", c.triangles);
+         const uint64_t lines = survivors("lines", c.lines);
+         const uint64_t points = survivors("points", c.points);
          const uint64_t after = c.get("triangles_after_clip");
-         c.l.equal(c.name, "triangles_in", in, "triangles assembled from the frame's draws",
-                   c.triangles);
-         c.l.at_most(c.name, "triangles_invalid + triangles_clipped_away", dropped, "triangles_in",
-                     in);
-         const uint64_t survivors = in >= dropped ? in - dropped : 0;
-         c.l.at_most(c.name, "survivors (triangles_in - invalid - clipped_away)", survivors,
-                     "triangles_after_clip", after);
-         c.l.at_most(c.name, "triangles_clipped", c.get("triangles_clipped"), "survivors",
-                     survivors);
+         const uint64_t unfilled = c.get("triangles_unfilled");
+         const uint64_t polygon_mode =
+             c.get("triangles_degenerate") + c.get("triangles_culled") + unfilled;
+         c.l.at_most(c.name, "polygon-mode triangles (degenerate + culled + unfilled)",
+                     polygon_mode, "triangle survivors", triangles);
+         const uint64_t filled = triangles >= polygon_mode ? triangles - polygon_mode : 0;
+         c.l.at_most(c.name, "filled survivors", filled, "triangles_after_clip", after);
+         c.l.at_most(c.name, "triangles_clipped", c.get("triangles_clipped"), "triangle survivors",
+                     triangles);
+         c.l.at_most(c.name, "lines_clipped", c.get("lines_clipped"), "line survivors", lines);
+         const uint64_t lines_out = c.get("lines_out"), points_out = c.get("points_out");
+         c.l.equal(c.name, "lines_out", lines_out, "line survivors + unfilled_lines",
+                   lines + c.get("unfilled_lines"));
+         c.l.equal(c.name, "points_out", points_out, "point survivors + unfilled_points",
+                   points + c.get("unfilled_points"));
+         if (unfilled == 0) {
+           c.l.equal(c.name, "unfilled_lines + unfilled_points",
+                     c.get("unfilled_lines") + c.get("unfilled_points"),
+                     "lines and points of triangles_unfilled", 0);
+         }
          c.l.equal(c.name, "cache_reads", c.get("cache_reads"), "vertex_fetch.cache_hits",
                    c.l.stage("vertex_fetch", "cache_hits"));
          c.l.equal(c.name, "tokens_in", c.get("tokens_in"), "vertex_fetch batches + control tokens",
                    c.l.stage("vertex_fetch", "batches") + c.control);
          c.l.equal(c.name, "tokens_out", c.get("tokens_out"),
-                   "triangles_after_clip + control tokens", after + c.control);
+                   "triangles_after_clip + lines_out + points_out + control tokens",
+                   after + lines_out + points_out + c.control);
        }},
       {"triangle_setup",
        [](Context& c) {
-         // Triangles in = degenerate + culled + rasterized; the rasterized
-         // ones leave unless their box holds no pixel centre.
+         // Primitives in = the clipper's outputs. Triangles in = degenerate
+         // + culled + rasterized (setup's own counters: polygon mode's are
+         // the clipper's); lines in = degenerate + rasterized; points in =
+         // rasterized. The rasterized ones leave unless their box holds no
+         // pixel. Line and point counters are read when the clipper wrote
+         // lines or points.
          const std::string cl = c.upstream();
          const uint64_t after = c.l.stage(cl, "triangles_after_clip");
+         const uint64_t lines = c.l.stage(cl, "lines_out");
+         const uint64_t points = c.l.stage(cl, "points_out");
          const uint64_t rasterized = c.get("triangles_rasterized");
          const uint64_t offscreen = c.get("triangles_offscreen");
          c.l.equal(c.name, "tokens_in", c.get("tokens_in"),
-                   cl + ".triangles_after_clip + control tokens", after + c.control);
+                   cl + ".triangles_after_clip + lines_out + points_out + control tokens",
+                   after + lines + points + c.control);
          c.l.equal(c.name, cl + ".triangles_after_clip", after,
                    "triangles_degenerate + triangles_culled + triangles_rasterized",
                    c.get("triangles_degenerate") + c.get("triangles_culled") + rasterized);
          c.l.at_most(c.name, "triangles_offscreen", offscreen, "triangles_rasterized", rasterized);
+         uint64_t sent = rasterized >= offscreen ? rasterized - offscreen : 0;
+         if (lines > 0) {
+           const uint64_t lr = c.get("lines_rasterized"), lo = c.get("lines_offscreen");
+           c.l.equal(c.name, cl + ".lines_out", lines, "lines_degenerate + lines_rasterized",
+                     c.get("lines_degenerate") + lr);
+           c.l.at_most(c.name, "lines_offscreen", lo, "lines_rasterized", lr);
+           sent += lr >= lo ? lr - lo : 0;
+         }
+         if (points > 0) {
+           const uint64_t pr = c.get("points_rasterized"), po = c.get("points_offscreen");
+           c.l.equal(c.name, cl + ".points_out", points, "points_rasterized", pr);
+           c.l.at_most(c.name, "points_offscreen", po, "points_rasterized", pr);
+           sent += pr >= po ? pr - po : 0;
+         }
          c.l.equal(c.name, "tokens_out", c.get("tokens_out"),
-                   "triangles_rasterized - triangles_offscreen + control tokens",
-                   (rasterized >= offscreen ? rasterized - offscreen : 0) + c.control);
+                   "primitives rasterized - offscreen + control tokens", sent + c.control);
        }},
       {"tile_distributor",
        [](Context& c) {
@@ -268,10 +315,11 @@ std::vector<std::string> conservation_errors(const nlohmann::json& stats,
   uint64_t units = 0;
   for (const NetlistTables::Stage& s : netlist.stages)
     units = std::max<uint64_t>(units, s.unit + 1);
-  uint64_t slots = 0, triangles = 0;
+  uint64_t slots = 0, assembled[3] = {0, 0, 0};  // by PrimitiveClass
   for (const DrawState& d : frame.draws) {
     slots += d.buffers.slot_count;
-    triangles += primitive_count(d.primitive, d.buffers.slot_count);
+    assembled[static_cast<int>(primitive_class(d.primitive))] +=
+        primitive_count(d.primitive, d.buffers.slot_count);
   }
   const uint64_t control =
       l.stage("command_processor", "clears") + l.stage("command_processor", "frames");
@@ -281,7 +329,9 @@ std::vector<std::string> conservation_errors(const nlohmann::json& stats,
     Context c{l, s.name, netlist, s};
     c.draws = frame.draws.size();
     c.slots = slots;
-    c.triangles = triangles;
+    c.triangles = assembled[static_cast<int>(PrimitiveClass::triangle)];
+    c.lines = assembled[static_cast<int>(PrimitiveClass::line)];
+    c.points = assembled[static_cast<int>(PrimitiveClass::point)];
     c.control = control;
     c.units = units;
     rule->second(c);
@@ -316,35 +366,75 @@ std::vector<std::string> pipeline_count_errors(const nlohmann::json& counts) {
                  away = get("triangles_clipped_away"), clipped = get("triangles_clipped"),
                  after = get("triangles_after_clip"), degenerate = get("triangles_degenerate"),
                  culled = get("triangles_culled"), rasterized = get("triangles_rasterized"),
-                 generated = get("fragments_generated"), passed = get("fragments_passed_depth"),
-                 written = get("fragments_written");
+                 unfilled = get("triangles_unfilled"), generated = get("fragments_generated"),
+                 passed = get("fragments_passed_depth"), written = get("fragments_written");
   const auto fail = [&](const std::string& what) { errors.push_back(what); };
-  if (invalid + away > in) {
-    fail("triangles_invalid + triangles_clipped_away = " + std::to_string(invalid + away) +
-         " exceeds triangles_in = " + std::to_string(in));
+  const auto n = [](uint64_t v) { return std::to_string(v); };
+  // Survivors of the clipper of one kind: in - invalid - clipped away.
+  const auto survivors = [&](const std::string& kind, uint64_t in_k, uint64_t invalid_k,
+                             uint64_t away_k) -> uint64_t {
+    if (invalid_k + away_k > in_k) {
+      fail(kind + "_invalid + " + kind + "_clipped_away = " + n(invalid_k + away_k) + " exceeds " +
+           kind + "_in = " + n(in_k));
+      return 0;
+    }
+    return in_k - invalid_k - away_k;
+  };
+
+  // Triangles. The survivors leave filled (one triangles_after_clip each or
+  // more, then degenerate, culled or rasterized in setup) or in polygon mode
+  // (degenerate, culled or unfilled in the clipper, not after_clip): the
+  // difference below counts the latter.
+  const uint64_t survived = survivors("triangles", in, invalid, away);
+  const uint64_t ended = degenerate + culled + rasterized + unfilled;
+  if (ended < after) {
+    fail("triangles_degenerate + triangles_culled + triangles_rasterized + triangles_unfilled = " +
+         n(ended) + " is below triangles_after_clip = " + n(after));
   } else {
-    const uint64_t survivors = in - invalid - away;
-    if (after < survivors) {
-      fail("triangles_after_clip = " + std::to_string(after) + " is below the " +
-           std::to_string(survivors) + " triangles the clipper kept");
-    }
-    if (clipped > survivors) {
-      fail("triangles_clipped = " + std::to_string(clipped) + " exceeds the " +
-           std::to_string(survivors) + " triangles the clipper kept");
+    const uint64_t polygon_mode = ended - after;
+    if (polygon_mode < unfilled || polygon_mode > survived) {
+      fail("polygon-mode triangles (degenerate + culled + rasterized + unfilled - after_clip) = " +
+           n(polygon_mode) + " is not between triangles_unfilled = " + n(unfilled) + " and the " +
+           n(survived) + " triangles the clipper kept");
+    } else if (after < survived - polygon_mode) {
+      fail("triangles_after_clip = " + n(after) + " is below the " + n(survived - polygon_mode) +
+           " filled triangles the clipper kept");
     }
   }
-  if (after != degenerate + culled + rasterized) {
-    fail("triangles_after_clip = " + std::to_string(after) +
-         ", but triangles_degenerate + triangles_culled + triangles_rasterized = " +
-         std::to_string(degenerate + culled + rasterized));
+  if (clipped > survived) {
+    fail("triangles_clipped = " + n(clipped) + " exceeds the " + n(survived) +
+         " triangles the clipper kept");
   }
+
+  // Lines and points: the survivors are rasterized (or degenerate), and so
+  // are polygon mode's lines and points, which exist only with unfilled
+  // triangles.
+  const uint64_t lines =
+      survivors("lines", get("lines_in"), get("lines_invalid"), get("lines_clipped_away"));
+  const uint64_t lines_clipped = get("lines_clipped");
+  const uint64_t lines_set_up = get("lines_rasterized") + get("lines_degenerate");
+  if (lines_clipped > lines) {
+    fail("lines_clipped = " + n(lines_clipped) + " exceeds the " + n(lines) +
+         " lines the clipper kept");
+  }
+  if (lines_set_up < lines || (unfilled == 0 && lines_set_up != lines)) {
+    fail("lines_rasterized + lines_degenerate = " + n(lines_set_up) + ", but the clipper kept " +
+         n(lines) + " lines and " + n(unfilled) + " unfilled triangles");
+  }
+  const uint64_t points =
+      survivors("points", get("points_in"), get("points_invalid"), get("points_clipped_away"));
+  const uint64_t points_set_up = get("points_rasterized");
+  if (points_set_up < points || (unfilled == 0 && points_set_up != points)) {
+    fail("points_rasterized = " + n(points_set_up) + ", but the clipper kept " + n(points) +
+         " points and " + n(unfilled) + " unfilled triangles");
+  }
+
   if (passed > generated) {
-    fail("fragments_passed_depth = " + std::to_string(passed) +
-         " exceeds fragments_generated = " + std::to_string(generated));
+    fail("fragments_passed_depth = " + n(passed) +
+         " exceeds fragments_generated = " + n(generated));
   }
   if (written > passed) {
-    fail("fragments_written = " + std::to_string(written) +
-         " exceeds fragments_passed_depth = " + std::to_string(passed));
+    fail("fragments_written = " + n(written) + " exceeds fragments_passed_depth = " + n(passed));
   }
   return errors;
 }

@@ -38,12 +38,12 @@ uint64_t append(std::vector<uint8_t>& memory, const T* data, size_t count) {
 class Host : public sc_core::sc_module {
  public:
   SC_HAS_PROCESS(Host);
-  Host(sc_core::sc_module_name name, Gpu& gpu, size_t draws, uint64_t triangles, bool progress,
+  Host(sc_core::sc_module_name name, Gpu& gpu, size_t draws, uint64_t primitives, bool progress,
        sc_core::sc_time cycle, bool withhold_end_of_frame = false)
       : sc_core::sc_module(name),
         m_gpu(gpu),
         m_draws(draws),
-        m_triangles(triangles),
+        m_primitives(primitives),
         m_withhold_end_of_frame(withhold_end_of_frame),
         m_cycle(cycle),
         m_interval(cycle * 100000.0) {
@@ -87,9 +87,9 @@ class Host : public sc_core::sc_module {
       if (wall < 1.0 || wall - last < 0.2 || done) continue;
       last = wall;
       const double cycles = sc_core::sc_time_stamp() / m_cycle;
-      std::fprintf(stderr, "\r  %llu of %llu triangles assembled, %.3g cycles, %.3g cycles/s   ",
-                   static_cast<unsigned long long>(m_gpu.triangles_assembled()),
-                   static_cast<unsigned long long>(m_triangles), cycles, cycles / wall);
+      std::fprintf(stderr, "\r  %llu of %llu primitives assembled, %.3g cycles, %.3g cycles/s   ",
+                   static_cast<unsigned long long>(m_gpu.primitives_assembled()),
+                   static_cast<unsigned long long>(m_primitives), cycles, cycles / wall);
       shown = true;
     }
     if (shown) std::fprintf(stderr, "\n");
@@ -97,7 +97,7 @@ class Host : public sc_core::sc_module {
 
   Gpu& m_gpu;
   size_t m_draws;
-  uint64_t m_triangles;  // assembled triangles in the frame
+  uint64_t m_primitives;  // primitives of every kind assembled in the frame
   bool m_withhold_end_of_frame;
   sc_core::sc_time m_cycle;
   sc_core::sc_time m_interval;
@@ -247,9 +247,9 @@ GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOp
                                                options.trace_scene);
     gpu.attach_trace(*recorder);
   }
-  uint64_t triangles = 0;
-  for (const Draw& d : scene.draws) triangles += primitive_count(d.primitive, d.vertex_count());
-  Host host("host", gpu, scene.draws.size(), triangles, options.progress, config.cycle(),
+  uint64_t primitives = 0;
+  for (const Draw& d : scene.draws) primitives += primitive_count(d.primitive, d.vertex_count());
+  Host host("host", gpu, scene.draws.size(), primitives, options.progress, config.cycle(),
             options.fault_withhold_end_of_frame);
   std::unique_ptr<Watchdog> watchdog;
   if (options.watchdog) watchdog = std::make_unique<Watchdog>("watchdog", gpu, config);

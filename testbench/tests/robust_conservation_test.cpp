@@ -124,6 +124,10 @@ TEST_F(Doctored, EveryMismatchIsCaught) {
       {"stages", "vertex_shader", "vertices_shaded", -1, "vertex_shader: vertices_shaded"},
       {"stages", "clipper", "triangles_in", +1, "clipper: triangles_in"},
       {"stages", "clipper", "triangles_after_clip", -1, "clipper"},
+      // Lines and points the clipper says it wrote, which no FIFO carried.
+      {"stages", "clipper", "lines_out", +1, "clipper: lines_out"},
+      {"stages", "clipper", "unfilled_points", +1, "clipper: points_out"},
+      {"stages", "clipper", "triangles_culled", +1000000, "clipper: polygon-mode triangles"},
       {"stages", "triangle_setup", "triangles_culled", +1,
        "triangle_setup: clipper.triangles_after_clip"},
       {"stages", "triangle_setup", "triangles_degenerate", -1, "triangle_setup"},
@@ -176,6 +180,64 @@ TEST(PipelineCounts, DoctoredGoldenCountsAreCaught) {
   missing.erase("triangles_in");
   EXPECT_NE(joined(pipeline_count_errors(missing)).find("triangles_in: missing"),
             std::string::npos);
+}
+
+// Counters of a frame with every kind, made up by hand to satisfy section 13:
+// 10 triangles, 1 invalid, 1 clipped away; of the 8 kept, 6 filled (one cut
+// in two: 7 after clip; setup: 1 degenerate, 1 culled, 5 rasterized) and 2
+// in polygon mode line (1 culled, 1 unfilled drawn as 3 lines). 5 lines, 1
+// invalid, 1 clipped away, 1 clipped; 3 kept + 3 = 5 rasterized and 1
+// degenerate. 4 points, 2 clipped away, 2 rasterized.
+nlohmann::json every_kind_counts() {
+  return {{"triangles_in", 10u},     {"triangles_invalid", 1u},     {"triangles_clipped_away", 1u},
+          {"triangles_clipped", 1u}, {"triangles_after_clip", 7u},  {"triangles_degenerate", 1u},
+          {"triangles_culled", 2u},  {"triangles_rasterized", 5u},  {"triangles_unfilled", 1u},
+          {"lines_in", 5u},          {"lines_invalid", 1u},         {"lines_clipped_away", 1u},
+          {"lines_clipped", 1u},     {"lines_degenerate", 1u},      {"lines_rasterized", 5u},
+          {"points_in", 4u},         {"points_invalid", 0u},        {"points_clipped_away", 2u},
+          {"points_rasterized", 2u}, {"fragments_generated", 100u}, {"fragments_passed_depth", 90u},
+          {"fragments_written", 80u}};
+}
+
+TEST(PipelineCounts, LinesPointsAndPolygonModeBalance) {
+  const nlohmann::json good = every_kind_counts();
+  EXPECT_EQ(joined(pipeline_count_errors(good)), "");
+  struct Case {
+    const char* key;
+    int64_t delta;
+    const char* expect;
+  };
+  for (const Case& c : std::vector<Case>{
+           {"lines_rasterized", -4, "lines_rasterized + lines_degenerate = 2"},
+           {"lines_clipped", +3, "lines_clipped = 4"},
+           {"lines_invalid", +5, "lines_invalid + lines_clipped_away = 7"},
+           {"points_rasterized", -1, "points_rasterized = 1"},
+           {"points_clipped_away", +3, "points_invalid + points_clipped_away = 5"},
+           {"triangles_culled", +10, "polygon-mode triangles"},
+           {"triangles_unfilled", +7, "polygon-mode triangles"},
+           {"triangles_rasterized", -3, "is below triangles_after_clip = 7"},
+           {"triangles_in", +5, "triangles_after_clip = 7 is below the 11"},
+       }) {
+    nlohmann::json bad = good;
+    bad[c.key] = static_cast<uint64_t>(static_cast<int64_t>(good[c.key].get<uint64_t>()) + c.delta);
+    const std::string report = joined(pipeline_count_errors(bad));
+    EXPECT_NE(report.find(c.expect), std::string::npos) << c.key << ": " << report;
+  }
+  // Without unfilled triangles, lines and points rasterized are exactly the
+  // ones kept.
+  nlohmann::json filled = good;
+  filled["triangles_unfilled"] = 0u;
+  filled["triangles_degenerate"] = 2u;  // the unfilled one was degenerate instead
+  filled["lines_rasterized"] = 2u;
+  EXPECT_EQ(joined(pipeline_count_errors(filled)), "");
+  filled["lines_rasterized"] = 3u;
+  EXPECT_NE(joined(pipeline_count_errors(filled)).find("lines_rasterized"), std::string::npos);
+  filled["lines_rasterized"] = 2u;
+  filled["points_rasterized"] = 3u;
+  EXPECT_NE(joined(pipeline_count_errors(filled)).find("points_rasterized"), std::string::npos);
+  nlohmann::json missing = good;
+  missing.erase("lines_in");
+  EXPECT_NE(joined(pipeline_count_errors(missing)).find("lines_in: missing"), std::string::npos);
 }
 
 }  // namespace
