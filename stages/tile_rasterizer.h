@@ -51,7 +51,9 @@
 #pragma once
 
 #include <array>
+#include <map>
 #include <systemc>
+#include <tuple>
 
 #include "hw/draw_state.h"
 #include "hw/fifo.h"
@@ -82,9 +84,18 @@ class TileRasterizer : public PipelineStage {
 
   void run();
   void rasterize(const std::shared_ptr<const RasterPrimitive>& tri);
+  // The tile walk over N coverage edges (3 for a triangle, 2 for a
+  // diamond-exit line, 0 for a point).
+  template <int N>
+  void rasterize_edges(const std::shared_ptr<const RasterPrimitive>& tri);
   // The edge-function core on one stamp: the pixels of `box` covered by the
-  // triangle, from the raw edge values `e` at the stamp's origin.
-  uint64_t coverage(const RasterPrimitive& t, const std::array<EdgeValue, 3>& e, uint64_t box);
+  // primitive, from the raw coverage edge values `e` at the stamp's origin.
+  template <int N>
+  uint64_t coverage(const RasterPrimitive& t, const std::array<EdgeValue, N>& e, uint64_t box);
+  // The Bresenham line walker.
+  void walk_line(const std::shared_ptr<const RasterPrimitive>& tri);
+  // The interpolation functions' values at stamp origin (sx, sy)'s centre.
+  std::array<EdgeValue, 3> interpolation_at(const RasterPrimitive& t, int sx, int sy) const;
   // Waits the cycles walked since the last output, then writes m_batch (the
   // stamps of one tile) as the batch of `tri`.
   void emit_batch(const std::shared_ptr<const RasterPrimitive>& tri);
@@ -101,13 +112,26 @@ class TileRasterizer : public PipelineStage {
   // pixel in x and in y (a * 256, b * 256), and the offset of pixel
   // p = j * w + i from the stamp origin, i * a * 256 + j * b * 256, per edge
   // (filled when the triangle's first whole stamp is evaluated).
-  std::array<EdgeValue, 3> m_pixel_dx{}, m_pixel_dy{};
-  std::array<std::array<EdgeValue, kMaxStampPixels>, 3> m_offset{};
+  std::array<EdgeValue, RasterPrimitive::kMaxCoverageEdges> m_pixel_dx{}, m_pixel_dy{};
+  std::array<std::array<EdgeValue, kMaxStampPixels>, RasterPrimitive::kMaxCoverageEdges> m_offset{};
   bool m_offset_valid = false;
   uint64_t m_pending_cycles = 0;  // walked but not yet waited
   StampBatch m_batch;             // the tile's stamps; buffers recycled through the FIFO
+  // The line walker's stamps of one span: (minor tile, stamp y, stamp x) ->
+  // mask, so they leave tile by tile in walk order.
+  std::map<std::tuple<int, int, int>, uint64_t> m_line_stamps;
 
   uint64_t& m_triangles = m_stats.counter("triangles", "triangles", "triangles walked");
+  uint64_t& m_lines = m_stats.counter("lines", "lines", "lines received (either rule)");
+  uint64_t& m_points = m_stats.counter("points", "points", "points received");
+  uint64_t& m_lines_walked =
+      m_stats.counter("lines_walked", "lines", "Bresenham lines entered by the line walker");
+  uint64_t& m_line_spans =
+      m_stats.counter("line_spans", "spans", "line walker spans (one tile column or row) tested");
+  uint64_t& m_line_spans_skipped = m_stats.counter(
+      "line_spans_skipped", "spans", "line walker spans touching no tile of this unit, jumped");
+  uint64_t& m_line_steps =
+      m_stats.counter("line_steps", "steps", "line walker steps in this unit's spans");
   uint64_t& m_tiles_visited =
       m_stats.counter("tiles_visited", "tiles", "own tiles in a triangle's box");
   uint64_t& m_tiles_rejected =
