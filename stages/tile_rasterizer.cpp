@@ -137,7 +137,6 @@ int64_t ceil_div(int64_t n, int64_t d) {
 // axis, one tile column (row) each; see the cost model in the header.
 void TileRasterizer::walk_line(const std::shared_ptr<const RasterPrimitive>& tri) {
   const RasterPrimitive& t = *tri;
-  ++m_lines_walked;
   const int64_t ddx = int64_t{t.ib_x} - t.ia_x, ddy = int64_t{t.ib_y} - t.ia_y;
   const bool x_major = std::llabs(ddx) >= std::llabs(ddy);
   const int64_t dm = x_major ? ddx : ddy, dn = x_major ? ddy : ddx;
@@ -159,7 +158,8 @@ void TileRasterizer::walk_line(const std::shared_ptr<const RasterPrimitive>& tri
     i_first = std::max(i_first, ma - box_m1);
     i_last = std::min(i_last, ma - box_m0);
   }
-  if (i_first > i_last) return;
+  if (i_first > i_last) return;  // no drawn step in the box: nothing to walk
+  ++m_lines_walked;
 
   const int ts = m_tile, sw = m_stamp_w, sh = m_stamp_h;
   const uint64_t ii = m_cost.ii;
@@ -247,6 +247,7 @@ void TileRasterizer::walk_line(const std::shared_ptr<const RasterPrimitive>& tri
       m_pending_cycles += ii;
       m_batch.stamps.push_back(Stamp{sx, sy, mask, interpolation_at(t, sx, sy)});
       ++m_stamps_emitted;
+      ++m_line_stamps_emitted;
       m_fragments += static_cast<uint64_t>(__builtin_popcountll(mask));
     }
     if (open) emit_batch(tri);

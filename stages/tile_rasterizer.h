@@ -1,10 +1,15 @@
 // Tile rasterizer, one per unit: walks the unit's own screen tiles inside a
-// triangle's pixel bounding box and emits the covered pixels as stamps
-// (docs/pipeline-spec.md, section 8; Mesa llvmpipe's hierarchical scheme).
+// primitive's pixel bounding box and emits the covered pixels as stamps
+// (docs/pipeline-spec.md, sections 8, 8b, 8c; Mesa llvmpipe's hierarchical
+// scheme). Triangles, diamond-exit lines and points take the tile walk
+// below over the primitive's coverage edges (RasterPrimitive::coverage: 3
+// for a triangle, 2 for a diamond-exit line, whose box already bounds its
+// ends, 0 for a point, whose box is its square); Bresenham lines take the
+// line walker described after it.
 //
 // Walk: tiles of config.tile_size in rows bottom-up, left to right, only
 // those with tile_owner(tx, ty, units) == unit. Per tile, one test of the
-// three edges at the tile's extreme pixel centres (chosen by the signs of a
+// coverage edges at the tile's extreme pixel centres (chosen by the signs of a
 // and b):
 //   - reject: some edge's maximum over the tile's pixel centres is below its
 //     bias: nothing covered, next tile;
@@ -22,10 +27,30 @@
 // (a tile cut by the box starts at its first stamp column and row inside the
 // box: + i0 * a * (w * 256) + j0 * b * (h * 256)).
 // Pixels outside the box (hence outside the framebuffer) are masked off.
-// One StampBatch per (triangle, tile) holds the tile's non-empty stamps in
-// walk order (rows bottom-up, left to right) with the raw edge values (no
-// bias) at each stamp's origin pixel centre; tiles without coverage emit
-// nothing.
+// One StampBatch per (primitive, tile) holds the tile's non-empty stamps in
+// walk order (rows bottom-up, left to right) with the raw interpolation
+// values (RasterPrimitive::edge, no bias) at each stamp's origin pixel
+// centre; tiles without coverage emit nothing. For a triangle they are the
+// coverage edges' values the walk stepped; for a line or a point they are
+// evaluated at the stamp's origin when it is emitted (a multiply-add per
+// function, inside the stamp's ii).
+//
+// Line walker (Bresenham, spec section 8b): the integer midpoint algorithm
+// from the end points' pixels, one step per pixel along the major axis M,
+// the minor offset k kept by a decision variable d in (-2|dM|, 0]: per step
+// d += 2|dN|, and d > 0 steps the minor axis (k += 1, d -= 2|dM|); a tie,
+// d = 0, does not. Each step's pixel is replicated to the w pixels
+// n - floor((w - 1) / 2) ... + w - 1 of the minor axis. The walk starts at
+// the first drawn step whose major coordinate lies in the box (first end
+// flag; k and d there in closed form, one division) and ends at the last
+// (last end flag, box). It proceeds in spans, the steps of one tile column
+// (x-major) or tile row (y-major). Per span, the unit tests whether it owns
+// any tile the span can reach (minor range from the current pixel, widened
+// by the span's length and the replication): if not, it jumps past the span
+// (k and d in closed form again); if so, it walks every step of the span,
+// keeps the pixels in its own tiles inside the box, and then emits one
+// batch per tile, in increasing minor tile order, its stamps rows bottom-up,
+// left to right.
 //
 // Bit widths: the box lies in the framebuffer (side <= 8192 pixels), so every
 // tile and stamp the walk touches lies in [0, 8192 + 256) pixels: pixel
@@ -35,7 +60,7 @@
 // |c| < 2^50, so |E| < 2^51, and int64 holds it with 12 bits to spare. The
 // steps themselves are < 2^25 * 2^16 = 2^41.
 //
-// Cost model (cycles), per triangle: 1 per tile visited (the tile test),
+// Cost model (cycles) of the tile walk, per primitive: 1 per tile visited (the tile test),
 // plus ii(rasterizer) per stamp evaluated in a partial tile and per stamp
 // emitted from an accepted tile; stamps outside the box are never visited,
 // rejected tiles cost only their test. busy_cycles = tiles_visited +
@@ -46,6 +71,14 @@
 // the triangle. So a triangle read at t whose last tile has coverage has its
 // last batch readable at t + (its cycles) + latency when the output FIFO has
 // room, and big triangles stream tile by tile.
+// Line walker, per Bresenham line: 1 cycle to enter the walk, 1 per span
+// tested (a jumped span costs only that), 1 per step walked in this unit's
+// spans (all w replicated pixels of a step at once), and ii(rasterizer) per
+// stamp emitted; a span's batches are written after its steps, each after
+// the cycles before it. busy_cycles = lines_walked + line_spans +
+// line_steps + ii * line_stamps (+ ii * control tokens). Every unit the
+// distributor sends the line to walks it this way, skipping the spans of
+// other units' tiles.
 // A control token costs ii(rasterizer) and is forwarded with the latency.
 // No memory traffic.
 #pragma once
@@ -124,14 +157,16 @@ class TileRasterizer : public PipelineStage {
   uint64_t& m_triangles = m_stats.counter("triangles", "triangles", "triangles walked");
   uint64_t& m_lines = m_stats.counter("lines", "lines", "lines received (either rule)");
   uint64_t& m_points = m_stats.counter("points", "points", "points received");
-  uint64_t& m_lines_walked =
-      m_stats.counter("lines_walked", "lines", "Bresenham lines entered by the line walker");
+  uint64_t& m_lines_walked = m_stats.counter(
+      "lines_walked", "lines", "Bresenham lines with a drawn step in the box, walked");
   uint64_t& m_line_spans =
       m_stats.counter("line_spans", "spans", "line walker spans (one tile column or row) tested");
   uint64_t& m_line_spans_skipped = m_stats.counter(
       "line_spans_skipped", "spans", "line walker spans touching no tile of this unit, jumped");
   uint64_t& m_line_steps =
       m_stats.counter("line_steps", "steps", "line walker steps in this unit's spans");
+  uint64_t& m_line_stamps_emitted =
+      m_stats.counter("line_stamps", "stamps", "stamps the line walker built and emitted");
   uint64_t& m_tiles_visited =
       m_stats.counter("tiles_visited", "tiles", "own tiles in a triangle's box");
   uint64_t& m_tiles_rejected =
