@@ -26,6 +26,11 @@
 
 #include "hw/fifo.h"
 #include "hw/fixed_point.h"
+#include "hw/memory.h"
+#include "hw/pixel_formats.h"
+#include "hw/trace_probe.h"
+#include "stages/depth_test.h"
+#include "stages/interpolator.h"
 #include "stages/tile_distributor.h"
 #include "stages/tile_rasterizer.h"
 #include "stages/triangle_setup.h"
@@ -605,6 +610,177 @@ TEST(PointTiming, SixtyFourPixelPoint) {
   ASSERT_EQ(got.size(), 64u);
   EXPECT_EQ(got.begin()->first, std::make_pair(16, 16));
   EXPECT_EQ(got.rbegin()->first, std::make_pair(23, 23));
+}
+
+// ---------------------------------------------------------------------------
+// The back end: setup -> distributor -> one unit's rasterizer -> depth test
+// -> interpolator. Depth (float32, func always, so every fragment's z is
+// computed, reported through the fragment probe) and colour per pixel
+// against section 9's formulas written out here: a line as the triangle
+// (a, b, a) with E0 = L2 - T, E1 = T, E2 = 0; a point its vertex's z and
+// flat colour, also with smooth shading.
+
+struct DepthRecorder : FragmentProbe {
+  std::map<std::pair<int, int>, float> depth;
+  void depth_tested(unsigned, const DepthFragment& f) override { depth[{f.x, f.y}] = f.depth; }
+  void rop_wrote(unsigned, const RopFragment&) override {}
+};
+
+struct BackBench {
+  GpuConfig config;
+  FrameState frame;
+  Memory memory;
+  Fifo<ClippedPrimitive> input;
+  TriangleSetup setup;
+  Fifo<SetupPacket> setup_out;
+  TileDistributor distributor;
+  Fifo<SetupPacket> jobs;
+  TileRasterizer rasterizer;
+  Fifo<StampBatch> stamps;
+  DepthTest depth;
+  Fifo<StampBatch> visible;
+  Interpolator interpolator;
+  Fifo<ShadedStampBatch> shaded;
+  DepthRecorder probe;
+  std::map<std::pair<int, int>, glm::vec4> color;
+
+  static uint64_t memory_size(const FrameState& f) {
+    return f.depth_address + uint64_t{4} * f.framebuffer.width * f.framebuffer.height + 64;
+  }
+
+  BackBench(const GpuConfig& c, const FrameState& f)
+      : config(c),
+        frame(f),
+        memory("bb_memory", memory_size(frame), 20, 32, config.cycle()),
+        input("bb_input", 4),
+        setup("bb_setup", config, frame),
+        setup_out("bb_setup_out", 4),
+        distributor("bb_distributor", config, frame),
+        jobs("bb_jobs", 4),
+        rasterizer("bb_rasterizer", config, frame, 0),
+        stamps("bb_stamps", 4),
+        depth("bb_depth", config, frame, 0),
+        visible("bb_visible", 4),
+        interpolator("bb_interpolator", config, frame, 0),
+        shaded("bb_shaded", 4) {
+    setup.in(input);
+    setup.out(setup_out);
+    distributor.in(setup_out);
+    distributor.out[0](jobs);
+    rasterizer.in(jobs);
+    rasterizer.out(stamps);
+    depth.in(stamps);
+    depth.out(visible);
+    depth.mem.bind(memory);
+    depth.set_fragment_probe(&probe);
+    interpolator.in(visible);
+    interpolator.out(shaded);
+    sc_core::sc_spawn([this] {
+      const int sw = static_cast<int>(config.stamp[0]);
+      for (;;) {
+        const ShadedStampBatch b = shaded.read();
+        size_t n = 0;
+        for (const Stamp& s : b.stamps) {
+          for (int bit = 0; bit < 64; ++bit) {
+            if (s.mask >> bit & 1) color[{s.x + bit % sw, s.y + bit / sw}] = b.colors.at(n++);
+          }
+        }
+      }
+    });
+  }
+};
+
+TEST(LinesBackEnd, DepthAndColourFollowTheLineParameter) {
+  if constexpr (!kTraceHooks) GTEST_SKIP() << "needs the fragment probe";
+  const int W = 48, H = 40;
+  FrameState f = frame_with(W, H, {});
+  f.framebuffer.depth_format = DepthFormat::float32;
+  f.depth_address = uint64_t{4} * W * H;
+  for (LineRasterization rule : {LineRasterization::diamond_exit, LineRasterization::bresenham}) {
+    DrawState d;
+    d.state.depth_func = CompareFunc::always;
+    d.state.line_rasterization = rule;
+    d.state.line_width = 2.0f;
+    d.state.point_size = 3.0f;
+    f.draws.push_back(d);
+  }
+  // Perspective: 1/w differs at the ends; colours over w.
+  const auto make = [](int64_t id, uint32_t draw, float xa, float ya, float xb, float yb) {
+    ClippedPrimitive p = line(id, draw, xa, ya, xb, yb);
+    p.v[0].z = 0.2f;
+    p.v[1].z = 0.9f;
+    p.v[0].inv_w = 1.0f;
+    p.v[1].inv_w = 0.25f;
+    const std::array<glm::vec4, 2> c{glm::vec4(1.0f, 0.0f, 0.5f, 1.0f),
+                                     glm::vec4(0.0f, 1.0f, 0.25f, 0.5f)};
+    for (int v = 0; v < 2; ++v) {
+      for (int k = 0; k < 4; ++k) p.v[v].varyings_over_w[k] = c[v][k] * p.v[v].inv_w;
+    }
+    return p;
+  };
+  // Separate lines (no pixel shared), one per rule, and a point.
+  std::vector<ClippedPrimitive> tokens{make(0, 0, 1.3f, 2.7f, 45.1f, 17.2f),
+                                       make(1, 1, 3.6f, 38.2f, 20.9f, 22.4f)};
+  ClippedPrimitive pt = point(2, 0, 40.25f, 33.5f);
+  pt.v[0].z = 0.375f;
+  pt.v[0].varyings_over_w = {0.9f, 0.9f, 0.9f, 0.9f};  // not what the point shows
+  pt.flat_varyings = {0.125f, 0.25f, 0.5f, 1.0f};
+  tokens.push_back(pt);
+
+  BackBench b(config_with(1, 16, 4, 4), f);
+  sc_core::sc_spawn([&b, tokens] {
+    for (const ClippedPrimitive& t : tokens) b.input.write(t);
+  });
+  sc_core::sc_start();
+
+  size_t line_pixels = 0, point_pixels = 0;
+  for (const ClippedPrimitive& p : tokens) {
+    std::set<std::pair<int, int>> pixels;
+    if (p.primitive_kind == PrimitiveKind::point) {
+      // Size 3 at (40.25, 33.5): F = 768, X0 = 10176 - 384 = 9792 (38.25
+      // pixels), Y0 = 8448 - 384 = 8064 (31.5): 256 x in [9792, 10560),
+      // x 39 .. 41; 256 y in [8064, 8832), y 32 .. 34.
+      for (int y = 32; y <= 34; ++y) {
+        for (int x = 39; x <= 41; ++x) pixels.insert({x, y});
+      }
+      for (const auto& px : pixels) {
+        ASSERT_TRUE(b.probe.depth.count(px)) << px.first << ", " << px.second;
+        EXPECT_EQ(b.probe.depth.at(px), 0.375f);
+        EXPECT_EQ(b.color.at(px), glm::vec4(0.125f, 0.25f, 0.5f, 1.0f));
+        ++point_pixels;
+      }
+      continue;
+    }
+    const int64_t xa = snap_to_subpixel(p.v[0].x), ya = snap_to_subpixel(p.v[0].y);
+    const int64_t xb = snap_to_subpixel(p.v[1].x), yb = snap_to_subpixel(p.v[1].y);
+    pixels = p.draw_id == 0 ? diamond_exit(xa, ya, xb, yb, 2, W, H)
+                            : bresenham(xa, ya, xb, yb, 2, true, true, W, H);
+    ASSERT_GT(pixels.size(), 20u);
+    const int64_t dx = xb - xa, dy = yb - ya, l2 = dx * dx + dy * dy;
+    for (const auto& px : pixels) {
+      const int64_t T =
+          (256 * int64_t{px.first} + 128 - xa) * dx + (256 * int64_t{px.second} + 128 - ya) * dy;
+      const float f0 = static_cast<float>(l2 - T), f1 = static_cast<float>(T), f2 = 0.0f;
+      const float A = static_cast<float>(l2);
+      const float za = p.v[0].z, zb = p.v[1].z;
+      const float d1 = zb - za, d2 = za - za;
+      const float z = za + (f1 * d1 + f2 * d2) / A;
+      ASSERT_TRUE(b.probe.depth.count(px)) << px.first << ", " << px.second;
+      EXPECT_EQ(b.probe.depth.at(px), clamp01(z)) << px.first << ", " << px.second;
+      const float qa = p.v[0].inv_w, qb = p.v[1].inv_w;
+      const float den = f0 * qa + f1 * qb + f2 * qa;
+      glm::vec4 want;
+      for (int k = 0; k < 4; ++k) {
+        const float ca = p.v[0].varyings_over_w[k], cb = p.v[1].varyings_over_w[k];
+        want[k] = clamp01((f0 * ca + f1 * cb + f2 * ca) / den);
+      }
+      EXPECT_EQ(b.color.at(px), want) << px.first << ", " << px.second;
+      ++line_pixels;
+    }
+  }
+  EXPECT_EQ(b.probe.depth.size(), line_pixels + point_pixels);
+  EXPECT_EQ(b.color.size(), line_pixels + point_pixels);
+  EXPECT_EQ(point_pixels, 9u);
 }
 
 }  // namespace
