@@ -140,31 +140,21 @@ const std::map<std::string, Rule>& rules() {
        }},
       {"triangle_setup",
        [](Context& c) {
-         // Triangles in = degenerate + culled + rasterized, lines in =
-         // degenerate + rasterized, points in = rasterized; the rasterized
-         // ones leave unless their box holds no pixel (centre).
+         // Triangles in = degenerate + culled + rasterized; the rasterized
+         // ones leave unless their box holds no pixel centre.
          const std::string cl = c.upstream();
          const uint64_t after = c.l.stage(cl, "triangles_after_clip");
          const uint64_t rasterized = c.get("triangles_rasterized");
          const uint64_t offscreen = c.get("triangles_offscreen");
-         const uint64_t lines = c.get("lines_rasterized"), points = c.get("points_rasterized");
-         const uint64_t lines_off = c.get("lines_offscreen"),
-                        points_off = c.get("points_offscreen");
          c.l.equal(c.name, "tokens_in", c.get("tokens_in"),
-                   cl + ".triangles_after_clip + lines_degenerate + lines_rasterized + "
-                        "points_rasterized + control tokens",
-                   after + c.get("lines_degenerate") + lines + points + c.control);
+                   cl + ".triangles_after_clip + control tokens", after + c.control);
          c.l.equal(c.name, cl + ".triangles_after_clip", after,
                    "triangles_degenerate + triangles_culled + triangles_rasterized",
                    c.get("triangles_degenerate") + c.get("triangles_culled") + rasterized);
          c.l.at_most(c.name, "triangles_offscreen", offscreen, "triangles_rasterized", rasterized);
-         c.l.at_most(c.name, "lines_offscreen", lines_off, "lines_rasterized", lines);
-         c.l.at_most(c.name, "points_offscreen", points_off, "points_rasterized", points);
-         const auto left = [](uint64_t all, uint64_t off) { return all >= off ? all - off : 0; };
          c.l.equal(c.name, "tokens_out", c.get("tokens_out"),
-                   "rasterized - offscreen (triangles, lines, points) + control tokens",
-                   left(rasterized, offscreen) + left(lines, lines_off) + left(points, points_off) +
-                       c.control);
+                   "triangles_rasterized - triangles_offscreen + control tokens",
+                   (rasterized >= offscreen ? rasterized - offscreen : 0) + c.control);
        }},
       {"tile_distributor",
        [](Context& c) {
