@@ -35,13 +35,10 @@ constexpr float kGuardBandPixels = 32768.0f;
 // L2 = dx^2 + dy^2 < 2^51, T = (px - Xa) dx + (py - Ya) dy has |T| < 2^51
 // for every point within 2^25 subpixels of the end points, so
 // E0 = L2 - T, E1 = T and their equations' constants (< 2^51) fit with room;
-// a band edge, s D +- 128 w |dM| with w <= 255 (kMaxLineWidth), adds less
+// a band edge, s D +- 128 w |dM| with w <= 255 (kMaxLineWidth, hw/render_state.h), adds less
 // than 2^15 * 2^25 = 2^40 to a value below 2^51.
 using EdgeValue = int64_t;
 using Subpixel = int32_t;
-
-// Widest line and largest point, in pixels (the scene format's range).
-constexpr int kMaxLineWidth = 255;
 
 // Snapped coordinates saturate at +-2^24 subpixels (2^16 pixels, twice the
 // guard band), so the bounds above hold for every input.

@@ -233,7 +233,8 @@ std::shared_ptr<RasterPrimitive> TriangleSetup::setup_line(const ClippedPrimitiv
     t->edge[0] = EdgeEquation{-dx, -dy, l2 + EdgeValue{xa} * dx + EdgeValue{ya} * dy, 0};
     t->area2 = l2;
   }
-  const int64_t w = std::clamp<int64_t>(iround(st.line_width), 1, kMaxLineWidth);
+  const int64_t w =
+      std::clamp<int64_t>(iround(st.line_width), 1, static_cast<int64_t>(kMaxLineWidth));
   t->width = static_cast<uint16_t>(w);
   t->draw_first = in.draw_first;
   t->draw_last = in.draw_last;

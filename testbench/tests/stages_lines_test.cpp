@@ -308,6 +308,19 @@ std::vector<LineCase> random_lines(uint64_t seed, int W, int H, size_t n) {
   v.push_back({3 * 256, 3 * 256, 20 * 256, 20 * 256, 1, true, true});
   v.push_back({3 * 256 + 128, 3 * 256, 20 * 256 + 128, 20 * 256, 1, true, true});
   v.push_back({20 * 256, 3 * 256 + 128, 3 * 256, 20 * 256 + 128, 2, true, true});
+  // Long lines from far outside (up to the guard band, 2^15 pixels) across
+  // the framebuffer: only their middle is walked.
+  for (int i = 0; i < 12; ++i) {
+    const int64_t far = 256 * 30000;
+    const int64_t ya = r.range(-far, far), yb = r.range(-far, far) / 4000;
+    if (i % 2 == 0) {
+      v.push_back({-far + r.range(0, 255), (H / 2) * 256 + yb, far, ya / 3000 + 256 * (H / 2),
+                   static_cast<int>(1 + i % 3), true, true});
+    } else {
+      v.push_back({(W / 2) * 256 + yb, -far, ya / 3000 + 256 * (W / 2), far - r.range(0, 255),
+                   static_cast<int>(1 + i % 3), true, true});
+    }
+  }
   while (v.size() < n) {
     LineCase c{coordinate(r, W), coordinate(r, H), 0, 0, 1, true, true};
     if (r.range(0, 3) == 0) {  // short
