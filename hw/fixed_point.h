@@ -30,6 +30,13 @@ constexpr float kGuardBandPixels = 32768.0f;
 // most 2^24 each), so each product is < 2^50 and E < 2^51: int64 holds it
 // with 12 bits of headroom, also for a rasterizer that steps E incrementally
 // across the guard band.
+//
+// Lines (docs/pipeline-spec.md, sections 8b and 9) use the same type:
+// L2 = dx^2 + dy^2 < 2^51, T = (px - Xa) dx + (py - Ya) dy has |T| < 2^51
+// for every point within 2^25 subpixels of the end points, so
+// E0 = L2 - T, E1 = T and their equations' constants (< 2^51) fit with room;
+// a band edge, s D +- 128 w |dM| with w <= 255 (kMaxLineWidth, hw/render_state.h), adds less
+// than 2^15 * 2^25 = 2^40 to a value below 2^51.
 using EdgeValue = int64_t;
 using Subpixel = int32_t;
 

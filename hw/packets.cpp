@@ -101,8 +101,10 @@ int log2_side(unsigned side) {
 bool RasterPrimitive::operator==(const RasterPrimitive& o) const {
   auto tie = [](const RasterPrimitive& t) {
     return std::tie(t.primitive_kind, t.vertex_count, t.draw_id, t.primitive_id, t.x, t.y, t.area2,
-                    t.edge, t.x0, t.y0, t.x1, t.y1, t.z, t.inv_w, t.varyings_over_w,
-                    t.flat_varyings, t.has_depth_offset, t.depth_offset);
+                    t.edge, t.coverage, t.coverage_count, t.x0, t.y0, t.x1, t.y1, t.z, t.inv_w,
+                    t.varyings_over_w, t.flat_varyings, t.has_depth_offset, t.depth_offset,
+                    t.line_rule, t.width, t.ia_x, t.ia_y, t.ib_x, t.ib_y, t.draw_first,
+                    t.draw_last);
   };
   return tie(*this) == tie(o);
 }
@@ -117,6 +119,14 @@ std::ostream& operator<<(std::ostream& os, const RasterPrimitive& t) {
      << "] flat ";
   print_varyings(os, t.flat_varyings);
   if (t.has_depth_offset) os << " offset " << t.depth_offset;
+  if (t.line_rule != LineRule::none) {
+    os << (t.line_rule == LineRule::bresenham ? " bresenham" : " diamond_exit") << " width "
+       << t.width;
+  }
+  if (t.line_rule == LineRule::bresenham) {
+    os << " pixels (" << t.ia_x << ", " << t.ia_y << ")-(" << t.ib_x << ", " << t.ib_y << ") ends "
+       << (t.draw_first ? "drawn" : "skipped") << "/" << (t.draw_last ? "drawn" : "skipped");
+  }
   return os << "}";
 }
 

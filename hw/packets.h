@@ -114,9 +114,34 @@ struct EdgeEquation {
   }
 };
 
-// Triangle setup's result. Only triangles are set up today: vertex_count is
-// 3, the vertices are counter-clockwise and edge k is opposite vertex k
-// (E0 = edge v1 -> v2, E1 = v2 -> v0, E2 = v0 -> v1).
+// How a line's pixels are found (docs/pipeline-spec.md, section 8b).
+enum class LineRule : uint8_t {
+  none,          // a triangle or a point
+  diamond_exit,  // coverage edges, like a triangle (a parallelogram)
+  bresenham,     // the rasterizer's line walker
+};
+
+// Triangle setup's result, for every primitive kind. Two sets of equations:
+//
+// - `edge` and `area2` are the *interpolation* functions the depth test and
+//   interpolator use (docs/pipeline-spec.md, section 9), with the vertices in
+//   slots 0-2. A triangle: counter-clockwise, edge k opposite vertex k
+//   (E0 = edge v1 -> v2, E1 = v2 -> v0, E2 = v0 -> v1), area2 > 0. A line
+//   (a, b): slots (a, b, a), E0 = L2 - T, E1 = T, E2 = 0 (a = b = c = 0),
+//   area2 = L2, with T = (px - Xa) dx + (py - Ya) dy and L2 = dx^2 + dy^2
+//   (a Bresenham line of zero length, and a point: E0 = 1, area2 = 1).
+// - `coverage[0, coverage_count)` are the edges the tile rasterizer tests,
+//   each with its bias: a pixel centre inside the box is covered iff
+//   E - bias >= 0 for all of them. A triangle: its three edges (equal to
+//   `edge`). A diamond-exit line: the two sides of its band (section 8b's
+//   integer form), the box bounding its first and last column (row). A point:
+//   none, the box is the square. A Bresenham line: none; the walker uses
+//   `ia`, `ib`, `width` and the end flags instead.
+//
+// Widths (hw/fixed_point.h): line equations have |a|, |b| < 2^25 (a delta)
+// and |c| < 2^51 (L2 plus two products < 2^49), so |E| < 2^52 at any pixel
+// centre of the framebuffer; band edges add at most 128 * 255 * 2^25 < 2^40
+// to c. int64 holds all of them.
 struct RasterPrimitive {
   PrimitiveKind primitive_kind = PrimitiveKind::triangle;
   uint8_t vertex_count = vertex_count_of(PrimitiveKind::triangle);
@@ -125,6 +150,9 @@ struct RasterPrimitive {
   std::array<Subpixel, 3> x{}, y{};
   EdgeValue area2 = 0;  // > 0
   std::array<EdgeEquation, 3> edge;
+  static constexpr unsigned kMaxCoverageEdges = 4;
+  std::array<EdgeEquation, kMaxCoverageEdges> coverage{};
+  uint8_t coverage_count = 3;
   int32_t x0 = 0, y0 = 0, x1 = -1,
           y1 = -1;  // pixel bounding box, inclusive, inside the framebuffer
   std::array<float, 3> z{}, inv_w{};
@@ -132,6 +160,13 @@ struct RasterPrimitive {
   Varyings flat_varyings{};                   // as ClippedPrimitive
   bool has_depth_offset = false;
   float depth_offset = 0.0f;
+  // Lines and points.
+  LineRule line_rule = LineRule::none;
+  uint16_t width = 1;  // a line's width in pixels, max(1, round(line_width)), 1..255
+  // Bresenham: the end points' pixels (floor(X / 256), floor(Y / 256)), and
+  // whether the first and last pixel are drawn (ClippedPrimitive).
+  int32_t ia_x = 0, ia_y = 0, ib_x = 0, ib_y = 0;
+  bool draw_first = true, draw_last = true;
   bool operator==(const RasterPrimitive& o) const;
 };
 std::ostream& operator<<(std::ostream& os, const RasterPrimitive& t);

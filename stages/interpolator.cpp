@@ -148,8 +148,10 @@ void Interpolator::shade(const StampBatch& batch, ShadedStampBatch& result) {
     n += s.mask == full ? static_cast<size_t>(m_stamp_pixels)
                         : static_cast<size_t>(__builtin_popcountll(s.mask));
   }
-  if (st.shading == Shading::flat) {
+  if (st.shading == Shading::flat || prim.primitive_kind == PrimitiveKind::point) {
     // Every pixel takes the provoking vertex's varyings; the ROP its colour.
+    // A point takes its vertex's values whatever the shading (spec section 9):
+    // the clipper puts them in flat_varyings.
     const float* flat = prim.flat_varyings.data() + layout.color;
     result.colors.assign(n, glm::vec4(flat[0], flat[1], flat[2], flat[3]));
     m_flat_fragments += n;

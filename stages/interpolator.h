@@ -9,7 +9,10 @@
 // draw's VaryingLayout count, in one loop whatever the components mean. The
 // pixel's colour is clamp01 of the four components at the layout's colour
 // slot. Flat shading takes the provoking vertex's varyings (flat_varyings)
-// unchanged instead.
+// unchanged instead, and so does every point, whatever the shading (its
+// vertex's colour, unchanged). A line is interpolated by the same formula
+// with its parameter along it as the edge values (E2 = 0, vertices
+// (a, b, a): setup's interpolation functions, hw/packets.h).
 //
 // Output: the batch's stamps unchanged and one colour per covered pixel,
 // stamp order, then mask bit order. Only the colour leaves: it is all the
@@ -62,8 +65,9 @@ class Interpolator : public PipelineStage {
 
   uint64_t& m_stamps = m_stats.counter("stamps", "stamps", "stamps interpolated");
   uint64_t& m_fragments = m_stats.counter("fragments", "fragments", "pixels given a colour");
-  uint64_t& m_flat_fragments = m_stats.counter(
-      "flat_fragments", "fragments", "pixels of flat-shaded triangles (no interpolation)");
+  uint64_t& m_flat_fragments =
+      m_stats.counter("flat_fragments", "fragments",
+                      "pixels of flat-shaded primitives and of points (no interpolation)");
 };
 
 }  // namespace gpusim

@@ -1,12 +1,15 @@
-// Tile distributor: sends each set-up triangle to the raster units that own
-// at least one screen tile its pixel bounding box touches (tile_owner() in
-// hw/packets.h), once per unit, in increasing unit order; control tokens go
-// to every unit, so each unit sees the same order of clears, triangles and
-// ends of frame.
+// Tile distributor: sends each set-up primitive (triangle, line or point) to
+// the raster units that own at least one screen tile its pixel bounding box
+// touches (tile_owner() in hw/packets.h), once per unit, in increasing unit
+// order; control tokens go to every unit, so each unit sees the same order of
+// clears, primitives and ends of frame. A line's box is a rectangle around
+// it, so a long diagonal line goes to units whose tiles in the box it misses;
+// their rasterizers reject those tiles (or jump those spans) at their cost.
+// The counters keep the name triangles_sent for every kind.
 //
-// Cost model: a triangle read at time t occupies the stage for
+// Cost model: a primitive read at time t occupies the stage for
 // ii(tile_distributor) x (units it is sent to) cycles (one handoff per unit
-// per cycle at ii 1; a triangle sent nowhere still takes ii); a control token
+// per cycle at ii 1; a primitive sent nowhere still takes ii); a control token
 // takes ii once (one broadcast). Outputs are written at t + busy and readable
 // latency(tile_distributor) cycles later. A full unit FIFO blocks the
 // distributor (head of line). No memory traffic.

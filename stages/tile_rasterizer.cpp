@@ -1,8 +1,10 @@
 #include "stages/tile_rasterizer.h"
 
 #include <algorithm>
+#include <map>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 
 #include "hw/fixed_point.h"
 
@@ -51,7 +53,6 @@ void TileRasterizer::run() {
       forward_control(out, p.kind);
       continue;
     }
-    ++m_triangles;
     rasterize(p.triangle);
     // Cycles of trailing tiles that produced no batch.
     work(m_pending_cycles);
@@ -72,7 +73,190 @@ void TileRasterizer::emit_batch(const std::shared_ptr<const RasterPrimitive>& tr
 
 void TileRasterizer::rasterize(const std::shared_ptr<const RasterPrimitive>& tri) {
   const RasterPrimitive& t = *tri;
+  switch (t.primitive_kind) {
+    case PrimitiveKind::triangle:
+      ++m_triangles;
+      break;
+    case PrimitiveKind::line:
+      ++m_lines;
+      break;
+    case PrimitiveKind::point:
+      ++m_points;
+      break;
+  }
   if (t.x0 > t.x1 || t.y0 > t.y1) return;
+  if (t.line_rule == LineRule::bresenham) {
+    walk_line(tri);
+    return;
+  }
+  // The edge core has four edge units; a triangle uses three, a diamond-exit
+  // line two (its band), a point none (its square is the box). One
+  // instantiation per count keeps the triangle path's loops fixed at three.
+  switch (t.coverage_count) {
+    case 3:
+      rasterize_edges<3>(tri);
+      break;
+    case 2:
+      rasterize_edges<2>(tri);
+      break;
+    case 0:
+      rasterize_edges<0>(tri);
+      break;
+    default:
+      SC_REPORT_ERROR("gpusim/tile_rasterizer",
+                      (std::string(name()) + ": unsupported coverage edge count " +
+                       std::to_string(unsigned{t.coverage_count}))
+                          .c_str());
+  }
+}
+
+// Lines and points: the stamp carries the interpolation functions' values at
+// its origin pixel centre (what the back end steps from), which differ from
+// the coverage edges'. One multiply-add per function per emitted stamp.
+std::array<EdgeValue, 3> TileRasterizer::interpolation_at(const RasterPrimitive& t, int sx,
+                                                          int sy) const {
+  const Subpixel px = pixel_center(sx), py = pixel_center(sy);
+  return {t.edge[0].at(px, py), t.edge[1].at(px, py), t.edge[2].at(px, py)};
+}
+
+namespace {
+
+// ceil(n / d) for d > 0.
+int64_t ceil_div(int64_t n, int64_t d) {
+  return n >= 0 ? (n + d - 1) / d : -((-n) / d);
+}
+
+}  // namespace
+
+// The Bresenham walker (docs/pipeline-spec.md, section 8b). Major axis M,
+// minor axis N; step i in [0, m] is at major ma + sm i and minor na + sn k_i
+// with k_i = ceil((2 i |dN| - |dM|) / (2 |dM|)), kept incrementally by the
+// decision variable d_i = 2 i |dN| - |dM| - 2 k_i |dM| in (-2|dM|, 0]:
+// d += 2|dN| per step, and when d > 0, k += 1 and d -= 2|dM| (a tie, d = 0,
+// does not step the minor axis). The walk is cut into spans of the major
+// axis, one tile column (row) each; see the cost model in the header.
+void TileRasterizer::walk_line(const std::shared_ptr<const RasterPrimitive>& tri) {
+  const RasterPrimitive& t = *tri;
+  const int64_t ddx = int64_t{t.ib_x} - t.ia_x, ddy = int64_t{t.ib_y} - t.ia_y;
+  const bool x_major = std::llabs(ddx) >= std::llabs(ddy);
+  const int64_t dm = x_major ? ddx : ddy, dn = x_major ? ddy : ddx;
+  const int64_t adm = std::llabs(dm), adn = std::llabs(dn);
+  const int64_t sm = dm < 0 ? -1 : 1, sn = dn < 0 ? -1 : 1;
+  const int64_t ma = x_major ? t.ia_x : t.ia_y, na = x_major ? t.ia_y : t.ia_x;
+  const int64_t w = t.width, lo = (w - 1) / 2;
+  // The box along each axis (inside the framebuffer).
+  const int64_t box_m0 = x_major ? t.x0 : t.y0, box_m1 = x_major ? t.x1 : t.y1;
+  const int64_t box_n0 = x_major ? t.y0 : t.x0, box_n1 = x_major ? t.y1 : t.x1;
+  // Steps drawn: the end flags (m = 0: one pixel, drawn only if both are set).
+  int64_t i_first = t.draw_first ? 0 : 1, i_last = t.draw_last ? adm : adm - 1;
+  if (adm == 0) i_last = t.draw_first && t.draw_last ? 0 : -1;
+  // Only steps whose major coordinate lies in the box can produce a pixel.
+  if (sm > 0) {
+    i_first = std::max(i_first, box_m0 - ma);
+    i_last = std::min(i_last, box_m1 - ma);
+  } else {
+    i_first = std::max(i_first, ma - box_m1);
+    i_last = std::min(i_last, ma - box_m0);
+  }
+  if (i_first > i_last) return;  // no drawn step in the box: nothing to walk
+  ++m_lines_walked;
+
+  const int ts = m_tile, sw = m_stamp_w, sh = m_stamp_h;
+  const uint64_t ii = m_cost.ii;
+  // Entering the walk at step i_first: k and d in closed form (a division,
+  // once per line; 1 cycle).
+  auto state_at = [&](int64_t i, int64_t& k, int64_t& d) {
+    if (adm == 0) {
+      k = 0;
+      d = 0;
+      return;
+    }
+    k = ceil_div(2 * i * adn - adm, 2 * adm);
+    d = 2 * i * adn - adm - 2 * k * adm;
+  };
+  int64_t k, d;
+  state_at(i_first, k, d);
+  m_pending_cycles += 1;
+
+  int64_t i = i_first;
+  while (i <= i_last) {
+    // The span: the steps whose major coordinate lies in this tile column.
+    const int64_t m = ma + sm * i;
+    const int64_t mt = m >> m_tile_shift;
+    const int64_t span_end_m = sm > 0 ? (mt + 1) * ts - 1 : mt * ts;
+    const int64_t i_end = std::min(i_last, sm > 0 ? span_end_m - ma : ma - span_end_m);
+    const int64_t steps = i_end - i + 1;
+    // The minor tiles the span can reach: from the current minor pixel,
+    // at most `steps - 1` further, widened by the replication.
+    const int64_t n_now = na + sn * k;
+    const int64_t n_far = n_now + sn * (steps - 1);
+    const int64_t n_min = std::max(box_n0, std::min(n_now, n_far) - lo);
+    const int64_t n_max = std::min(box_n1, std::max(n_now, n_far) - lo + w - 1);
+    bool mine = false;
+    for (int64_t nt = n_min >> m_tile_shift; n_min <= n_max && nt <= n_max >> m_tile_shift && !mine;
+         ++nt) {
+      const int tx = static_cast<int>(x_major ? mt : nt), ty = static_cast<int>(x_major ? nt : mt);
+      mine = tile_owner(tx, ty, m_config.units) == m_unit;
+    }
+    ++m_line_spans;
+    m_pending_cycles += 1;  // the span test
+    if (!mine) {
+      // None of the span's tiles is this unit's: jump past it in closed form.
+      ++m_line_spans_skipped;
+      i = i_end + 1;
+      if (i <= i_last) state_at(i, k, d);
+      continue;
+    }
+    // Walk the span, 1 cycle per step, collecting the unit's pixels into
+    // stamps, keyed by (minor tile, stamp row, stamp column).
+    m_line_stamps.clear();
+    for (; i <= i_end; ++i) {
+      ++m_line_steps;
+      m_pending_cycles += 1;
+      const int64_t pm = ma + sm * i, pn = na + sn * k;
+      for (int64_t j = std::max(pn - lo, box_n0); j <= std::min(pn - lo + w - 1, box_n1); ++j) {
+        const int x = static_cast<int>(x_major ? pm : j), y = static_cast<int>(x_major ? j : pm);
+        if (tile_owner(x >> m_tile_shift, y >> m_tile_shift, m_config.units) != m_unit) continue;
+        const int sx = x & ~(sw - 1), sy = y & ~(sh - 1);
+        const int tile_n = static_cast<int>(j >> m_tile_shift);
+        const int bit = (y - sy) * sw + (x - sx);
+        m_line_stamps[std::make_tuple(tile_n, sy, sx)] |= uint64_t{1} << bit;
+      }
+      if (adm > 0) {
+        d += 2 * adn;
+        if (d > 0) {
+          ++k;
+          d -= 2 * adm;
+        }
+      }
+    }
+    // One batch per tile, tiles in minor order, stamps in rows bottom-up,
+    // left to right; ii per stamp emitted.
+    m_batch.stamps.clear();
+    bool open = false;
+    int current_tile = 0;
+    for (const auto& [key, mask] : m_line_stamps) {
+      const int tile_n = std::get<0>(key);
+      if (open && tile_n != current_tile) {
+        emit_batch(tri);
+        m_batch.stamps.clear();  // the FIFO handed back a stale packet
+      }
+      open = true;
+      current_tile = tile_n;
+      const int sy = std::get<1>(key), sx = std::get<2>(key);
+      m_pending_cycles += ii;
+      m_batch.stamps.push_back(Stamp{sx, sy, mask, interpolation_at(t, sx, sy)});
+      ++m_stamps_emitted;
+      ++m_line_stamps_emitted;
+      m_fragments += static_cast<uint64_t>(__builtin_popcountll(mask));
+    }
+    if (open) emit_batch(tri);
+  }
+}
+
+template <int N>
+void TileRasterizer::rasterize_edges(const std::shared_ptr<const RasterPrimitive>& tri) {
+  const RasterPrimitive& t = *tri;
   const int sw = m_stamp_w, sh = m_stamp_h, ts = m_tile;
   const uint64_t ii = m_cost.ii;
 
@@ -80,11 +264,11 @@ void TileRasterizer::rasterize(const std::shared_ptr<const RasterPrimitive>& tri
   // is filled on first use, by coverage()), steps between stamps, and per
   // edge the offsets from a tile's origin pixel centre to its pixel centre of
   // largest / smallest E (chosen by the signs of a and b).
-  std::array<EdgeValue, 3> step_x, step_y, tile_reach_max, tile_reach_min;
+  std::array<EdgeValue, N> step_x, step_y, tile_reach_max, tile_reach_min;
   const EdgeValue reach = EdgeValue{ts - 1} * kSubpixelOne;  // tile origin -> far pixel centre
   m_offset_valid = false;
-  for (int k = 0; k < 3; ++k) {
-    const EdgeEquation& e = t.edge[k];
+  for (int k = 0; k < N; ++k) {
+    const EdgeEquation& e = t.coverage[k];
     const EdgeValue a = e.a * kSubpixelOne, b = e.b * kSubpixelOne;
     m_pixel_dx[k] = a;
     m_pixel_dy[k] = b;
@@ -104,10 +288,10 @@ void TileRasterizer::rasterize(const std::shared_ptr<const RasterPrimitive>& tri
       m_pending_cycles += 1;  // the tile test
 
       const int ox = tx * ts, oy = ty * ts;  // tile origin pixel
-      std::array<EdgeValue, 3> e_tile;
+      std::array<EdgeValue, N> e_tile;
       bool reject = false, accept = true;
-      for (int k = 0; k < 3; ++k) {
-        const EdgeEquation& e = t.edge[k];
+      for (int k = 0; k < N; ++k) {
+        const EdgeEquation& e = t.coverage[k];
         e_tile[k] = e.at(pixel_center(ox), pixel_center(oy));
         reject = reject || e_tile[k] + tile_reach_max[k] - e.bias < 0;
         accept = accept && e_tile[k] + tile_reach_min[k] - e.bias >= 0;
@@ -123,17 +307,17 @@ void TileRasterizer::rasterize(const std::shared_ptr<const RasterPrimitive>& tri
       const int py0 = std::max(oy, t.y0), py1 = std::min(oy + ts - 1, t.y1);
       const int si0 = (px0 - ox) >> m_stamp_w_shift, si1 = (px1 - ox) >> m_stamp_w_shift;
       const int sj0 = (py0 - oy) >> m_stamp_h_shift, sj1 = (py1 - oy) >> m_stamp_h_shift;
-      std::array<EdgeValue, 3> e_row;
-      for (int k = 0; k < 3; ++k) e_row[k] = e_tile[k] + si0 * step_x[k] + sj0 * step_y[k];
+      std::array<EdgeValue, N> e_row;
+      for (int k = 0; k < N; ++k) e_row[k] = e_tile[k] + si0 * step_x[k] + sj0 * step_y[k];
 
       m_batch.stamps.clear();
-      for (int sj = sj0; sj <= sj1;
-           ++sj, e_row[0] += step_y[0], e_row[1] += step_y[1], e_row[2] += step_y[2]) {
+      for (int sj = sj0; sj <= sj1; ++sj) {
         const int sy = oy + sj * sh;
         const int jlo = std::max(0, t.y0 - sy), jhi = std::min(sh - 1, t.y1 - sy);
-        std::array<EdgeValue, 3> e = e_row;
-        for (int si = si0; si <= si1;
-             ++si, e[0] += step_x[0], e[1] += step_x[1], e[2] += step_x[2]) {
+        std::array<EdgeValue, N> e = e_row;
+        for (int si = si0; si <= si1; ++si) {
+          const std::array<EdgeValue, N> e_here = e;  // at this stamp's origin
+          for (int k = 0; k < N; ++k) e[k] += step_x[k];
           const int sx = ox + si * sw;
           const int ilo = std::max(0, t.x0 - sx), ihi = std::min(sw - 1, t.x1 - sx);
           // Pixels inside the box (the box is inside the framebuffer).
@@ -150,15 +334,20 @@ void TileRasterizer::rasterize(const std::shared_ptr<const RasterPrimitive>& tri
             mask = box;
           } else {
             ++m_stamps_evaluated;
-            mask = coverage(t, e, box);
+            mask = coverage<N>(t, e_here, box);
           }
           if (mask == 0) continue;
-          m_batch.stamps.push_back(Stamp{sx, sy, mask, e});
+          if constexpr (N == 3) {
+            m_batch.stamps.push_back(Stamp{sx, sy, mask, e_here});
+          } else {
+            m_batch.stamps.push_back(Stamp{sx, sy, mask, interpolation_at(t, sx, sy)});
+          }
           ++m_stamps_emitted;
           // Full stamps need no count (popcount is a libgcc call on baseline x86-64).
           m_fragments += mask == m_full_mask ? static_cast<uint64_t>(m_stamp_pixels)
                                              : static_cast<uint64_t>(__builtin_popcountll(mask));
         }
+        for (int k = 0; k < N; ++k) e_row[k] += step_y[k];
       }
       if (!m_batch.stamps.empty()) emit_batch(tri);
     }
@@ -171,24 +360,24 @@ void TileRasterizer::rasterize(const std::shared_ptr<const RasterPrimitive>& tri
 // offset table when the box is the whole stamp, else one by one (a small
 // triangle's box holds a few pixels). Either way a pixel is covered iff
 // E + offset - bias >= 0 for every edge, in exact integers.
-uint64_t TileRasterizer::coverage(const RasterPrimitive& t, const std::array<EdgeValue, 3>& e,
+template <int N>
+uint64_t TileRasterizer::coverage(const RasterPrimitive& t, const std::array<EdgeValue, N>& e,
                                   uint64_t box) {
-  const EdgeValue t0 = t.edge[0].bias - e[0], t1 = t.edge[1].bias - e[1],
-                  t2 = t.edge[2].bias - e[2];
+  std::array<EdgeValue, N> th;  // E + offset - bias >= 0 <=> offset >= bias - E
+  for (int k = 0; k < N; ++k) th[k] = t.coverage[k].bias - e[k];
   if (box != m_full_mask) {
     uint64_t cover = 0;
     for (uint64_t bits = box; bits != 0; bits &= bits - 1) {
       const int p = __builtin_ctzll(bits);
       const EdgeValue i = p & (m_stamp_w - 1), j = p >> m_stamp_w_shift;
-      const bool in = i * m_pixel_dx[0] + j * m_pixel_dy[0] >= t0 &&
-                      i * m_pixel_dx[1] + j * m_pixel_dy[1] >= t1 &&
-                      i * m_pixel_dx[2] + j * m_pixel_dy[2] >= t2;
+      bool in = true;
+      for (int k = 0; k < N; ++k) in = in && i * m_pixel_dx[k] + j * m_pixel_dy[k] >= th[k];
       cover |= static_cast<uint64_t>(in) << p;
     }
     return cover;
   }
   if (!m_offset_valid) {
-    for (int k = 0; k < 3; ++k) {
+    for (int k = 0; k < N; ++k) {
       for (int p = 0; p < m_stamp_pixels; ++p) {
         const int i = p & (m_stamp_w - 1), j = p >> m_stamp_w_shift;
         m_offset[k][p] = i * m_pixel_dx[k] + j * m_pixel_dy[k];
@@ -196,10 +385,19 @@ uint64_t TileRasterizer::coverage(const RasterPrimitive& t, const std::array<Edg
     }
     m_offset_valid = true;
   }
-  const EdgeValue *o0 = m_offset[0].data(), *o1 = m_offset[1].data(), *o2 = m_offset[2].data();
   uint64_t cover = 0;
-  for (int p = 0; p < m_stamp_pixels; ++p) {
-    cover |= static_cast<uint64_t>((o0[p] >= t0) & (o1[p] >= t1) & (o2[p] >= t2)) << p;
+  if constexpr (N == 3) {
+    const EdgeValue *o0 = m_offset[0].data(), *o1 = m_offset[1].data(), *o2 = m_offset[2].data();
+    const EdgeValue t0 = th[0], t1 = th[1], t2 = th[2];
+    for (int p = 0; p < m_stamp_pixels; ++p) {
+      cover |= static_cast<uint64_t>((o0[p] >= t0) & (o1[p] >= t1) & (o2[p] >= t2)) << p;
+    }
+  } else {
+    for (int p = 0; p < m_stamp_pixels; ++p) {
+      bool in = true;
+      for (int k = 0; k < N; ++k) in = in && m_offset[k][p] >= th[k];
+      cover |= static_cast<uint64_t>(in) << p;
+    }
   }
   return cover;
 }

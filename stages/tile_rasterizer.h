@@ -1,10 +1,15 @@
 // Tile rasterizer, one per unit: walks the unit's own screen tiles inside a
-// triangle's pixel bounding box and emits the covered pixels as stamps
-// (docs/pipeline-spec.md, section 8; Mesa llvmpipe's hierarchical scheme).
+// primitive's pixel bounding box and emits the covered pixels as stamps
+// (docs/pipeline-spec.md, sections 8, 8b, 8c; Mesa llvmpipe's hierarchical
+// scheme). Triangles, diamond-exit lines and points take the tile walk
+// below over the primitive's coverage edges (RasterPrimitive::coverage: 3
+// for a triangle, 2 for a diamond-exit line, whose box already bounds its
+// ends, 0 for a point, whose box is its square); Bresenham lines take the
+// line walker described after it.
 //
 // Walk: tiles of config.tile_size in rows bottom-up, left to right, only
 // those with tile_owner(tx, ty, units) == unit. Per tile, one test of the
-// three edges at the tile's extreme pixel centres (chosen by the signs of a
+// coverage edges at the tile's extreme pixel centres (chosen by the signs of a
 // and b):
 //   - reject: some edge's maximum over the tile's pixel centres is below its
 //     bias: nothing covered, next tile;
@@ -22,10 +27,30 @@
 // (a tile cut by the box starts at its first stamp column and row inside the
 // box: + i0 * a * (w * 256) + j0 * b * (h * 256)).
 // Pixels outside the box (hence outside the framebuffer) are masked off.
-// One StampBatch per (triangle, tile) holds the tile's non-empty stamps in
-// walk order (rows bottom-up, left to right) with the raw edge values (no
-// bias) at each stamp's origin pixel centre; tiles without coverage emit
-// nothing.
+// One StampBatch per (primitive, tile) holds the tile's non-empty stamps in
+// walk order (rows bottom-up, left to right) with the raw interpolation
+// values (RasterPrimitive::edge, no bias) at each stamp's origin pixel
+// centre; tiles without coverage emit nothing. For a triangle they are the
+// coverage edges' values the walk stepped; for a line or a point they are
+// evaluated at the stamp's origin when it is emitted (a multiply-add per
+// function, inside the stamp's ii).
+//
+// Line walker (Bresenham, spec section 8b): the integer midpoint algorithm
+// from the end points' pixels, one step per pixel along the major axis M,
+// the minor offset k kept by a decision variable d in (-2|dM|, 0]: per step
+// d += 2|dN|, and d > 0 steps the minor axis (k += 1, d -= 2|dM|); a tie,
+// d = 0, does not. Each step's pixel is replicated to the w pixels
+// n - floor((w - 1) / 2) ... + w - 1 of the minor axis. The walk starts at
+// the first drawn step whose major coordinate lies in the box (first end
+// flag; k and d there in closed form, one division) and ends at the last
+// (last end flag, box). It proceeds in spans, the steps of one tile column
+// (x-major) or tile row (y-major). Per span, the unit tests whether it owns
+// any tile the span can reach (minor range from the current pixel, widened
+// by the span's length and the replication): if not, it jumps past the span
+// (k and d in closed form again); if so, it walks every step of the span,
+// keeps the pixels in its own tiles inside the box, and then emits one
+// batch per tile, in increasing minor tile order, its stamps rows bottom-up,
+// left to right.
 //
 // Bit widths: the box lies in the framebuffer (side <= 8192 pixels), so every
 // tile and stamp the walk touches lies in [0, 8192 + 256) pixels: pixel
@@ -35,7 +60,7 @@
 // |c| < 2^50, so |E| < 2^51, and int64 holds it with 12 bits to spare. The
 // steps themselves are < 2^25 * 2^16 = 2^41.
 //
-// Cost model (cycles), per triangle: 1 per tile visited (the tile test),
+// Cost model (cycles) of the tile walk, per primitive: 1 per tile visited (the tile test),
 // plus ii(rasterizer) per stamp evaluated in a partial tile and per stamp
 // emitted from an accepted tile; stamps outside the box are never visited,
 // rejected tiles cost only their test. busy_cycles = tiles_visited +
@@ -46,12 +71,22 @@
 // the triangle. So a triangle read at t whose last tile has coverage has its
 // last batch readable at t + (its cycles) + latency when the output FIFO has
 // room, and big triangles stream tile by tile.
+// Line walker, per Bresenham line: 1 cycle to enter the walk, 1 per span
+// tested (a jumped span costs only that), 1 per step walked in this unit's
+// spans (all w replicated pixels of a step at once), and ii(rasterizer) per
+// stamp emitted; a span's batches are written after its steps, each after
+// the cycles before it. busy_cycles = lines_walked + line_spans +
+// line_steps + ii * line_stamps (+ ii * control tokens). Every unit the
+// distributor sends the line to walks it this way, skipping the spans of
+// other units' tiles.
 // A control token costs ii(rasterizer) and is forwarded with the latency.
 // No memory traffic.
 #pragma once
 
 #include <array>
+#include <map>
 #include <systemc>
+#include <tuple>
 
 #include "hw/draw_state.h"
 #include "hw/fifo.h"
@@ -82,9 +117,18 @@ class TileRasterizer : public PipelineStage {
 
   void run();
   void rasterize(const std::shared_ptr<const RasterPrimitive>& tri);
+  // The tile walk over N coverage edges (3 for a triangle, 2 for a
+  // diamond-exit line, 0 for a point).
+  template <int N>
+  void rasterize_edges(const std::shared_ptr<const RasterPrimitive>& tri);
   // The edge-function core on one stamp: the pixels of `box` covered by the
-  // triangle, from the raw edge values `e` at the stamp's origin.
-  uint64_t coverage(const RasterPrimitive& t, const std::array<EdgeValue, 3>& e, uint64_t box);
+  // primitive, from the raw coverage edge values `e` at the stamp's origin.
+  template <int N>
+  uint64_t coverage(const RasterPrimitive& t, const std::array<EdgeValue, N>& e, uint64_t box);
+  // The Bresenham line walker.
+  void walk_line(const std::shared_ptr<const RasterPrimitive>& tri);
+  // The interpolation functions' values at stamp origin (sx, sy)'s centre.
+  std::array<EdgeValue, 3> interpolation_at(const RasterPrimitive& t, int sx, int sy) const;
   // Waits the cycles walked since the last output, then writes m_batch (the
   // stamps of one tile) as the batch of `tri`.
   void emit_batch(const std::shared_ptr<const RasterPrimitive>& tri);
@@ -101,13 +145,28 @@ class TileRasterizer : public PipelineStage {
   // pixel in x and in y (a * 256, b * 256), and the offset of pixel
   // p = j * w + i from the stamp origin, i * a * 256 + j * b * 256, per edge
   // (filled when the triangle's first whole stamp is evaluated).
-  std::array<EdgeValue, 3> m_pixel_dx{}, m_pixel_dy{};
-  std::array<std::array<EdgeValue, kMaxStampPixels>, 3> m_offset{};
+  std::array<EdgeValue, RasterPrimitive::kMaxCoverageEdges> m_pixel_dx{}, m_pixel_dy{};
+  std::array<std::array<EdgeValue, kMaxStampPixels>, RasterPrimitive::kMaxCoverageEdges> m_offset{};
   bool m_offset_valid = false;
   uint64_t m_pending_cycles = 0;  // walked but not yet waited
   StampBatch m_batch;             // the tile's stamps; buffers recycled through the FIFO
+  // The line walker's stamps of one span: (minor tile, stamp y, stamp x) ->
+  // mask, so they leave tile by tile in walk order.
+  std::map<std::tuple<int, int, int>, uint64_t> m_line_stamps;
 
   uint64_t& m_triangles = m_stats.counter("triangles", "triangles", "triangles walked");
+  uint64_t& m_lines = m_stats.counter("lines", "lines", "lines received (either rule)");
+  uint64_t& m_points = m_stats.counter("points", "points", "points received");
+  uint64_t& m_lines_walked = m_stats.counter(
+      "lines_walked", "lines", "Bresenham lines with a drawn step in the box, walked");
+  uint64_t& m_line_spans =
+      m_stats.counter("line_spans", "spans", "line walker spans (one tile column or row) tested");
+  uint64_t& m_line_spans_skipped = m_stats.counter(
+      "line_spans_skipped", "spans", "line walker spans touching no tile of this unit, jumped");
+  uint64_t& m_line_steps =
+      m_stats.counter("line_steps", "steps", "line walker steps in this unit's spans");
+  uint64_t& m_line_stamps_emitted =
+      m_stats.counter("line_stamps", "stamps", "stamps the line walker built and emitted");
   uint64_t& m_tiles_visited =
       m_stats.counter("tiles_visited", "tiles", "own tiles in a triangle's box");
   uint64_t& m_tiles_rejected =

@@ -28,6 +28,63 @@ float polygon_offset(const RasterPrimitive& t, const RenderState& st, DepthForma
   return st.offset_factor * m + st.offset_units * min_resolvable_depth(fmt, max_z);
 }
 
+// Rounding half away from zero (docs/pipeline-spec.md, sections 8b and 8c);
+// std::lround is exactly that. Arguments are below 2^24 in magnitude.
+int64_t iround(float v) {
+  return static_cast<int64_t>(std::lround(v));
+}
+
+int64_t ceil_div_subpixel(int64_t v) {
+  return -static_cast<int64_t>(floor_div_subpixel(-v));
+}
+
+// A diamond-exit line in major / minor coordinates (x / y for an x-major
+// line, y / x for a y-major one), for setup's band and end tests
+// (docs/pipeline-spec.md, section 8b, "Consequences"). All integers are
+// exact in int64: coordinates < 2^25 in magnitude, products < 2^50.
+struct MajorLine {
+  bool x_major;
+  int64_t ma, na, mb, nb;  // end points (major, minor), subpixels
+  int64_t dm, dn;          // mb - ma, nb - na; dm != 0
+  int64_t s;               // sign(dm)
+  int64_t adm;             // |dm|
+  bool low_tie, high_tie;  // whether s D = -128 w |dm| (+128 w |dm|) counts
+  int64_t w;
+
+  // s * D at the centre (cm, cn), major / minor subpixels, of the line
+  // offset by `shift` subpixels in the minor axis.
+  int64_t sd(int64_t cm, int64_t cn, int64_t shift) const {
+    return (cn - (na + shift)) * adm - (cm - ma) * s * dn;
+  }
+  // Width-1 band test of the offset line (shift = -128 (w - 1)).
+  bool in_band1(int64_t cm, int64_t cn) const {
+    const int64_t v = sd(cm, cn, -128 * (w - 1)), h = 128 * adm;
+    return (v > -h && v < h) || (v == -h && low_tie) || (v == h && high_tie);
+  }
+  // The minor pixel of the offset line's band in major column m, searched
+  // among the few rows around `near_n` (a minor coordinate of the line near
+  // that column: within 2 pixels, |slope| <= 1); no division.
+  int64_t band_pixel(int64_t m, int64_t near_n) const {
+    const int64_t cm = 256 * m + 128;
+    const int64_t n0 = floor_div_subpixel(near_n - 128 * (w - 1));
+    for (int64_t n = n0 - 3; n <= n0 + 3; ++n) {
+      if (in_band1(cm, 256 * n + 128)) return n;
+    }
+    SC_REPORT_ERROR("gpusim/triangle_setup", "diamond-exit line: no band pixel near its end");
+    return n0;
+  }
+  // Whether the offset end point (pm, pn) perturbed by -(eps, eps^2) lies in
+  // the diamond of the pixel (m, n): |u| + |v| < 128, or = 128 with u > 0,
+  // u and v along x and y whatever the major axis.
+  bool end_in_diamond(int64_t pm, int64_t pn, int64_t m, int64_t n) const {
+    const int64_t dmaj = pm - (256 * m + 128);
+    const int64_t dmin = pn - 128 * (w - 1) - (256 * n + 128);
+    const int64_t u = x_major ? dmaj : dmin, v = x_major ? dmin : dmaj;
+    const int64_t d = std::llabs(u) + std::llabs(v);
+    return d < 128 || (d == 128 && u > 0);
+  }
+};
+
 }  // namespace
 
 TriangleSetup::TriangleSetup(sc_core::sc_module_name name, const GpuConfig& config,
@@ -40,16 +97,27 @@ TriangleSetup::TriangleSetup(sc_core::sc_module_name name, const GpuConfig& conf
   SC_THREAD(run);
 }
 
-std::shared_ptr<RasterPrimitive> TriangleSetup::setup(const ClippedPrimitive& in_tri) {
-  // The clipper assembles triangles only; another kind here is a model bug.
-  if (in_tri.primitive_kind != PrimitiveKind::triangle ||
-      in_tri.vertex_count != vertex_count_of(PrimitiveKind::triangle)) {
+std::shared_ptr<RasterPrimitive> TriangleSetup::setup(const ClippedPrimitive& in) {
+  const uint8_t n = vertex_count_of(in.primitive_kind);
+  if (in.vertex_count != n) {
     std::ostringstream msg;
-    msg << name() << ": triangle setup cannot set up a " << in_tri.primitive_kind << " of "
-        << unsigned{in_tri.vertex_count} << " vertices (primitive " << in_tri.primitive_id << ")";
+    msg << name() << ": cannot set up a " << in.primitive_kind << " of "
+        << unsigned{in.vertex_count} << " vertices (primitive " << in.primitive_id << ")";
     SC_REPORT_ERROR("gpusim/triangle_setup", msg.str().c_str());
     return nullptr;
   }
+  switch (in.primitive_kind) {
+    case PrimitiveKind::triangle:
+      return setup_triangle(in);
+    case PrimitiveKind::line:
+      return setup_line(in);
+    case PrimitiveKind::point:
+      return setup_point(in);
+  }
+  return nullptr;
+}
+
+std::shared_ptr<RasterPrimitive> TriangleSetup::setup_triangle(const ClippedPrimitive& in_tri) {
   std::array<Subpixel, 3> x, y;
   for (int i = 0; i < 3; ++i) {
     x[i] = snap_to_subpixel(in_tri.v[i].x);
@@ -103,6 +171,9 @@ std::shared_ptr<RasterPrimitive> TriangleSetup::setup(const ClippedPrimitive& in
     e.c = dy * t->x[i] - dx * t->y[i];
     e.bias = (dy < 0 || (dy == 0 && dx > 0)) ? 0 : 1;
   }
+  // The rasterizer tests the same three edges.
+  std::copy(t->edge.begin(), t->edge.end(), t->coverage.begin());
+  t->coverage_count = 3;
 
   if (st.offset_factor != 0.0f || st.offset_units != 0.0f) {
     t->has_depth_offset = true;
@@ -123,6 +194,168 @@ std::shared_ptr<RasterPrimitive> TriangleSetup::setup(const ClippedPrimitive& in
   return t;
 }
 
+std::shared_ptr<RasterPrimitive> TriangleSetup::setup_line(const ClippedPrimitive& in) {
+  const RenderState& st = m_frame.draws.at(in.draw_id).state;
+  const FramebufferDesc& fb = m_frame.framebuffer;
+  const Subpixel xa = snap_to_subpixel(in.v[0].x), ya = snap_to_subpixel(in.v[0].y);
+  const Subpixel xb = snap_to_subpixel(in.v[1].x), yb = snap_to_subpixel(in.v[1].y);
+  const EdgeValue dx = EdgeValue{xb} - xa, dy = EdgeValue{yb} - ya;
+  const EdgeValue l2 = dx * dx + dy * dy;  // < 2^51
+  const bool bresenham = st.line_rasterization == LineRasterization::bresenham;
+  if (l2 == 0 && !bresenham) {
+    ++m_lines_degenerate;  // a diamond-exit line of zero length draws nothing
+    return nullptr;
+  }
+  ++m_lines_rasterized;
+
+  auto t = std::make_shared<RasterPrimitive>();
+  t->primitive_kind = PrimitiveKind::line;
+  t->vertex_count = 2;
+  t->draw_id = in.draw_id;
+  t->primitive_id = in.primitive_id;
+  t->flat_varyings = in.flat_varyings;
+  // Interpolation as the triangle (a, b, a) (spec section 9).
+  const std::array<int, 3> slot{0, 1, 0};
+  for (int i = 0; i < 3; ++i) {
+    const ClippedVertex& v = in.v[slot[i]];
+    t->x[i] = i == 1 ? xb : xa;
+    t->y[i] = i == 1 ? yb : ya;
+    t->z[i] = v.z;
+    t->inv_w[i] = v.inv_w;
+    t->varyings_over_w[i] = v.varyings_over_w;
+  }
+  if (l2 == 0) {  // a Bresenham line of zero length: vertex a's values
+    t->edge[0] = EdgeEquation{0, 0, 1, 0};
+    t->area2 = 1;
+  } else {
+    // E1 = T = (px - Xa) dx + (py - Ya) dy, E0 = L2 - T, E2 = 0.
+    t->edge[1] = EdgeEquation{dx, dy, -(EdgeValue{xa} * dx) - EdgeValue{ya} * dy, 0};
+    t->edge[0] = EdgeEquation{-dx, -dy, l2 + EdgeValue{xa} * dx + EdgeValue{ya} * dy, 0};
+    t->area2 = l2;
+  }
+  const int64_t w =
+      std::clamp<int64_t>(iround(st.line_width), 1, static_cast<int64_t>(kMaxLineWidth));
+  t->width = static_cast<uint16_t>(w);
+  t->draw_first = in.draw_first;
+  t->draw_last = in.draw_last;
+  const bool x_major = std::llabs(dx) >= std::llabs(dy);
+
+  int64_t bx0, bx1, by0, by1;  // pixel box before clamping
+  if (bresenham) {
+    // The walker's input: the end points' pixels; the box holds every pixel
+    // it can produce (the major range, the minor range widened by the
+    // replication y - floor((w - 1) / 2) ... + w - 1).
+    ++m_lines_bresenham;
+    t->line_rule = LineRule::bresenham;
+    t->coverage_count = 0;
+    t->ia_x = floor_div_subpixel(xa);
+    t->ia_y = floor_div_subpixel(ya);
+    t->ib_x = floor_div_subpixel(xb);
+    t->ib_y = floor_div_subpixel(yb);
+    const int64_t pdx = int64_t{t->ib_x} - t->ia_x, pdy = int64_t{t->ib_y} - t->ia_y;
+    const bool px_major = std::llabs(pdx) >= std::llabs(pdy);
+    const int64_t lo = (w - 1) / 2, hi = w - 1 - lo;
+    bx0 = std::min(t->ia_x, t->ib_x) - (px_major ? 0 : lo);
+    bx1 = std::max(t->ia_x, t->ib_x) + (px_major ? 0 : hi);
+    by0 = std::min(t->ia_y, t->ib_y) - (px_major ? lo : 0);
+    by1 = std::max(t->ia_y, t->ib_y) + (px_major ? hi : 0);
+  } else {
+    t->line_rule = LineRule::diamond_exit;
+    MajorLine ln;
+    ln.x_major = x_major;
+    ln.ma = x_major ? xa : ya;
+    ln.na = x_major ? ya : xa;
+    ln.mb = x_major ? xb : yb;
+    ln.nb = x_major ? yb : xb;
+    ln.dm = ln.mb - ln.ma;
+    ln.dn = ln.nb - ln.na;
+    ln.s = ln.dm > 0 ? 1 : -1;
+    ln.adm = std::llabs(ln.dm);
+    ln.low_tie = x_major ? dx * dy <= 0 : true;
+    ln.high_tie = x_major ? dx * dy > 0 : false;
+    ln.w = w;
+    // The band of w centres per column: -128 w |dm| < s D < 128 w |dm|,
+    // s D = (cn - na) |dm| - (cm - ma) s dn, as two edges over (px, py).
+    const EdgeValue coef_m = -ln.s * ln.dn, coef_n = ln.adm;
+    const EdgeValue c0 = -ln.na * ln.adm + ln.ma * ln.s * ln.dn;
+    const EdgeValue half = 128 * w * ln.adm;  // < 2^40
+    const EdgeValue a = x_major ? coef_m : coef_n, b = x_major ? coef_n : coef_m;
+    t->coverage[0] = EdgeEquation{a, b, c0 + half, ln.low_tie ? 0 : 1};
+    t->coverage[1] = EdgeEquation{-a, -b, half - c0, ln.high_tie ? 0 : 1};
+    t->coverage_count = 2;
+    // The end columns (the end test, on the offset segment). Travelling in
+    // +major: the first column is the first centre at or after ma, or the
+    // one before it if A' lies in its band pixel's diamond; the last is the
+    // last centre before mb, unless B' lies in its band pixel's diamond.
+    // -major mirrors it.
+    int64_t first, last;
+    if (ln.s > 0) {
+      first = ceil_div_subpixel(ln.ma - 128);
+      if (ln.end_in_diamond(ln.ma, ln.na, first - 1, ln.band_pixel(first - 1, ln.na))) --first;
+      last = floor_div_subpixel(ln.mb - 129);
+      if (ln.end_in_diamond(ln.mb, ln.nb, last, ln.band_pixel(last, ln.nb))) --last;
+    } else {
+      first = floor_div_subpixel(ln.ma - 129);
+      if (ln.end_in_diamond(ln.ma, ln.na, first + 1, ln.band_pixel(first + 1, ln.na))) ++first;
+      last = ceil_div_subpixel(ln.mb - 128);
+      if (ln.end_in_diamond(ln.mb, ln.nb, last, ln.band_pixel(last, ln.nb))) ++last;
+    }
+    const int64_t m_lo = std::min(first, last), m_hi = std::max(first, last);
+    int64_t n_lo = 0, n_hi = -1;
+    if ((ln.s > 0 && first <= last) || (ln.s < 0 && first >= last)) {
+      // The minor range: the band pixels of the end columns (the band is
+      // monotone along the line), the column of w upwards from each.
+      const int64_t n_first = ln.band_pixel(first, ln.na), n_last = ln.band_pixel(last, ln.nb);
+      n_lo = std::min(n_first, n_last);
+      n_hi = std::max(n_first, n_last) + w - 1;
+    }
+    const bool empty = n_lo > n_hi;
+    bx0 = x_major ? m_lo : n_lo;
+    bx1 = x_major ? (empty ? m_lo - 1 : m_hi) : n_hi;
+    by0 = x_major ? n_lo : m_lo;
+    by1 = x_major ? n_hi : (empty ? m_lo - 1 : m_hi);
+  }
+  t->x0 = static_cast<int32_t>(std::max<int64_t>(0, bx0));
+  t->x1 = static_cast<int32_t>(std::min<int64_t>(fb.width - 1, bx1));
+  t->y0 = static_cast<int32_t>(std::max<int64_t>(0, by0));
+  t->y1 = static_cast<int32_t>(std::min<int64_t>(fb.height - 1, by1));
+  return t;
+}
+
+std::shared_ptr<RasterPrimitive> TriangleSetup::setup_point(const ClippedPrimitive& in) {
+  const RenderState& st = m_frame.draws.at(in.draw_id).state;
+  const FramebufferDesc& fb = m_frame.framebuffer;
+  ++m_points_rasterized;
+  const ClippedVertex& v = in.v[0];
+  auto t = std::make_shared<RasterPrimitive>();
+  t->primitive_kind = PrimitiveKind::point;
+  t->vertex_count = 1;
+  t->draw_id = in.draw_id;
+  t->primitive_id = in.primitive_id;
+  t->flat_varyings = in.flat_varyings;
+  for (int i = 0; i < 3; ++i) {
+    t->x[i] = snap_to_subpixel(v.x);
+    t->y[i] = snap_to_subpixel(v.y);
+    t->z[i] = v.z;
+    t->inv_w[i] = v.inv_w;
+    t->varyings_over_w[i] = v.varyings_over_w;
+  }
+  // E0 = 1, E1 = E2 = 0, area2 = 1: z = z0 exactly (spec section 9).
+  t->edge[0] = EdgeEquation{0, 0, 1, 0};
+  t->area2 = 1;
+  // The square (spec 8c): X0 <= 256 x < X0 + F, likewise y. The pixel box
+  // is the square itself, so no coverage edge is needed.
+  const int64_t f = std::max<int64_t>(256, iround(st.point_size * 256.0f));
+  const int64_t x0 = iround((v.x - 0.5f) * 256.0f) - f / 2;
+  const int64_t y0 = iround((v.y - 0.5f) * 256.0f) - f / 2;
+  t->coverage_count = 0;
+  t->x0 = static_cast<int32_t>(std::max<int64_t>(0, ceil_div_subpixel(x0)));
+  t->x1 = static_cast<int32_t>(std::min<int64_t>(fb.width - 1, floor_div_subpixel(x0 + f - 1)));
+  t->y0 = static_cast<int32_t>(std::max<int64_t>(0, ceil_div_subpixel(y0)));
+  t->y1 = static_cast<int32_t>(std::min<int64_t>(fb.height - 1, floor_div_subpixel(y0 + f - 1)));
+  return t;
+}
+
 void TriangleSetup::run() {
   for (;;) {
     const ClippedPrimitive tri = receive(in);
@@ -134,7 +367,9 @@ void TriangleSetup::run() {
       std::shared_ptr<RasterPrimitive> t = setup(tri);
       if (!t) continue;
       if (t->x0 > t->x1 || t->y0 > t->y1) {
-        ++m_offscreen;
+        ++(t->primitive_kind == PrimitiveKind::triangle ? m_offscreen
+           : t->primitive_kind == PrimitiveKind::line   ? m_lines_offscreen
+                                                        : m_points_offscreen);
         continue;
       }
       p.triangle = std::move(t);

@@ -1,23 +1,45 @@
-// Triangle setup (docs/pipeline-spec.md, sections 6, 7, 8 and 10): snaps the
-// clipper's window coordinates to the subpixel grid, computes twice the
-// signed area, drops degenerate and culled triangles, turns clockwise
-// triangles counter-clockwise, and derives what the rasterizer and the back
-// end need once per triangle: the three edge equations with their fill-rule
-// bias, the pixel bounding box clamped to the framebuffer and the polygon
-// offset; the vertices' varyings (already divided by w) and the provoking
-// vertex's flat varyings pass through unchanged. The result is shared
-// read-only by every unit (shared_ptr). Only triangles are assembled today:
-// a primitive of another kind is a model error (SC_REPORT_ERROR).
+// Primitive setup (docs/pipeline-spec.md, sections 6 to 10, 8b, 8c): snaps
+// the clipper's window coordinates to the subpixel grid and derives, once
+// per primitive, what the rasterizer and the back end need (RasterPrimitive,
+// hw/packets.h). The result is shared read-only by every unit (shared_ptr).
 //
-// Cost model: every input token (triangle or control token) read at time t
-// occupies the stage for ii(triangle_setup) cycles, whether or not a triangle
-// survives; its output, if any, is written at t + ii and readable from
-// t + ii + latency(triangle_setup). No memory traffic.
+// Triangles: twice the signed area; degenerate and culled triangles are
+// dropped; clockwise ones are turned counter-clockwise; the three edge
+// equations with their fill-rule bias (interpolation and coverage alike), the
+// pixel bounding box clamped to the framebuffer and the polygon offset. The
+// vertices' varyings (already divided by w) and the provoking vertex's flat
+// varyings pass through unchanged.
 //
-// Triangles whose clamped bounding box is empty (entirely off screen, or too
-// thin to contain a pixel centre's row or column) are counted in
-// triangles_rasterized, as the golden model counts them, and also in
-// triangles_offscreen; they are not sent on, since no unit has work for them.
+// Lines (a, b): the interpolation functions of section 9 (E0 = L2 - T,
+// E1 = T, E2 = 0, area2 = L2, vertices (a, b, a)); no polygon offset.
+// - Diamond exit: a zero-length line is dropped (lines_degenerate). Otherwise
+//   a parallelogram: two coverage edges bound the band of w pixel centres per
+//   major column, -128 w |dm| < s D < 128 w |dm| with the ties of section
+//   8b's integer form, and the pixel box bounds the major axis to the first
+//   and last column (row) the line produces. Setup decides those two with
+//   the end test on the offset segment (end points moved by -128 (w - 1) in
+//   the minor axis): per end, one candidate column beside the end point,
+//   whose band pixel is found among 7 candidate rows by the band test (no
+//   division), and whose diamond is tested against the end point. The minor
+//   range of the box is the band pixels of the two end columns, plus w - 1.
+// - Bresenham: the end points' pixels, the width and the end flags for the
+//   rasterizer's line walker, and a box holding every pixel it can produce.
+// Points: the square of section 8c (F, X0, Y0, rounded half away from zero)
+// is the pixel box itself, with no coverage edge; interpolation E0 = 1,
+// area2 = 1, so depth is the vertex's z exactly, and the interpolator gives
+// the flat varyings.
+//
+// Cost model: every input token (primitive of any kind, or control token)
+// read at time t occupies the stage for ii(triangle_setup) cycles, whether or
+// not it survives; its output, if any, is written at t + ii and readable from
+// t + ii + latency(triangle_setup). A line's end tests (a handful of
+// multiply-adds per end) are part of that ii. No memory traffic.
+//
+// Primitives whose clamped box is empty (entirely off screen, too thin to
+// contain a pixel centre's row or column, or a line producing no column)
+// are counted as rasterized, as the golden model counts them, and also in
+// triangles_offscreen, lines_offscreen or points_offscreen; they are not
+// sent on, since no unit has work for them.
 #pragma once
 
 #include <systemc>
@@ -40,9 +62,9 @@ class TriangleSetup : public PipelineStage {
 
   // The golden model's setup counters (docs/pipeline-spec.md, section 13).
   nlohmann::json pipeline_counts() const {
-    return {{"triangles_degenerate", m_degenerate},
-            {"triangles_culled", m_culled},
-            {"triangles_rasterized", m_rasterized}};
+    return {{"triangles_degenerate", m_degenerate},   {"triangles_culled", m_culled},
+            {"triangles_rasterized", m_rasterized},   {"lines_degenerate", m_lines_degenerate},
+            {"lines_rasterized", m_lines_rasterized}, {"points_rasterized", m_points_rasterized}};
   }
 
  private:
@@ -51,6 +73,9 @@ class TriangleSetup : public PipelineStage {
   // degenerate or culled (the reason goes to the counters). A RasterPrimitive
   // with an empty box (x0 > x1 or y0 > y1) is returned all the same.
   std::shared_ptr<RasterPrimitive> setup(const ClippedPrimitive& t);
+  std::shared_ptr<RasterPrimitive> setup_triangle(const ClippedPrimitive& t);
+  std::shared_ptr<RasterPrimitive> setup_line(const ClippedPrimitive& t);
+  std::shared_ptr<RasterPrimitive> setup_point(const ClippedPrimitive& t);
 
   uint64_t& m_degenerate =
       m_stats.counter("triangles_degenerate", "triangles", "zero area after snapping, dropped");
@@ -62,6 +87,18 @@ class TriangleSetup : public PipelineStage {
                       "rasterized triangles whose box holds no pixel centre, not sent");
   uint64_t& m_swapped =
       m_stats.counter("triangles_swapped", "triangles", "clockwise, made counter-clockwise");
+  uint64_t& m_lines_degenerate = m_stats.counter(
+      "lines_degenerate", "lines", "diamond-exit lines of zero length after snapping, dropped");
+  uint64_t& m_lines_rasterized =
+      m_stats.counter("lines_rasterized", "lines", "set up for rasterization (incl. off screen)");
+  uint64_t& m_lines_bresenham =
+      m_stats.counter("lines_bresenham", "lines", "rasterized lines left to the line walker");
+  uint64_t& m_lines_offscreen = m_stats.counter(
+      "lines_offscreen", "lines", "rasterized lines whose box holds no pixel, not sent");
+  uint64_t& m_points_rasterized =
+      m_stats.counter("points_rasterized", "points", "set up for rasterization (incl. off screen)");
+  uint64_t& m_points_offscreen = m_stats.counter(
+      "points_offscreen", "points", "rasterized points whose square holds no pixel, not sent");
 };
 
 }  // namespace gpusim

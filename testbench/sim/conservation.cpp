@@ -222,18 +222,21 @@ const std::map<std::string, Rule>& rules() {
            sum += sent_u;
            c.l.equal(c.name, out.name + ".written", c.l.fifo(out.name, "written"),
                      "triangles_sent_unit" + u + " + control tokens", sent_u + c.control);
-           // Every triangle sent to a unit is walked by its rasterizer.
+           // Every primitive sent to a unit (triangles_sent counts every
+           // kind) is received by its rasterizer, which counts them by kind.
            const std::string tr = c.netlist.stages[out.reader].name;
-           c.l.equal(tr, "triangles", c.l.stage(tr, "triangles"),
+           c.l.equal(tr, "triangles + lines + points",
+                     c.l.stage(tr, "triangles") + c.l.stage(tr, "lines") + c.l.stage(tr, "points"),
                      c.name + ".triangles_sent_unit" + u, sent_u);
          }
          c.l.equal(c.name, "sum of triangles_sent_unit*", sum, "triangles_sent", sent);
        }},
       {"tile_rasterizer",
        [](Context& c) {
+         // The line walker's stamps (line_stamps) are emitted as it builds them.
          c.l.at_most(c.name, "stamps_emitted", c.get("stamps_emitted"),
-                     "stamps_evaluated + stamps_accepted",
-                     c.get("stamps_evaluated") + c.get("stamps_accepted"));
+                     "stamps_evaluated + stamps_accepted + line_stamps",
+                     c.get("stamps_evaluated") + c.get("stamps_accepted") + c.get("line_stamps"));
          c.l.at_most(c.name, "control tokens", c.control, "tokens_out", c.get("tokens_out"));
        }},
       {"depth_test",
