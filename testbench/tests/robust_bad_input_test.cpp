@@ -167,12 +167,13 @@ std::vector<BadCase> cases() {
                "scene.json",
                "",
                {"draws[0].mesh: cannot read \"model.xyz\"", "No suitable reader"}});
-  c.push_back({"mesh_without_triangles",
-               {{"scene.json", mesh_scene("lines.obj")},
-                {"lines.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nl 1 2 3\n"}},
+  // Vertices only: no triangles, lines or points (assimp's validator says so).
+  c.push_back({"mesh_without_elements",
+               {{"scene.json", mesh_scene("vertices.obj")},
+                {"vertices.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\n"}},
                "scene.json",
                "",
-               {"cannot read \"lines.obj\": the file has no triangles"}});
+               {"cannot read \"vertices.obj\": Validation failed: ", "contains no faces"}});
   c.push_back(
       {"mesh_bad_face_index",
        {{"scene.json", mesh_scene("bad.obj")}, {"bad.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 9\n"}},
