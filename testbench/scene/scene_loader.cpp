@@ -294,10 +294,11 @@ Json SceneReader::parse(const std::string& text) const {
     fail("", "byte " + std::to_string(e.byte) + ": " +
                  (b == std::string::npos ? msg : msg.substr(b + 2)));
   } catch (const Json::exception& e) {
-    // e.g. out_of_range.406 "number overflow parsing '1e400'".
+    // e.g. out_of_range.406 "number overflow parsing '1e400'", thrown while
+    // reading the number, so `stack` still holds the path to it.
     const std::string msg = e.what();
     const size_t b = msg.find("] ");
-    fail("", b == std::string::npos ? msg : msg.substr(b + 2));
+    fail(path_of(stack.size()), b == std::string::npos ? msg : msg.substr(b + 2));
   }
 }
 
