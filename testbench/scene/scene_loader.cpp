@@ -2,6 +2,7 @@
 // value, and resolves it into what the models consume: matrices, eye-space
 // lights, vertex arrays. Every problem becomes a one-line InputError naming the
 // file and the JSON path, so a bad scene never reaches the models.
+#include <algorithm>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -673,12 +674,26 @@ void SceneReader::read_draw(const At& a, Scene& scene) const {
   expect_object(a);
   const bool is_mesh = has(a, "mesh");
   if (is_mesh) {
-    check_keys(a, {"mesh", "transform", "material", "lighting", "state"});
+    check_keys(a, {"name", "mesh", "transform", "material", "lighting", "state"});
   } else if (has(a, "positions") || has(a, "primitive")) {
-    check_keys(a,
-               {"primitive", "positions", "colors", "indices", "transform", "material", "state"});
+    check_keys(a, {"name", "primitive", "positions", "colors", "indices", "transform", "material",
+                   "state"});
   } else {
     fail(a.path, "expected a \"mesh\" key or a \"positions\" key");
+  }
+  // JSON has no comments: a name says what a draw is for, in the file and in
+  // stats.json ("draws[2] wide lines").
+  std::string label = a.path;
+  if (has(a, "name")) {
+    const At n = member(a, "name");
+    const std::string name = string(n);
+    const bool printable = std::all_of(name.begin(), name.end(), [](char c) {
+      return static_cast<unsigned char>(c) >= 0x20 && c != 0x7F;
+    });
+    if (name.empty() || name.size() > 200 || !printable) {
+      fail_value(n, "expected a name of 1..200 characters, no control characters");
+    }
+    label += " " + name;
   }
   // The cheap checks first, so a typo is reported before a slow mesh import.
   const glm::mat4 model =
@@ -689,7 +704,7 @@ void SceneReader::read_draw(const At& a, Scene& scene) const {
 
   if (!is_mesh) {
     Draw d;
-    d.name = a.path;
+    d.name = label;
     if (has(a, "primitive")) d.primitive = enumeration<PrimitiveType>(member(a, "primitive"));
     const At pos = member(a, "positions");
     if (!pos.v.is_array()) fail_value(pos, "expected an array of [x, y, z] or [x, y, z, w]");
@@ -742,7 +757,7 @@ void SceneReader::read_draw(const At& a, Scene& scene) const {
   const std::string base = fs::path(mesh).filename().string();
   for (ImportedMesh& m : meshes) {
     Draw d;
-    d.name = a.path + " " + base + " mesh " + std::to_string(m.index);
+    d.name = label + " " + base + " mesh " + std::to_string(m.index);
     // Triangle draws keep the name they always had; the others say what they are.
     if (m.primitive != PrimitiveType::triangles)
       d.name += " " + std::string(to_string(m.primitive));

@@ -703,6 +703,30 @@ TEST_F(SceneLoaderTest, ExplicitSettingsAndCounts) {
   EXPECT_EQ(s.resolved["framebuffer"]["depth_format"], "float32");
 }
 
+TEST_F(SceneLoaderTest, DrawNamesLabelDraws) {
+  write("flat.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nl 1 2\n");
+  const Scene s = load(R"({"draws": [{"name": "wide lines", "primitive": "lines", "positions": []},
+      {"positions": []}, {"name": "the floor", "mesh": "flat.obj"}]})");
+  ASSERT_EQ(s.draws.size(), 4u);
+  EXPECT_EQ(s.draws[0].name, "draws[0] wide lines");
+  EXPECT_EQ(s.resolved["draws"][0]["name"], "draws[0] wide lines");
+  EXPECT_EQ(s.draws[1].name, "draws[1]");
+  std::set<std::string> mesh_names = {s.draws[2].name, s.draws[3].name};
+  EXPECT_EQ(mesh_names.count("draws[2] the floor flat.obj mesh 1"), 1u) << s.draws[2].name;
+  EXPECT_EQ(mesh_names.count("draws[2] the floor flat.obj mesh 0 lines"), 1u) << s.draws[3].name;
+  EXPECT_EQ(error_of(R"({"draws": [{"name": "", "positions": []}]})"),
+            "draws[0].name: expected a name of 1..200 characters, no control characters, got \"\"");
+  EXPECT_EQ(error_of(R"({"draws": [{"name": 3, "positions": []}]})"),
+            "draws[0].name: expected a string, got 3");
+  EXPECT_EQ(error_of(R"({"draws": [{"name": "a\nb", "positions": []}]})")
+                .rfind("draws[0].name: expected a name of 1..200 characters", 0),
+            0u);
+  EXPECT_EQ(
+      error_of(R"({"draws": [{"name": ")" + std::string(201, 'x') + R"(", "positions": []}]})")
+          .rfind("draws[0].name: expected a name of 1..200 characters", 0),
+      0u);
+}
+
 TEST_F(SceneLoaderTest, PointAndLinePrimitiveCounts) {
   // GL's assembly (docs/pipeline-spec.md section 3), counted by hand for n
   // vertex slots = 0, 1, 2, 3, 5: points n; lines pairs; a strip n - 1
