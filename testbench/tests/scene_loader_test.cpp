@@ -763,7 +763,8 @@ TEST_F(SceneLoaderTest, PointAndLinePrimitiveCounts) {
 }
 
 TEST_F(SceneLoaderTest, ShippedScenesLoad) {
-  for (const char* name : {"default.json", "spider.json", "quad_clipspace.json"}) {
+  for (const char* name :
+       {"default.json", "spider.json", "quad_clipspace.json", "lines_points.json"}) {
     const std::string path = std::string(GPUSIM_SOURCE_DIR) + "/testbench/scenes/" + name;
     Scene s;
     ASSERT_NO_THROW(s = load_scene(path)) << name;
