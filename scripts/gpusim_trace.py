@@ -31,13 +31,16 @@ TX_DTYPE = np.dtype([
     ("draw", "<u4"),
     ("stage", "<u2"),
     ("kind", "u1"),
-    ("reserved", "u1"),
+    ("prim_kind", "u1"),  # what the item's primitives are at its stage (PRIM_KIND_NAMES)
     ("tile_x", "<i2"),
     ("tile_y", "<i2"),
     ("count", "<u4"),
 ])
 TX_MAGIC = b"GPUSIMTX"
 TX_WORK, TX_CLEAR, TX_END_OF_FRAME = 0, 1, 2
+# prim_kind: 0 for control tokens and in traces written before the field (the
+# byte was reserved, 0).
+PRIM_KIND_NAMES = {0: "primitive", 1: "point", 2: "line", 3: "triangle"}
 NO_DRAW = 0xFFFFFFFF
 
 # fragments.bin record, little endian, 48 bytes.
@@ -183,6 +186,11 @@ class Trace:
             if w[1] is not None:
                 end = max(start, min(int(w[1]), self.cycles))
         return start, end
+
+    def draws(self):
+        """manifest.json's draws: first_primitive_id, primitives, and (traces written
+        since lines and points) primitive and polygon_mode."""
+        return list(self.manifest.get("draws") or [])
 
     def stage_units(self):
         """numpy array: stage index -> unit (-1 for front-end stages)."""

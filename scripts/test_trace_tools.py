@@ -66,7 +66,7 @@ def read_raw(path, magic, fmt):
     return list(struct.iter_unpack(fmt, data[16:]))
 
 
-TX_FMT = "<QQqqIHBBhhI"      # cycle_in cycle_out prim_first prim_last draw stage kind reserved tile_x tile_y count
+TX_FMT = "<QQqqIHBBhhI"      # cycle_in cycle_out prim_first prim_last draw stage kind prim_kind tile_x tile_y count
 FR_FMT = "<QqHHBBBBff4f"     # cycle prim x y stage unit outcome reserved depth old_depth value[4]
 
 
@@ -99,6 +99,12 @@ def check_tiles(trace, plots, manifest, stats):
     tx = read_raw(os.path.join(trace, "transactions.bin"), b"GPUSIMTX", TX_FMT)
     fr = read_raw(os.path.join(trace, "fragments.bin"), b"GPUSIMFR", FR_FMT)
     stage_unit = [s["unit"] for s in manifest["stages"]]
+    # shared_edges.json draws filled triangles only: prim_kind 3 on every work
+    # item, 0 on control tokens.
+    check(all(r[7] == (3 if r[6] == 0 else 0) for r in tx),
+          "transactions: prim_kind is 3 (triangle) for work items, 0 for control tokens")
+    check(all(d.get("primitive", "").startswith("triangle") and d.get("polygon_mode") == "fill"
+              for d in manifest["draws"]), "manifest: every draw names its triangle type and fill")
 
     # Owner: the units seen per tile, and the rule tile_owner = (tx + ty) % units.
     seen = {}

@@ -35,7 +35,7 @@ void RecordFile::write(const TransactionRecord& r) {
   put(p + 32, r.draw, 4);
   put(p + 36, r.stage, 2);
   p[38] = r.kind;
-  p[39] = 0;
+  p[39] = r.prim_kind;
   put(p + 40, static_cast<uint16_t>(r.tile_x), 2);
   put(p + 42, static_cast<uint16_t>(r.tile_y), 2);
   put(p + 44, r.count, 4);

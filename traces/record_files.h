@@ -19,7 +19,8 @@ struct TransactionRecord {
   int64_t prim_first = -1, prim_last = -1;
   uint32_t draw = 0xFFFFFFFFu;
   uint16_t stage = 0;
-  uint8_t kind = 0;  // 0 work, 1 clear, 2 end of frame
+  uint8_t kind = 0;       // 0 work, 1 clear, 2 end of frame
+  uint8_t prim_kind = 0;  // 0 none, 1 point, 2 line, 3 triangle (traces/trace_items.h)
   int16_t tile_x = -1, tile_y = -1;
   uint32_t count = 1;
 };

@@ -17,12 +17,27 @@ std::string format_float(float v) {
   return buf;
 }
 
+// "line", "point", "triangle": what a record's primitives are at its stage;
+// "primitive" when the trace does not say (written before the field).
+std::string kind_word(uint8_t prim_kind) {
+  switch (prim_kind) {
+    case TransactionRecord::prim_point:
+      return "point";
+    case TransactionRecord::prim_line:
+      return "line";
+    case TransactionRecord::prim_triangle:
+      return "triangle";
+  }
+  return "primitive";
+}
+
 // What a work item is at each stage (docs/traces.md, "Model").
 std::string item_text(const TraceStage& s, const TransactionRecord& r) {
+  const std::string word = kind_word(r.prim_kind);
   const std::string prims =
       r.prim_first == r.prim_last
-          ? "primitive " + std::to_string(r.prim_first)
-          : "primitives " + std::to_string(r.prim_first) + ".." + std::to_string(r.prim_last);
+          ? word + " " + std::to_string(r.prim_first)
+          : word + "s " + std::to_string(r.prim_first) + ".." + std::to_string(r.prim_last);
   const std::string n = std::to_string(r.count);
   const std::string stamps = n + (r.count == 1 ? " stamp" : " stamps");
   if (s.kind == "command_processor" || s.kind == "vertex_fetch") {
@@ -35,7 +50,7 @@ std::string item_text(const TraceStage& s, const TransactionRecord& r) {
   if (s.kind == "depth_test" || s.kind == "interpolator" || s.kind == "rop") {
     return "stamp batch: " + stamps;
   }
-  return "triangle";
+  return word;  // setup and the distributor: one primitive after clipping
 }
 
 std::string outcome_text(const FragmentRecord& f) {
@@ -71,13 +86,22 @@ std::string value_text(const FragmentRecord& f) {
 }
 
 // Why the last stage a primitive reached is the last, for an unfiltered trace.
-std::string stop_reason(const std::string& kind) {
+// `word` is what the draw assembles ("line", "point", "triangle"): lines and
+// points are never culled (docs/pipeline-spec.md 8b), and only a triangle's
+// coverage is decided by pixel centres.
+std::string stop_reason(const std::string& kind, const std::string& word) {
   if (kind == "rop") return "";
   if (kind == "clipper") return "the clipper dropped it (a vertex not finite, or clipped away)";
   if (kind == "triangle_setup") {
+    if (word == "line") return "setup dropped it (zero length, or nothing of it on screen)";
+    if (word == "point") return "setup dropped it (nothing of it on screen)";
     return "setup dropped it (degenerate, culled, or no pixel centre on screen)";
   }
-  if (kind == "tile_rasterizer") return "no pixel centre of it was covered in any tile";
+  if (kind == "tile_rasterizer") {
+    return word == "triangle" || word == "primitive"
+               ? "no pixel centre of it was covered in any tile"
+               : "no pixel of it was covered in any tile";
+  }
   if (kind == "depth_test" || kind == "interpolator") {
     return "every fragment failed the depth test";
   }
@@ -124,11 +148,12 @@ std::string TraceFollow::prim_absence(int64_t prim) const {
            (total ? " (ids 0.." + std::to_string(total - 1) + ")" : "");
   }
   if (f.prims && (prim < f.prims->first || prim > f.prims->second)) {
-    return "primitive " + std::to_string(prim) +
+    return m.prim_word(prim) + " " + std::to_string(prim) +
            " was filtered out of the trace: it was recorded with --trace-prims " +
            std::to_string(f.prims->first) + ":" + std::to_string(f.prims->second);
   }
-  std::string why = "primitive " + std::to_string(prim) + " never appears in transactions.bin";
+  std::string why =
+      m.prim_word(prim) + " " + std::to_string(prim) + " never appears in transactions.bin";
   if (f.window || f.stages) {
     why += ": it may have passed outside what was recorded (" + f.describe() + ")";
   }
@@ -144,12 +169,23 @@ std::string TraceFollow::prim_text(int64_t prim) const {
 
   std::set<std::string> stages;
   for (const Step& s : steps) stages.insert(s.stage->name);
+  // "line 12 (draw 1, line_strip)", "triangle 5 (draw 0, triangles, polygon_mode line)":
+  // what the draw assembles, from the manifest.
+  const std::string word = m.prim_word(prim);
+  std::string draw = "draw " + std::to_string(steps.front().record.draw);
+  const int64_t di = m.draw_of(prim);
+  if (di >= 0) {
+    const TraceManifest::Draw& d = m.draws[static_cast<size_t>(di)];
+    if (!d.primitive.empty()) draw += ", " + d.primitive;
+    if (!d.polygon_mode.empty() && d.polygon_mode != "fill" && word == "triangle") {
+      draw += ", polygon_mode " + d.polygon_mode;
+    }
+  }
   char buf[256];
   std::string out;
-  std::snprintf(buf, sizeof buf, "primitive %lld (draw %u) in %s: %zu item%s at %zu stage%s\n",
-                static_cast<long long>(prim), steps.front().record.draw, m_reader.dir().c_str(),
-                steps.size(), steps.size() == 1 ? "" : "s", stages.size(),
-                stages.size() == 1 ? "" : "s");
+  std::snprintf(buf, sizeof buf, "%s %lld (%s) in %s: %zu item%s at %zu stage%s\n", word.c_str(),
+                static_cast<long long>(prim), draw.c_str(), m_reader.dir().c_str(), steps.size(),
+                steps.size() == 1 ? "" : "s", stages.size(), stages.size() == 1 ? "" : "s");
   out += buf;
   std::snprintf(buf, sizeof buf, "  %-20s %4s %9s %10s %10s %7s %6s  %s\n", "stage", "unit", "tile",
                 "cycle_in", "cycle_out", "cycles", "count", "item");
@@ -171,7 +207,7 @@ std::string TraceFollow::prim_text(int64_t prim) const {
   if (f.window || f.stages) {
     out += "  (only what was recorded: " + f.describe() + ")\n";
   } else {
-    const std::string reason = stop_reason(steps.back().stage->kind);
+    const std::string reason = stop_reason(steps.back().stage->kind, word);
     if (!reason.empty()) out += "  ends at " + steps.back().stage->kind + ": " + reason + "\n";
   }
   return out;

@@ -18,6 +18,7 @@ ItemInfo ItemDescriber::describe(const Command& c) const {
   ItemInfo i;
   i.draw = c.draw_id;
   const DrawState& d = m_frame.draws.at(c.draw_id);
+  i.prim_kind = prim_kind_code(primitive_class(d.primitive));
   const uint64_t n = primitive_count(d.primitive, d.buffers.slot_count);
   i.count = static_cast<uint32_t>(n);
   if (n > 0) {
@@ -35,6 +36,7 @@ ItemInfo ItemDescriber::describe(const BatchHeader& b) const {
   i.first_slot = b.first_slot;
   i.is_batch = true;
   const DrawState& d = m_frame.draws.at(b.draw_id);
+  i.prim_kind = prim_kind_code(primitive_class(d.primitive));
   const int64_t n = static_cast<int64_t>(primitive_count(d.primitive, d.buffers.slot_count));
   if (n == 0 || b.slot_count == 0) return i;
   const int64_t lo = b.first_slot, hi = lo + b.slot_count - 1;
@@ -84,6 +86,7 @@ ItemInfo ItemDescriber::describe(const ClippedPrimitive& t) const {
   if (t.kind != PacketKind::work) return control(t.kind);
   ItemInfo i;
   i.draw = t.draw_id;
+  i.prim_kind = prim_kind_code(t.primitive_kind);
   i.prim_first = i.prim_last = t.primitive_id;
   return i;
 }
@@ -92,6 +95,7 @@ ItemInfo ItemDescriber::describe(const SetupPacket& p) const {
   if (p.kind != PacketKind::work) return control(p.kind);
   ItemInfo i;
   i.draw = p.triangle->draw_id;
+  i.prim_kind = prim_kind_code(p.triangle->primitive_kind);
   i.prim_first = i.prim_last = p.triangle->primitive_id;
   return i;
 }
@@ -101,6 +105,7 @@ ItemInfo ItemDescriber::stamps(PacketKind kind, const RasterPrimitive* tri,
   if (kind != PacketKind::work) return control(kind);
   ItemInfo i;
   i.draw = tri->draw_id;
+  i.prim_kind = prim_kind_code(tri->primitive_kind);
   i.prim_first = i.prim_last = tri->primitive_id;
   i.count = static_cast<uint32_t>(s.size());
   if (!s.empty()) {

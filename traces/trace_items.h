@@ -11,9 +11,21 @@
 
 namespace gpusim {
 
+// transactions.bin's `prim_kind`: what the item's primitives are, as the
+// stage sees them (a triangle of polygon mode `line` is a triangle up to
+// setup and lines after it).
+constexpr uint8_t kPrimKindNone = 0;  // control tokens; traces before the field
+constexpr uint8_t prim_kind_code(PrimitiveKind k) {
+  return k == PrimitiveKind::point ? 1 : k == PrimitiveKind::line ? 2 : 3;
+}
+constexpr uint8_t prim_kind_code(PrimitiveClass c) {
+  return c == PrimitiveClass::point ? 1 : c == PrimitiveClass::line ? 2 : 3;
+}
+
 struct ItemInfo {
   static constexpr uint32_t kNoDraw = 0xFFFFFFFFu;
   uint8_t kind = 0;  // transactions.bin: 0 work, 1 clear, 2 end of frame
+  uint8_t prim_kind = kPrimKindNone;
   uint32_t draw = kNoDraw;
   int64_t prim_first = -1, prim_last = -1;  // -1: none
   int16_t tile_x = -1, tile_y = -1;         // -1: not in one tile

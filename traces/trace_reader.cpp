@@ -207,6 +207,13 @@ TraceManifest parse_manifest(const std::string& file) {
     d.first_primitive_id =
         p.integer(p.field(draws[i], w, "first_primitive_id"), w + ".first_primitive_id");
     d.primitives = p.unsigned_int(p.field(draws[i], w, "primitives"), w + ".primitives");
+    // Optional: traces written before lines and points lack them.
+    if (draws[i].is_object() && draws[i].contains("primitive")) {
+      d.primitive = p.string(p.field(draws[i], w, "primitive"), w + ".primitive");
+    }
+    if (draws[i].is_object() && draws[i].contains("polygon_mode")) {
+      d.polygon_mode = p.string(p.field(draws[i], w, "polygon_mode"), w + ".polygon_mode");
+    }
     m.draws.push_back(d);
   }
   const nlohmann::json& records = p.field(j, "", "records");
@@ -306,6 +313,27 @@ uint64_t TraceManifest::primitives() const {
   return n;
 }
 
+int64_t TraceManifest::draw_of(int64_t prim) const {
+  for (size_t i = 0; i < draws.size(); ++i) {
+    const Draw& d = draws[i];
+    if (prim >= d.first_primitive_id &&
+        static_cast<uint64_t>(prim - d.first_primitive_id) < d.primitives) {
+      return static_cast<int64_t>(i);
+    }
+  }
+  return -1;
+}
+
+std::string TraceManifest::prim_word(int64_t prim) const {
+  const int64_t i = draw_of(prim);
+  if (i < 0) return "primitive";
+  const std::string& t = draws[static_cast<size_t>(i)].primitive;
+  if (t == "points") return "point";
+  if (t == "lines" || t == "line_strip" || t == "line_loop") return "line";
+  if (t.rfind("triangle", 0) == 0) return "triangle";
+  return "primitive";  // a trace written before the field
+}
+
 const TraceStage* TraceManifest::stage(const std::string& name) const {
   for (const TraceStage& s : stages) {
     if (s.name == name) return &s;
@@ -329,6 +357,7 @@ TransactionRecord decode_transaction(const uint8_t* p) {
   r.draw = u32(p + 32);
   r.stage = u16(p + 36);
   r.kind = p[38];
+  r.prim_kind = p[39];
   r.tile_x = static_cast<int16_t>(u16(p + 40));
   r.tile_y = static_cast<int16_t>(u16(p + 42));
   r.count = u32(p + 44);
@@ -403,6 +432,10 @@ void TraceReader::for_each_transaction(
                                       " is not in manifest.json's " + std::to_string(stages) +
                                       " stages"
                                 : "kind " + std::to_string(r.kind) + " is not 0, 1 or 2"));
+        }
+        if (r.prim_kind > TransactionRecord::prim_triangle) {
+          throw InputError(file + ": record " + std::to_string(i) + ": primitive kind " +
+                           std::to_string(r.prim_kind) + " is not 0, 1, 2 or 3");
         }
         fn(r);
       });

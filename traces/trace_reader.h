@@ -68,6 +68,9 @@ struct TraceManifest {
   struct Draw {
     int64_t first_primitive_id = 0;
     uint64_t primitives = 0;
+    // The draw's primitive type and polygon mode as in the scene file; ""
+    // in traces written before lines and points (all triangles, filled).
+    std::string primitive, polygon_mode;
   };
   std::vector<Draw> draws;
   uint64_t transaction_records = 0;
@@ -77,6 +80,11 @@ struct TraceManifest {
   // the frame, or the whole frame.
   std::pair<uint64_t, uint64_t> window() const;
   uint64_t primitives() const;  // primitive ids are 0 .. primitives() - 1
+  // The draw holding primitive `prim` (its index in `draws`), or -1.
+  int64_t draw_of(int64_t prim) const;
+  // "triangle", "line" or "point": what the draw holding `prim` assembles
+  // (a polygon-mode triangle is a triangle); "primitive" when not known.
+  std::string prim_word(int64_t prim) const;
   const TraceStage* stage(const std::string& name) const;
   // The pipeline position of a stage kind: where its first stage comes in
   // `stages` (which the recorder writes in pipeline order); unknown kinds
@@ -90,6 +98,9 @@ struct TraceManifest {
 // One transactions.bin record (docs/traces.md).
 struct TransactionRecord {
   enum Kind : uint8_t { work = 0, clear = 1, end_of_frame = 2 };
+  // What the item's primitives are at this stage; none for control tokens
+  // and in traces written before the field (the byte was reserved, 0).
+  enum PrimKind : uint8_t { prim_none = 0, prim_point = 1, prim_line = 2, prim_triangle = 3 };
   uint64_t cycle_in = 0;
   uint64_t cycle_out = 0;
   int64_t prim_first = -1;
@@ -97,6 +108,7 @@ struct TransactionRecord {
   uint32_t draw = 0xFFFFFFFFu;
   uint16_t stage = 0;
   uint8_t kind = work;
+  uint8_t prim_kind = prim_none;
   int16_t tile_x = -1;
   int16_t tile_y = -1;
   uint32_t count = 0;

@@ -252,6 +252,7 @@ void TraceRecorder::close_item(size_t stage) {
   r.draw = f.item.draw;
   r.stage = static_cast<uint16_t>(stage);
   r.kind = f.item.kind;
+  r.prim_kind = f.item.prim_kind;
   r.tile_x = f.item.tile_x;
   r.tile_y = f.item.tile_y;
   r.count = f.item.count;
@@ -326,7 +327,11 @@ void TraceRecorder::write_item(const Finished& f) {
     name += "..";
     append(name, static_cast<int64_t>(i.first_slot) + i.count - 1);
   } else {
-    name += "prim ";
+    // "line 12": the primitive as this stage sees it.
+    name += i.prim_kind == 1   ? "point "
+            : i.prim_kind == 2 ? "line "
+            : i.prim_kind == 3 ? "triangle "
+                               : "prim ";
     append(name, i.prim_first);
   }
   if (i.tile_x >= 0) {
@@ -450,7 +455,9 @@ void TraceRecorder::write_manifest(uint64_t cycles) {
   json draws = json::array();
   for (const DrawState& d : m_frame.draws) {
     draws.push_back({{"first_primitive_id", d.first_primitive_id},
-                     {"primitives", primitive_count(d.primitive, d.buffers.slot_count)}});
+                     {"primitives", primitive_count(d.primitive, d.buffers.slot_count)},
+                     {"primitive", std::string(to_string(d.primitive))},
+                     {"polygon_mode", std::string(to_string(d.state.polygon_mode))}});
   }
   const json manifest = {
       {"format", "gpusim-trace"},

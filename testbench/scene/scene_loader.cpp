@@ -2,6 +2,7 @@
 // value, and resolves it into what the models consume: matrices, eye-space
 // lights, vertex arrays. Every problem becomes a one-line InputError naming the
 // file and the JSON path, so a bad scene never reaches the models.
+#include <algorithm>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -294,10 +295,11 @@ Json SceneReader::parse(const std::string& text) const {
     fail("", "byte " + std::to_string(e.byte) + ": " +
                  (b == std::string::npos ? msg : msg.substr(b + 2)));
   } catch (const Json::exception& e) {
-    // e.g. out_of_range.406 "number overflow parsing '1e400'".
+    // e.g. out_of_range.406 "number overflow parsing '1e400'", thrown while
+    // reading the number, so `stack` still holds the path to it.
     const std::string msg = e.what();
     const size_t b = msg.find("] ");
-    fail("", b == std::string::npos ? msg : msg.substr(b + 2));
+    fail(path_of(stack.size()), b == std::string::npos ? msg : msg.substr(b + 2));
   }
 }
 
@@ -672,12 +674,26 @@ void SceneReader::read_draw(const At& a, Scene& scene) const {
   expect_object(a);
   const bool is_mesh = has(a, "mesh");
   if (is_mesh) {
-    check_keys(a, {"mesh", "transform", "material", "lighting", "state"});
+    check_keys(a, {"name", "mesh", "transform", "material", "lighting", "state"});
   } else if (has(a, "positions") || has(a, "primitive")) {
-    check_keys(a,
-               {"primitive", "positions", "colors", "indices", "transform", "material", "state"});
+    check_keys(a, {"name", "primitive", "positions", "colors", "indices", "transform", "material",
+                   "state"});
   } else {
     fail(a.path, "expected a \"mesh\" key or a \"positions\" key");
+  }
+  // JSON has no comments: a name says what a draw is for, in the file and in
+  // stats.json ("draws[2] wide lines").
+  std::string label = a.path;
+  if (has(a, "name")) {
+    const At n = member(a, "name");
+    const std::string name = string(n);
+    const bool printable = std::all_of(name.begin(), name.end(), [](char c) {
+      return static_cast<unsigned char>(c) >= 0x20 && c != 0x7F;
+    });
+    if (name.empty() || name.size() > 200 || !printable) {
+      fail_value(n, "expected a name of 1..200 characters, no control characters");
+    }
+    label += " " + name;
   }
   // The cheap checks first, so a typo is reported before a slow mesh import.
   const glm::mat4 model =
@@ -688,7 +704,7 @@ void SceneReader::read_draw(const At& a, Scene& scene) const {
 
   if (!is_mesh) {
     Draw d;
-    d.name = a.path;
+    d.name = label;
     if (has(a, "primitive")) d.primitive = enumeration<PrimitiveType>(member(a, "primitive"));
     const At pos = member(a, "positions");
     if (!pos.v.is_array()) fail_value(pos, "expected an array of [x, y, z] or [x, y, z, w]");
@@ -741,13 +757,23 @@ void SceneReader::read_draw(const At& a, Scene& scene) const {
   const std::string base = fs::path(mesh).filename().string();
   for (ImportedMesh& m : meshes) {
     Draw d;
-    d.name = a.path + " " + base + " mesh " + std::to_string(m.index);
-    d.primitive = PrimitiveType::triangles;
+    d.name = label + " " + base + " mesh " + std::to_string(m.index);
+    // Triangle draws keep the name they always had; the others say what they are.
+    if (m.primitive != PrimitiveType::triangles)
+      d.name += " " + std::string(to_string(m.primitive));
+    d.primitive = m.primitive;
     d.positions = std::move(m.positions);
     d.normals = std::move(m.normals);
     d.colors = std::move(m.colors);
     d.indices = std::move(m.indices);
-    d.lighting = lighting.value_or(!scene.lights.empty() && !d.normals.empty());
+    if (m.primitive != PrimitiveType::triangles && d.normals.empty()) {
+      // assimp generates normals for triangles only, and a file rarely gives
+      // lines or points any: such a draw is unlit whatever "lighting" says, so
+      // that "lighting": true still lights the file's triangles.
+      d.lighting = false;
+    } else {
+      d.lighting = lighting.value_or(!scene.lights.empty() && !d.normals.empty());
+    }
     if (d.lighting && d.normals.empty()) {
       fail(member_path(a.path, "lighting"), "mesh " + std::to_string(m.index) + " has no normals");
     }

@@ -80,8 +80,9 @@ class TraceReaderTest : public trace_test::TraceTest {
         {"records", {{"transactions", 2}, {"fragments", 2}}}};
     write_json("t/manifest.json", manifest_);
     // Records: the setup's triangle, then the processor's draw: cycle_in,
-    // cycle_out, prim_first, prim_last, draw, stage, kind, reserved, tile_x,
-    // tile_y, count.
+    // cycle_out, prim_first, prim_last, draw, stage, kind, prim_kind (0: as
+    // written before the field, when the byte was reserved), tile_x, tile_y,
+    // count. The manifest's draws lack "primitive" and "polygon_mode" alike.
     transactions_ = header("GPUSIMTX");
     transactions_ += Bytes()
                          .put<uint64_t>(74)
@@ -200,6 +201,9 @@ TEST_F(TraceReaderTest, ReadsEveryFieldAtItsDocumentedOffset) {
   EXPECT_EQ(t[1].count, 7u);
   EXPECT_TRUE(t[1].carries(0));
   EXPECT_FALSE(t[1].carries(1));
+  EXPECT_EQ(t[0].prim_kind, TransactionRecord::prim_none);
+  EXPECT_EQ(reader.manifest().draws[0].primitive, "");
+  EXPECT_EQ(reader.manifest().prim_word(0), "primitive");  // a trace from before lines
 
   std::vector<FragmentRecord> f;
   reader.for_each_fragment([&](const FragmentRecord& r) { f.push_back(r); });
@@ -224,6 +228,61 @@ TEST_F(TraceReaderTest, ReadsEveryFieldAtItsDocumentedOffset) {
   EXPECT_EQ(steps[1].stage->name, "triangle_setup");
   EXPECT_EQ(TraceFollow(reader).pixel_fragments(3, 4).size(), 2u);
   EXPECT_TRUE(TraceFollow(reader).pixel_fragments(4, 3).empty());
+}
+
+TEST_F(TraceReaderTest, NamesLinesAndPointsFromTheRecordsAndTheManifest) {
+  // Two draws: a line strip of 3 lines (ids 0..2) and 2 points (ids 3..4);
+  // the setup's record is line 0 (prim_kind 2), the processor's the draw.
+  manifest_["draws"] = {{{"first_primitive_id", 0},
+                         {"primitives", 3},
+                         {"primitive", "line_strip"},
+                         {"polygon_mode", "fill"}},
+                        {{"first_primitive_id", 3},
+                         {"primitives", 2},
+                         {"primitive", "points"},
+                         {"polygon_mode", "line"}}};
+  write_json("t/manifest.json", manifest_);
+  transactions_[16 + 39] = 2;
+  transactions_[16 + 48 + 39] = 2;
+  transactions_.replace(16 + 48 + 24, 8, Bytes().put<int64_t>(2).b);  // the draw: lines 0..2
+  write_files();
+  const TraceReader reader(trace_);
+  const TraceManifest& m = reader.manifest();
+  EXPECT_EQ(m.draws[0].primitive, "line_strip");
+  EXPECT_EQ(m.draws[1].polygon_mode, "line");
+  EXPECT_EQ(m.draw_of(2), 0);
+  EXPECT_EQ(m.draw_of(3), 1);
+  EXPECT_EQ(m.draw_of(5), -1);
+  EXPECT_EQ(m.prim_word(0), "line");
+  EXPECT_EQ(m.prim_word(4), "point");
+  EXPECT_EQ(m.prim_word(5), "primitive");
+  std::vector<TransactionRecord> t;
+  reader.for_each_transaction([&](const TransactionRecord& r) { t.push_back(r); });
+  ASSERT_EQ(t.size(), 2u);
+  EXPECT_EQ(t[0].prim_kind, TransactionRecord::prim_line);
+
+  const std::string text = TraceFollow(reader).prim_text(0);
+  // Polygon mode is named for triangles only: a points draw ignores it.
+  EXPECT_EQ(text.rfind("line 0 (draw 0, line_strip) in " + trace_ + ": 2 items at 2 stages\n", 0),
+            0u)
+      << text;
+  EXPECT_NE(text.find("draw 0: lines 0..2\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("      1  line\n"), std::string::npos) << text;  // the setup's row
+  EXPECT_EQ(text.find("triangle"), text.find("triangle_setup")) << text;
+  // Point 4 has no record: the absence names it as a point.
+  EXPECT_EQ(TraceFollow(reader).prim_text(4), "point 4 never appears in transactions.bin\n");
+
+  // A primitive kind beyond 3 is a damaged file.
+  transactions_[16 + 39] = 4;
+  write_files();
+  try {
+    TraceReader(trace_).for_each_transaction([](const TransactionRecord&) {});
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(
+        e.what(),
+        (trace_ + "/transactions.bin: record 0: primitive kind 4 is not 0, 1, 2 or 3").c_str());
+  }
 }
 
 TEST_F(TraceReaderTest, RejectsBadMagic) {

@@ -82,6 +82,7 @@ struct Tx {
   uint32_t draw;
   uint16_t stage;
   uint8_t kind;
+  uint8_t prim_kind;
   int16_t tx, ty;
   uint32_t count;
 };
@@ -107,11 +108,10 @@ std::vector<Tx> read_transactions(const fs::path& dir) {
   check_header(b, "GPUSIMTX");
   std::vector<Tx> out;
   for (size_t at = 16; at + 48 <= b.size(); at += 48) {
-    EXPECT_EQ(static_cast<uint8_t>(b[at + 39]), 0) << "reserved byte";
     out.push_back({get<uint64_t>(b, at), get<uint64_t>(b, at + 8), get<int64_t>(b, at + 16),
                    get<int64_t>(b, at + 24), get<uint32_t>(b, at + 32), get<uint16_t>(b, at + 36),
-                   get<uint8_t>(b, at + 38), get<int16_t>(b, at + 40), get<int16_t>(b, at + 42),
-                   get<uint32_t>(b, at + 44)});
+                   get<uint8_t>(b, at + 38), get<uint8_t>(b, at + 39), get<int16_t>(b, at + 40),
+                   get<int16_t>(b, at + 42), get<uint32_t>(b, at + 44)});
   }
   return out;
 }
@@ -325,13 +325,22 @@ TEST_F(TraceRecord, TransactionsCountEveryTokenOfEveryStage) {
     if (tx[k].kind != 0) {
       EXPECT_EQ(tx[k].first, -1);
       EXPECT_EQ(tx[k].draw, 0xFFFFFFFFu);
+      EXPECT_EQ(tx[k].prim_kind, 0);  // a control token carries no primitive
     } else {
       EXPECT_LE(tx[k].first, tx[k].last);
+      EXPECT_EQ(tx[k].prim_kind, 3);  // default.json draws filled triangles only
     }
     if (k > 0) {  // cycle_out order, ties in stage order
       ASSERT_TRUE(tx[k - 1].out < tx[k].out ||
                   (tx[k - 1].out == tx[k].out && tx[k - 1].stage <= tx[k].stage));
     }
+  }
+  // Each draw's primitive type and polygon mode, as the scene resolves them.
+  const Scene scene = load_scene(scene_path("default"));
+  ASSERT_EQ(m["draws"].size(), scene.draws.size());
+  for (size_t d = 0; d < scene.draws.size(); ++d) {
+    EXPECT_EQ(m["draws"][d]["primitive"], std::string(to_string(scene.draws[d].primitive)));
+    EXPECT_EQ(m["draws"][d]["polygon_mode"], "fill");
   }
   ASSERT_EQ(m["stages"].size(), 22u);
   for (const nlohmann::json& s : m["stages"]) {
