@@ -112,16 +112,62 @@ float blend_channel(const RenderState& st, const glm::vec4& s, const glm::vec4& 
   return a;
 }
 
+// Exact integer floor and ceiling of a / b for b > 0.
+int64_t floor_div(int64_t a, int64_t b) {
+  return a >= 0 ? a / b : -((-a + b - 1) / b);
+}
+int64_t ceil_div(int64_t a, int64_t b) {
+  return -floor_div(-a, b);
+}
+
+// c0 + c1 eps + c2 eps^2 for an infinitesimal eps > 0: values of the
+// perturbed diamond-exit test (spec section 8b), compared exactly by their
+// coefficients in order (lexicographically).
+struct Perturbed {
+  int64_t c0 = 0, c1 = 0, c2 = 0;
+  bool operator<(const Perturbed& o) const {
+    if (c0 != o.c0) return c0 < o.c0;
+    if (c1 != o.c1) return c1 < o.c1;
+    return c2 < o.c2;
+  }
+};
+
 bool is_finite(const glm::vec4& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z) && std::isfinite(v.w);
 }
 
-// Per-triangle constants for the pixel loop.
+// Where the edge from p (distance dp) to q (distance dq) crosses `plane`,
+// exactly one of them inside (spec section 4). Interpolates from the endpoint
+// nearer the plane (the inside one on a tie), which keeps t small and the cut
+// precise; the choice depends only on the edge, not on its direction, so an
+// edge shared by two triangles, or a line, is cut identically.
+ShadedVertex clip_intersection(const ShadedVertex& p, float dp, const ShadedVertex& q, float dq,
+                               int plane) {
+  const bool in_p = dp >= 0.0f;
+  const bool from_p = std::fabs(dp) < std::fabs(dq) || (std::fabs(dp) == std::fabs(dq) && in_p);
+  const ShadedVertex& a = from_p ? p : q;
+  const ShadedVertex& b = from_p ? q : p;
+  const float da = from_p ? dp : dq;
+  const float db = from_p ? dq : dp;
+  const float t = da / (da - db);
+  ShadedVertex v;
+  for (int k = 0; k < 4; ++k) {
+    v.clip[k] = a.clip[k] + t * (b.clip[k] - a.clip[k]);
+    v.color[k] = a.color[k] + t * (b.color[k] - a.color[k]);
+  }
+  // Rounding can leave a cut on the w plane at or below 0; 1/w must stay finite.
+  if (plane == 0) v.clip.w = std::max(v.clip.w, kMinClipW);
+  return v;
+}
+
+// Per-triangle constants for the pixel loop; a line is shaded as the
+// triangle (a, b, a) with area2 = its squared length (spec section 9).
 struct SetupTriangle {
   std::array<WindowVertex, 3> v;  // counter-clockwise
   EdgeValue area2 = 0;
   std::array<EdgeValue, 3> bias{};  // 0 for owned edges, 1 otherwise
   float depth_offset = 0.0f;
+  bool apply_offset = false;             // polygon offset is not [0, 0] (filled triangles)
   int x0 = 0, x1 = -1, y0 = 0, y1 = -1;  // pixel bounding box, inclusive
 };
 
@@ -164,26 +210,63 @@ class Renderer {
   void render_draw(const Draw& draw) {
     std::vector<ShadedVertex> shaded(draw.positions.size());
     for (uint32_t i = 0; i < shaded.size(); ++i) shaded[i] = shade_vertex(m_scene, draw, i);
+    // The vertex in a slot, or nullptr when the primitive is invalid (an
+    // index out of range or a non-finite clip coordinate).
+    const auto vertex = [&](uint32_t slot) -> const ShadedVertex* {
+      const uint32_t vi = draw.indices.empty() ? slot : draw.indices[slot];
+      if (vi >= shaded.size() || !is_finite(shaded[vi].clip)) return nullptr;
+      return &shaded[vi];
+    };
 
-    for (const auto& slots : assemble_triangles(draw.primitive, draw.vertex_count())) {
-      const int64_t id = m_next_triangle_id++;
-      ++m_stats.triangles_in;
-      std::array<ShadedVertex, 3> tri;
-      bool valid = true;
-      for (int k = 0; k < 3; ++k) {
-        const uint32_t vi = draw.indices.empty() ? slots[k] : draw.indices[slots[k]];
-        if (vi >= shaded.size()) {
-          valid = false;
-          break;
+    switch (primitive_class(draw.primitive)) {
+      case PrimitiveClass::triangle:
+        for (const auto& slots : assemble_triangles(draw.primitive, draw.vertex_count())) {
+          const int64_t id = m_next_primitive_id++;
+          ++m_stats.triangles_in;
+          std::array<ShadedVertex, 3> tri;
+          bool valid = true;
+          for (int k = 0; k < 3 && valid; ++k) {
+            const ShadedVertex* v = vertex(slots[k]);
+            valid = v != nullptr;
+            if (valid) tri[k] = *v;
+          }
+          if (!valid) {
+            ++m_stats.triangles_invalid;
+          } else if (draw.state.polygon_mode == PolygonMode::fill) {
+            render_triangle(draw.state, tri, id);
+          } else {
+            render_unfilled_triangle(draw.state, tri, id);
+          }
         }
-        tri[k] = shaded[vi];
-        valid = valid && is_finite(tri[k].clip);
-      }
-      if (!valid) {
-        ++m_stats.triangles_invalid;
-        continue;
-      }
-      render_triangle(draw.state, tri, id);
+        break;
+      case PrimitiveClass::line:
+        for (const LineSlots& slots : assemble_lines(draw.primitive, draw.vertex_count())) {
+          const int64_t id = m_next_primitive_id++;
+          ++m_stats.lines_in;
+          const ShadedVertex* a = vertex(slots.v[0]);
+          const ShadedVertex* b = vertex(slots.v[1]);
+          if (a == nullptr || b == nullptr) {
+            ++m_stats.lines_invalid;
+            continue;
+          }
+          render_line(draw.state, {*a, *b}, slots.draw_first, slots.draw_last, id);
+        }
+        break;
+      case PrimitiveClass::point:
+        for (const uint32_t slot : assemble_points(draw.primitive, draw.vertex_count())) {
+          const int64_t id = m_next_primitive_id++;
+          ++m_stats.points_in;
+          const ShadedVertex* v = vertex(slot);
+          if (v == nullptr) {
+            ++m_stats.points_invalid;
+          } else if (!point_in_view_volume(v->clip)) {
+            ++m_stats.points_clipped_away;
+          } else {
+            // A point's colour is its vertex's, whatever the shading.
+            rasterize_point(draw.state, *v, v->color, id);
+          }
+        }
+        break;
     }
   }
 
@@ -193,9 +276,7 @@ class Renderer {
       ++m_stats.triangles_clipped_away;
       return;
     }
-    const bool clipped = !(poly.size() == 3 && poly[0].clip == tri[0].clip &&
-                           poly[1].clip == tri[1].clip && poly[2].clip == tri[2].clip);
-    if (clipped) ++m_stats.triangles_clipped;
+    if (was_clipped(poly, tri)) ++m_stats.triangles_clipped;
     // Flat shading takes the colour of the original triangle's last vertex.
     const glm::vec4 flat_color = tri[2].color;
     std::vector<WindowVertex> win(poly.size());
@@ -203,6 +284,116 @@ class Renderer {
     for (size_t i = 1; i + 1 < poly.size(); ++i) {
       ++m_stats.triangles_after_clip;
       setup_and_rasterize(st, {win[0], win[i], win[i + 1]}, flat_color, id);
+    }
+  }
+
+  static bool was_clipped(const std::vector<ShadedVertex>& poly,
+                          const std::array<ShadedVertex, 3>& tri) {
+    return !(poly.size() == 3 && poly[0].clip == tri[0].clip && poly[1].clip == tri[1].clip &&
+             poly[2].clip == tri[2].clip);
+  }
+
+  // Whether a triangle of this signed area survives face culling.
+  static bool survives_culling(const RenderState& st, EdgeValue area2) {
+    const bool front = (st.front_face == FrontFace::ccw) == (area2 > 0);
+    return !((st.cull == CullMode::back && !front) || (st.cull == CullMode::front && front));
+  }
+
+  // Polygon mode line or point (spec section 4d): clipped with edge flags,
+  // facing decided once on the whole polygon, then its flagged edges or
+  // vertices drawn with the triangle's id and provoking colour.
+  void render_unfilled_triangle(const RenderState& st, const std::array<ShadedVertex, 3>& tri,
+                                int64_t id) {
+    const FlaggedPolygon poly = clip_triangle_with_edge_flags(tri, m_guard_band);
+    const size_t n = poly.v.size();
+    if (n < 3) {
+      ++m_stats.triangles_clipped_away;
+      return;
+    }
+    if (was_clipped(poly.v, tri)) ++m_stats.triangles_clipped;
+    std::vector<WindowVertex> win(n);
+    for (size_t i = 0; i < n; ++i) win[i] = to_window(poly.v[i], m_fb.width, m_fb.height);
+    const EdgeValue area2 = polygon_area2(win);
+    if (area2 == 0) {
+      ++m_stats.triangles_degenerate;
+      return;
+    }
+    if (!survives_culling(st, area2)) {
+      ++m_stats.triangles_culled;
+      return;
+    }
+    ++m_stats.triangles_unfilled;
+    const glm::vec4 provoking = tri[2].color;
+    for (size_t i = 0; i < n; ++i) {
+      if (!poly.edge_flag[i]) continue;
+      if (st.polygon_mode == PolygonMode::line) {
+        // Each vertex once: the edge's first pixel is drawn, its last is the
+        // next edge's first (Bresenham's end flags).
+        rasterize_line(st, win[i], win[(i + 1) % n], provoking, true, false, id);
+      } else {
+        rasterize_point(st, poly.v[i], st.shading == Shading::flat ? provoking : poly.v[i].color,
+                        id);
+      }
+    }
+  }
+
+  void render_line(const RenderState& st, const std::array<ShadedVertex, 2>& line, bool draw_first,
+                   bool draw_last, int64_t id) {
+    const ClippedLine c = clip_line(line, m_guard_band);
+    if (c.result == LineClip::rejected) {
+      ++m_stats.lines_clipped_away;
+      return;
+    }
+    if (c.result == LineClip::clipped) ++m_stats.lines_clipped;
+    // Flat shading: the provoking (second) vertex's colour before clipping.
+    rasterize_line(st, to_window(c.v[0], m_fb.width, m_fb.height),
+                   to_window(c.v[1], m_fb.width, m_fb.height), line[1].color, draw_first, draw_last,
+                   id);
+  }
+
+  // A clipped line in window space (spec sections 8b and 9).
+  void rasterize_line(const RenderState& st, const WindowVertex& a, const WindowVertex& b,
+                      const glm::vec4& flat_color, bool draw_first, bool draw_last, int64_t id) {
+    const int w = line_width_pixels(st.line_width);
+    const EdgeValue dx = EdgeValue{b.x} - a.x, dy = EdgeValue{b.y} - a.y;
+    std::vector<Pixel> pixels;
+    if (st.line_rasterization == LineRasterization::diamond_exit) {
+      if (dx == 0 && dy == 0) {
+        ++m_stats.lines_degenerate;
+        return;
+      }
+      pixels = diamond_exit_pixels(a.x, a.y, b.x, b.y, w, m_fb.width, m_fb.height);
+    } else {
+      pixels =
+          bresenham_pixels(a.x, a.y, b.x, b.y, draw_first, draw_last, w, m_fb.width, m_fb.height);
+    }
+    ++m_stats.lines_rasterized;
+    // Attributes as for the triangle (a, b, a) with the line parameter in
+    // place of the edge functions, so the float operations are the triangle's.
+    const EdgeValue l2 = dx * dx + dy * dy;
+    SetupTriangle t;
+    t.v = {a, b, a};
+    t.area2 = l2 == 0 ? 1 : l2;
+    t.apply_offset = false;  // polygon offset is for filled triangles only
+    for (const Pixel& p : pixels) {
+      const EdgeValue px = pixel_center(p.x), py = pixel_center(p.y);
+      const EdgeValue T = (px - a.x) * dx + (py - a.y) * dy;
+      const std::array<EdgeValue, 3> e =
+          l2 == 0 ? std::array<EdgeValue, 3>{1, 0, 0} : std::array<EdgeValue, 3>{l2 - T, T, 0};
+      shade_fragment(st, t, flat_color, p.x, p.y, e, id);
+    }
+  }
+
+  // A point that passed the view-volume test, or a polygon-mode vertex
+  // (spec section 8c): depth z_w and a constant colour.
+  void rasterize_point(const RenderState& st, const ShadedVertex& v, const glm::vec4& color,
+                       int64_t id) {
+    ++m_stats.points_rasterized;
+    const float z = to_window(v, m_fb.width, m_fb.height).z;
+    const glm::vec2 xy = window_xy(v, m_fb.width, m_fb.height);
+    for (const Pixel& p :
+         point_pixels(point_square(xy.x, xy.y, st.point_size), m_fb.width, m_fb.height)) {
+      write_fragment(st, p.x, p.y, z, color, id);
     }
   }
 
@@ -214,8 +405,7 @@ class Renderer {
       return;
     }
     const bool ccw = area2 > 0;
-    const bool front = (st.front_face == FrontFace::ccw) == ccw;
-    if ((st.cull == CullMode::back && !front) || (st.cull == CullMode::front && front)) {
+    if (!survives_culling(st, area2)) {
       ++m_stats.triangles_culled;
       return;
     }
@@ -228,9 +418,8 @@ class Renderer {
       // Edge e is opposite vertex e: v[e+1] -> v[e+2].
       t.bias[e] = edge_owns_boundary(v[(e + 1) % 3], v[(e + 2) % 3]) ? 0 : 1;
     }
-    if (st.offset_factor != 0.0f || st.offset_units != 0.0f) {
-      t.depth_offset = polygon_offset(t, st, m_fb.depth_format);
-    }
+    t.apply_offset = st.offset_factor != 0.0f || st.offset_units != 0.0f;
+    if (t.apply_offset) t.depth_offset = polygon_offset(t, st, m_fb.depth_format);
     const Subpixel min_x = std::min({v[0].x, v[1].x, v[2].x});
     const Subpixel max_x = std::max({v[0].x, v[1].x, v[2].x});
     const Subpixel min_y = std::min({v[0].y, v[1].y, v[2].y});
@@ -253,9 +442,10 @@ class Renderer {
     }
   }
 
+  // Interpolates depth and colour from the three weights e (edge functions,
+  // or a line's parameter) and writes the fragment (spec section 9).
   void shade_fragment(const RenderState& st, const SetupTriangle& t, const glm::vec4& flat_color,
                       int x, int y, const std::array<EdgeValue, 3>& e, int64_t id) {
-    ++m_stats.fragments_generated;
     const float f0 = static_cast<float>(e[0]);
     const float f1 = static_cast<float>(e[1]);
     const float f2 = static_cast<float>(e[2]);
@@ -264,15 +454,7 @@ class Renderer {
     // Depth: linear in window space, relative to z0 so that a triangle of
     // constant depth gets exactly z0 everywhere; then polygon offset.
     float z = v0.z + (f1 * (v1.z - v0.z) + f2 * (v2.z - v0.z)) / static_cast<float>(t.area2);
-    if (st.offset_factor != 0.0f || st.offset_units != 0.0f) z = z + t.depth_offset;
-
-    const size_t p = m_fb.pixel_index(x, y);
-    if (st.depth_test) {
-      const DepthValue fragment_depth = encode_depth(m_fb.depth_format, z);
-      if (!depth_compare(st.depth_func, fragment_depth, m_fb.depth[p])) return;
-      if (st.depth_write) m_fb.depth[p] = fragment_depth;
-    }
-    ++m_stats.fragments_passed_depth;
+    if (t.apply_offset) z = z + t.depth_offset;
 
     glm::vec4 src;
     if (st.shading == Shading::flat) {
@@ -286,6 +468,21 @@ class Renderer {
         src[i] = gpusim::clamp01(num / den);
       }
     }
+    write_fragment(st, x, y, z, src, id);
+  }
+
+  // Depth test, colour mask, blending and storage of one fragment (spec
+  // sections 11 and 12), the same for every kind of primitive.
+  void write_fragment(const RenderState& st, int x, int y, float z, const glm::vec4& src,
+                      int64_t id) {
+    ++m_stats.fragments_generated;
+    const size_t p = m_fb.pixel_index(x, y);
+    if (st.depth_test) {
+      const DepthValue fragment_depth = encode_depth(m_fb.depth_format, z);
+      if (!depth_compare(st.depth_func, fragment_depth, m_fb.depth[p])) return;
+      if (st.depth_write) m_fb.depth[p] = fragment_depth;
+    }
+    ++m_stats.fragments_passed_depth;
 
     if (!(st.color_mask[0] || st.color_mask[1] || st.color_mask[2] || st.color_mask[3])) return;
     ++m_stats.fragments_written;
@@ -309,7 +506,7 @@ class Renderer {
   GuardBand m_guard_band;
   std::vector<int64_t> m_last_writer;
   Stats m_stats;
-  int64_t m_next_triangle_id = 0;
+  int64_t m_next_primitive_id = 0;  // every kind, in API order
 };
 
 }  // namespace
@@ -346,7 +543,41 @@ std::vector<std::array<uint32_t, 3>> assemble_triangles(PrimitiveType type, size
       out.reserve(n - 2);
       for (uint32_t i = 0; i + 2 < n; ++i) out.push_back({0, i + 1, i + 2});
       break;
+    default:  // points and lines assemble no triangles
+      break;
   }
+  return out;
+}
+
+std::vector<LineSlots> assemble_lines(PrimitiveType type, size_t n) {
+  std::vector<LineSlots> out;
+  if (n < 2) return out;
+  switch (type) {
+    case PrimitiveType::lines:
+      for (uint32_t i = 0; i + 1 < n; i += 2) out.push_back({{i, i + 1}, true, true});
+      break;
+    case PrimitiveType::line_strip:
+    case PrimitiveType::line_loop:
+      // A shared vertex is the last pixel of one line and, with its first flag
+      // cleared, not the first of the next (the Bresenham rule draws it once).
+      for (uint32_t i = 0; i + 1 < n; ++i) out.push_back({{i, i + 1}, i == 0, true});
+      // The closing line ends on vertex 0, its provoking vertex; both of its
+      // ends are drawn by the lines next to it.
+      if (type == PrimitiveType::line_loop) {
+        out.push_back({{static_cast<uint32_t>(n - 1), 0}, false, false});
+      }
+      break;
+    default:
+      break;
+  }
+  return out;
+}
+
+std::vector<uint32_t> assemble_points(PrimitiveType type, size_t n) {
+  std::vector<uint32_t> out;
+  if (type != PrimitiveType::points) return out;
+  out.reserve(n);
+  for (uint32_t i = 0; i < n; ++i) out.push_back(i);
   return out;
 }
 
@@ -378,56 +609,97 @@ float clip_distance(int plane, const glm::vec4& c, const GuardBand& gb) {
   return 0.0f;
 }
 
-std::vector<ShadedVertex> clip_triangle(const std::array<ShadedVertex, 3>& tri,
-                                        const GuardBand& gb) {
-  std::vector<ShadedVertex> poly(tri.begin(), tri.end());
-  std::vector<ShadedVertex> next;
-  for (int plane = 0; plane < kClipPlaneCount && !poly.empty(); ++plane) {
-    std::vector<float> d(poly.size());
+FlaggedPolygon clip_triangle_with_edge_flags(const std::array<ShadedVertex, 3>& tri,
+                                             const GuardBand& gb) {
+  FlaggedPolygon poly{{tri.begin(), tri.end()}, {true, true, true}};
+  FlaggedPolygon next;
+  for (int plane = 0; plane < kClipPlaneCount && !poly.v.empty(); ++plane) {
+    const size_t n = poly.v.size();
+    std::vector<float> d(n);
     bool all_inside = true;
-    for (size_t i = 0; i < poly.size(); ++i) {
-      d[i] = clip_distance(plane, poly[i].clip, gb);
+    for (size_t i = 0; i < n; ++i) {
+      d[i] = clip_distance(plane, poly.v[i].clip, gb);
       all_inside = all_inside && d[i] >= 0.0f;
     }
     if (all_inside) continue;
-    next.clear();
-    for (size_t i = 0; i < poly.size(); ++i) {
-      const size_t j = (i + 1) % poly.size();
+    next.v.clear();
+    next.edge_flag.clear();
+    for (size_t i = 0; i < n; ++i) {
+      const size_t j = (i + 1) % n;
       const bool in_i = d[i] >= 0.0f, in_j = d[j] >= 0.0f;
-      if (in_i) next.push_back(poly[i]);
-      if (in_i == in_j) continue;
-      // Interpolate from the endpoint nearer the plane (the inside one on a
-      // tie), which keeps t small and the cut precise; the choice depends only
-      // on the edge, so an edge shared by two triangles is cut identically.
-      const bool from_i =
-          std::fabs(d[i]) < std::fabs(d[j]) || (std::fabs(d[i]) == std::fabs(d[j]) && in_i);
-      const ShadedVertex& a = from_i ? poly[i] : poly[j];
-      const ShadedVertex& b = from_i ? poly[j] : poly[i];
-      const float da = from_i ? d[i] : d[j];
-      const float db = from_i ? d[j] : d[i];
-      const float t = da / (da - db);
-      ShadedVertex v;
-      for (int k = 0; k < 4; ++k) {
-        v.clip[k] = a.clip[k] + t * (b.clip[k] - a.clip[k]);
-        v.color[k] = a.color[k] + t * (b.color[k] - a.color[k]);
+      if (in_i) {
+        next.v.push_back(poly.v[i]);
+        next.edge_flag.push_back(poly.edge_flag[i]);
       }
-      // Rounding can leave a cut on the w plane at or below 0; 1/w must stay finite.
-      if (plane == 0) v.clip.w = std::max(v.clip.w, kMinClipW);
-      next.push_back(v);
+      if (in_i == in_j) continue;
+      next.v.push_back(clip_intersection(poly.v[i], d[i], poly.v[j], d[j], plane));
+      // Leaving: the polygon edge from the cut runs along the plane, on no
+      // edge of the triangle. Entering: it continues the edge v_i -> v_j.
+      next.edge_flag.push_back(in_i ? false : poly.edge_flag[i]);
     }
-    poly.swap(next);
+    std::swap(poly, next);
   }
-  if (poly.size() < 3) poly.clear();
+  if (poly.v.size() < 3) {
+    poly.v.clear();
+    poly.edge_flag.clear();
+  }
   return poly;
+}
+
+std::vector<ShadedVertex> clip_triangle(const std::array<ShadedVertex, 3>& tri,
+                                        const GuardBand& gb) {
+  return clip_triangle_with_edge_flags(tri, gb).v;
+}
+
+ClippedLine clip_line(const std::array<ShadedVertex, 2>& line, const GuardBand& gb) {
+  ClippedLine out;
+  out.v = line;
+  // Outcodes: trivial accept when every distance is inside, trivial reject
+  // when both endpoints are outside one plane. "Inside" is d >= 0, as for
+  // triangles, so a NaN distance is outside.
+  bool all_inside = true;
+  for (int plane = 0; plane < kClipPlaneCount; ++plane) {
+    const bool in_a = clip_distance(plane, line[0].clip, gb) >= 0.0f;
+    const bool in_b = clip_distance(plane, line[1].clip, gb) >= 0.0f;
+    if (!in_a && !in_b) return out;  // rejected
+    all_inside = all_inside && in_a && in_b;
+  }
+  if (all_inside) {
+    out.result = LineClip::accepted;
+    return out;
+  }
+  for (int plane = 0; plane < kClipPlaneCount; ++plane) {
+    const float da = clip_distance(plane, out.v[0].clip, gb);
+    const float db = clip_distance(plane, out.v[1].clip, gb);
+    const bool in_a = da >= 0.0f, in_b = db >= 0.0f;
+    if (in_a && in_b) continue;
+    if (!in_a && !in_b) return out;  // rejected (result stays rejected)
+    // The same cut as a triangle edge's, so the float operations are identical.
+    const ShadedVertex cut = clip_intersection(out.v[0], da, out.v[1], db, plane);
+    out.v[in_a ? 1 : 0] = cut;
+  }
+  out.result = LineClip::clipped;
+  return out;
+}
+
+bool point_in_view_volume(const glm::vec4& c) {
+  return c.w - kMinClipW >= 0.0f && c.x + c.w >= 0.0f && c.w - c.x >= 0.0f && c.y + c.w >= 0.0f &&
+         c.w - c.y >= 0.0f && c.z + c.w >= 0.0f && c.w - c.z >= 0.0f;
+}
+
+glm::vec2 window_xy(const ShadedVertex& v, int width, int height) {
+  const float inv_w = 1.0f / v.clip.w;
+  const float half_w = 0.5f * static_cast<float>(width);
+  const float half_h = 0.5f * static_cast<float>(height);
+  return {(v.clip.x * inv_w + 1.0f) * half_w, (v.clip.y * inv_w + 1.0f) * half_h};
 }
 
 WindowVertex to_window(const ShadedVertex& v, int width, int height) {
   WindowVertex w;
   w.inv_w = 1.0f / v.clip.w;
-  const float half_w = 0.5f * static_cast<float>(width);
-  const float half_h = 0.5f * static_cast<float>(height);
-  w.x = snap_to_subpixel((v.clip.x * w.inv_w + 1.0f) * half_w);
-  w.y = snap_to_subpixel((v.clip.y * w.inv_w + 1.0f) * half_h);
+  const glm::vec2 xy = window_xy(v, width, height);
+  w.x = snap_to_subpixel(xy.x);
+  w.y = snap_to_subpixel(xy.y);
   w.z = (v.clip.z * w.inv_w + 1.0f) * 0.5f;
   for (int k = 0; k < 4; ++k) w.color_over_w[k] = v.color[k] * w.inv_w;
   return w;
@@ -450,6 +722,157 @@ bool edge_owns_boundary(const WindowVertex& a, const WindowVertex& b) {
   return dy < 0 || (dy == 0 && dx > 0);
 }
 
+EdgeValue polygon_area2(const std::vector<WindowVertex>& poly) {
+  EdgeValue sum = 0;
+  for (size_t i = 1; i + 1 < poly.size(); ++i) sum += signed_area2(poly[0], poly[i], poly[i + 1]);
+  return sum;
+}
+
+bool line_is_x_major(int64_t dx, int64_t dy) {
+  return std::llabs(dx) >= std::llabs(dy);
+}
+
+int line_width_pixels(float line_width) {
+  // std::lround rounds half away from zero; widths are at most 255.
+  return std::max(1, static_cast<int>(std::lround(line_width)));
+}
+
+bool diamond_exit_covers(int64_t ax, int64_t ay, int64_t bx, int64_t by, int x, int y) {
+  const int64_t cx = pixel_center(x), cy = pixel_center(y);
+  const int64_t dx = bx - ax, dy = by - ay;
+  const int64_t h = kSubpixelHalf;  // the diamond's radius
+  // Separating axes of a segment and a diamond: the diamond's two edge
+  // normals (1, 1), (1, -1), and the segment's normal (-dy, dx). Every value
+  // is an exact integer plus the projection of the shift -(eps, eps^2), so
+  // each is a Perturbed value. The open diamond projects to an open interval
+  // (lo, hi); the closed segment to [min, max]: they meet iff on every axis
+  // max > lo and min < hi.
+  struct Axis {
+    int64_t nx, ny;
+  };
+  const Axis axes[3] = {{1, 1}, {1, -1}, {-dy, dx}};
+  bool meets = true;
+  bool b_inside = true;
+  for (int k = 0; k < 3; ++k) {
+    const Axis& n = axes[k];
+    // The shift -(eps, eps^2) projects to -nx eps - ny eps^2 for both ends.
+    const Perturbed pa{n.nx * ax + n.ny * ay, -n.nx, -n.ny};
+    const Perturbed pb{n.nx * bx + n.ny * by, -n.nx, -n.ny};
+    // Support of the diamond |u| + |v| < h along n: h * max(|nx|, |ny|).
+    const int64_t centre = n.nx * cx + n.ny * cy;
+    const int64_t reach = h * std::max(std::llabs(n.nx), std::llabs(n.ny));
+    const Perturbed lo{centre - reach, 0, 0}, hi{centre + reach, 0, 0};
+    const Perturbed seg_min = std::min(pa, pb), seg_max = std::max(pa, pb);
+    meets = meets && lo < seg_max && seg_min < hi;
+    // The diamond is the intersection of its slabs on the first two axes.
+    if (k < 2) b_inside = b_inside && lo < pb && pb < hi;
+  }
+  return meets && !b_inside;
+}
+
+std::vector<Pixel> diamond_exit_pixels(int64_t ax, int64_t ay, int64_t bx, int64_t by, int w,
+                                       int width, int height) {
+  std::vector<Pixel> out;
+  const int64_t dx = bx - ax, dy = by - ay;
+  if (dx == 0 && dy == 0) return out;
+  const bool x_major = line_is_x_major(dx, dy);
+  // Wide lines: the width-1 rule on the segment moved down (x-major) or left
+  // (y-major) by half of w - 1 pixels, each fragment then repeated w times
+  // up (or right).
+  const int64_t offset = int64_t{kSubpixelHalf} * (w - 1);
+  if (x_major) {
+    ay -= offset;
+    by -= offset;
+  } else {
+    ax -= offset;
+    bx -= offset;
+  }
+  // Walk the major axis: u is the major coordinate, v the minor one.
+  const int64_t ua = x_major ? ax : ay, ub = x_major ? bx : by;
+  const int64_t va = x_major ? ay : ax;
+  const int64_t du = ub - ua, dv = x_major ? dy : dx;
+  const int major_size = x_major ? width : height;
+  const int minor_size = x_major ? height : width;
+  const int64_t umin = std::min(ua, ub), umax = std::max(ua, ub);
+  // A diamond reaches half a pixel from its centre: every pixel whose diamond
+  // can meet the segment lies within these lines (a superset is harmless).
+  const int64_t first = std::max<int64_t>(0, floor_div(umin, kSubpixelOne) - 1);
+  const int64_t last = std::min<int64_t>(major_size - 1, floor_div(umax, kSubpixelOne) + 1);
+  for (int64_t i = first; i <= last; ++i) {
+    // The segment's minor coordinate at this line's centre (or at the nearer
+    // end, beyond the segment): |slope| <= 1, so within the diamond's reach
+    // the segment stays within a pixel of it; two either side is a superset.
+    const int64_t u = std::clamp<int64_t>(pixel_center(static_cast<int>(i)), umin, umax);
+    const int64_t num = (u - ua) * dv;
+    const int64_t v = va + (du > 0 ? floor_div(num, du) : floor_div(-num, -du));
+    const int64_t base = floor_div(v, kSubpixelOne);
+    for (int64_t j = base - 2; j <= base + 2; ++j) {
+      const int px = static_cast<int>(x_major ? i : j), py = static_cast<int>(x_major ? j : i);
+      if (!diamond_exit_covers(ax, ay, bx, by, px, py)) continue;
+      for (int k = 0; k < w; ++k) {
+        if (j + k < 0 || j + k >= minor_size) continue;
+        out.push_back(x_major ? Pixel{px, py + k} : Pixel{px + k, py});
+      }
+    }
+  }
+  return out;
+}
+
+std::vector<Pixel> bresenham_pixels(int64_t ax, int64_t ay, int64_t bx, int64_t by, bool draw_first,
+                                    bool draw_last, int w, int width, int height) {
+  std::vector<Pixel> out;
+  // The pixels containing the end points.
+  const int64_t iax = floor_div(ax, kSubpixelOne), iay = floor_div(ay, kSubpixelOne);
+  const int64_t ibx = floor_div(bx, kSubpixelOne), iby = floor_div(by, kSubpixelOne);
+  const int64_t DX = ibx - iax, DY = iby - iay;
+  const bool x_major = line_is_x_major(DX, DY);
+  const int64_t du = std::llabs(x_major ? DX : DY), dv = std::llabs(x_major ? DY : DX);
+  const int64_t su = (x_major ? DX : DY) < 0 ? -1 : 1;
+  const int64_t sv = (x_major ? DY : DX) < 0 ? -1 : 1;
+  const int64_t u0 = x_major ? iax : iay, v0 = x_major ? iay : iax;
+  const int64_t m = du;
+  // Wide lines: the minor run starts floor((w - 1) / 2) below the pixel.
+  const int64_t below = (w - 1) / 2;
+  for (int64_t i = 0; i <= m; ++i) {
+    if (i == 0 && !draw_first) continue;
+    if (i == m && !draw_last) continue;
+    // Closed form: the minor step nearest the line, a tie not stepping.
+    const int64_t step = du == 0 ? 0 : ceil_div(2 * i * dv - du, 2 * du);
+    const int64_t u = u0 + su * i, v = v0 + sv * step;
+    for (int64_t k = 0; k < w; ++k) {
+      const int64_t vk = v - below + k;
+      const int64_t px = x_major ? u : vk, py = x_major ? vk : u;
+      if (px < 0 || py < 0 || px >= width || py >= height) continue;
+      out.push_back({static_cast<int>(px), static_cast<int>(py)});
+    }
+  }
+  return out;
+}
+
+PointSquare point_square(float x_w, float y_w, float point_size) {
+  // Multiplying by 256 is exact; std::lround rounds half away from zero.
+  PointSquare sq;
+  sq.side = std::max<int64_t>(kSubpixelOne, std::lround(point_size * 256.0f));
+  sq.x0 = std::lround((x_w - 0.5f) * 256.0f) - sq.side / 2;
+  sq.y0 = std::lround((y_w - 0.5f) * 256.0f) - sq.side / 2;
+  return sq;
+}
+
+std::vector<Pixel> point_pixels(const PointSquare& sq, int width, int height) {
+  // Pixel x is covered iff x0 <= 256 x < x0 + side (half-open).
+  const int64_t x_first = std::max<int64_t>(0, ceil_div(sq.x0, kSubpixelOne));
+  const int64_t x_last = std::min<int64_t>(width - 1, ceil_div(sq.x0 + sq.side, kSubpixelOne) - 1);
+  const int64_t y_first = std::max<int64_t>(0, ceil_div(sq.y0, kSubpixelOne));
+  const int64_t y_last = std::min<int64_t>(height - 1, ceil_div(sq.y0 + sq.side, kSubpixelOne) - 1);
+  std::vector<Pixel> out;
+  for (int64_t y = y_first; y <= y_last; ++y) {
+    for (int64_t x = x_first; x <= x_last; ++x) {
+      out.push_back({static_cast<int>(x), static_cast<int>(y)});
+    }
+  }
+  return out;
+}
+
 nlohmann::json Stats::to_json() const {
   return {{"triangles_in", triangles_in},
           {"triangles_invalid", triangles_invalid},
@@ -459,6 +882,17 @@ nlohmann::json Stats::to_json() const {
           {"triangles_degenerate", triangles_degenerate},
           {"triangles_culled", triangles_culled},
           {"triangles_rasterized", triangles_rasterized},
+          {"triangles_unfilled", triangles_unfilled},
+          {"lines_in", lines_in},
+          {"lines_invalid", lines_invalid},
+          {"lines_clipped_away", lines_clipped_away},
+          {"lines_clipped", lines_clipped},
+          {"lines_degenerate", lines_degenerate},
+          {"lines_rasterized", lines_rasterized},
+          {"points_in", points_in},
+          {"points_invalid", points_invalid},
+          {"points_clipped_away", points_clipped_away},
+          {"points_rasterized", points_rasterized},
           {"fragments_generated", fragments_generated},
           {"fragments_passed_depth", fragments_passed_depth},
           {"fragments_written", fragments_written}};

@@ -30,6 +30,22 @@ ShadedVertex shade_vertex(const Scene& scene, const Draw& draw, uint32_t i);
 // third slot is the provoking vertex (GL's last-vertex convention).
 std::vector<std::array<uint32_t, 3>> assemble_triangles(PrimitiveType type, size_t slot_count);
 
+// A line as two vertex slots, the second the provoking vertex (the closing
+// line of a loop: slot 0), with the Bresenham end flags: whether its first and
+// its last pixel are drawn (cleared where a strip or loop shares a vertex).
+struct LineSlots {
+  std::array<uint32_t, 2> v{};
+  bool draw_first = true, draw_last = true;
+  bool operator==(const LineSlots& o) const {
+    return v == o.v && draw_first == o.draw_first && draw_last == o.draw_last;
+  }
+};
+// Primitive assembly of a `lines`, `line_strip` or `line_loop` draw (empty
+// for other types).
+std::vector<LineSlots> assemble_lines(PrimitiveType type, size_t slot_count);
+// Primitive assembly of a `points` draw: every slot (empty for other types).
+std::vector<uint32_t> assemble_points(PrimitiveType type, size_t slot_count);
+
 // Clipping planes in clip space, each a distance d(v) with d >= 0 inside:
 // w >= kMinClipW, near (z >= -w), far (z <= w), then the guard band's
 // left, right, bottom, top.
@@ -47,6 +63,31 @@ float clip_distance(int plane, const glm::vec4& clip, const GuardBand& gb);
 std::vector<ShadedVertex> clip_triangle(const std::array<ShadedVertex, 3>& tri,
                                         const GuardBand& gb);
 
+// The same clip for polygon mode (spec section 4d): every polygon vertex also
+// carries an edge flag, whether the polygon edge starting at it lies on an
+// edge of the original triangle.
+struct FlaggedPolygon {
+  std::vector<ShadedVertex> v;
+  std::vector<bool> edge_flag;  // one per vertex
+};
+FlaggedPolygon clip_triangle_with_edge_flags(const std::array<ShadedVertex, 3>& tri,
+                                             const GuardBand& gb);
+
+// Line clipping (spec section 4b).
+enum class LineClip : uint8_t {
+  accepted,  // inside every plane, unchanged
+  clipped,   // cut, a part kept
+  rejected,  // clipped away
+};
+struct ClippedLine {
+  LineClip result = LineClip::rejected;
+  std::array<ShadedVertex, 2> v;  // valid unless rejected
+};
+ClippedLine clip_line(const std::array<ShadedVertex, 2>& line, const GuardBand& gb);
+
+// Whether a point's vertex lies in the view volume (spec section 4c).
+bool point_in_view_volume(const glm::vec4& clip);
+
 // A vertex in window space, snapped.
 struct WindowVertex {
   Subpixel x = 0, y = 0;         // 1/256 pixel
@@ -55,6 +96,8 @@ struct WindowVertex {
   glm::vec4 color_over_w{0.0f};  // colour * (1 / w), for perspective correction
 };
 WindowVertex to_window(const ShadedVertex& v, int width, int height);
+// The window x and y of a vertex before snapping (spec section 5).
+glm::vec2 window_xy(const ShadedVertex& v, int width, int height);
 
 // Twice the signed area in subpixel^2: > 0 counter-clockwise (y up).
 EdgeValue signed_area2(const WindowVertex& a, const WindowVertex& b, const WindowVertex& c);
@@ -63,6 +106,40 @@ EdgeValue edge_function(const WindowVertex& a, const WindowVertex& b, Subpixel p
 // Fill rule: whether pixel centres exactly on edge a -> b (of a CCW triangle)
 // belong to the triangle: left edges and bottom horizontal edges.
 bool edge_owns_boundary(const WindowVertex& a, const WindowVertex& b);
+
+// Sum of the fan's area2 values of a polygon (p0, p_i, p_i+1): its facing
+// and degeneracy in polygon mode (spec section 4d).
+EdgeValue polygon_area2(const std::vector<WindowVertex>& poly);
+
+// Lines (spec section 8b). A pixel, as a fragment position.
+struct Pixel {
+  int x = 0, y = 0;
+  bool operator==(const Pixel& o) const { return x == o.x && y == o.y; }
+  bool operator<(const Pixel& o) const { return y != o.y ? y < o.y : x < o.x; }
+};
+// Whether a line counts as x-major: |dx| >= |dy| (a 45-degree line does).
+bool line_is_x_major(int64_t dx, int64_t dy);
+// Width in pixels: max(1, round(width)), rounding half away from zero.
+int line_width_pixels(float line_width);
+// The diamond-exit rule by its definition, for one pixel: whether the
+// segment A'B' (A and B in subpixels, both moved by -(eps, eps^2)) meets the
+// pixel's open diamond and B' is not inside it. Exact integer arithmetic.
+bool diamond_exit_covers(int64_t ax, int64_t ay, int64_t bx, int64_t by, int x, int y);
+// Every fragment of a diamond-exit line of width w (pixels), inside the
+// rectangle [0, width) x [0, height), in no particular order.
+std::vector<Pixel> diamond_exit_pixels(int64_t ax, int64_t ay, int64_t bx, int64_t by, int w,
+                                       int width, int height);
+// Every fragment of a Bresenham line of width w inside [0, width) x [0, height).
+std::vector<Pixel> bresenham_pixels(int64_t ax, int64_t ay, int64_t bx, int64_t by, bool draw_first,
+                                    bool draw_last, int w, int width, int height);
+
+// Points (spec section 8c): the covered square [x0, x0 + side) x [y0, y0 +
+// side) in subpixels, before the framebuffer bounds it.
+struct PointSquare {
+  int64_t x0 = 0, y0 = 0, side = 0;
+};
+PointSquare point_square(float x_w, float y_w, float point_size);
+std::vector<Pixel> point_pixels(const PointSquare& sq, int width, int height);
 
 struct Stats {
   uint64_t triangles_in = 0;            // assembled
@@ -73,6 +150,17 @@ struct Stats {
   uint64_t triangles_degenerate = 0;    // zero area after snapping
   uint64_t triangles_culled = 0;        // removed by face culling
   uint64_t triangles_rasterized = 0;    // set up and scanned
+  uint64_t triangles_unfilled = 0;      // drawn as lines or points (polygon mode)
+  uint64_t lines_in = 0;                // assembled
+  uint64_t lines_invalid = 0;           // non-finite position or out-of-range index
+  uint64_t lines_clipped_away = 0;      // entirely outside the clip volume
+  uint64_t lines_clipped = 0;           // needed clipping and kept a part
+  uint64_t lines_degenerate = 0;        // diamond exit, zero length after snapping
+  uint64_t lines_rasterized = 0;        // rasterized, polygon mode's included
+  uint64_t points_in = 0;               // assembled
+  uint64_t points_invalid = 0;          // non-finite position or out-of-range index
+  uint64_t points_clipped_away = 0;     // outside the view volume
+  uint64_t points_rasterized = 0;       // rasterized, polygon mode's included
   uint64_t fragments_generated = 0;     // covered pixels
   uint64_t fragments_passed_depth = 0;
   uint64_t fragments_written = 0;  // passed depth with a colour channel enabled
@@ -81,8 +169,8 @@ struct Stats {
 
 struct Result {
   Framebuffer framebuffer;
-  // Per pixel, the id of the triangle that last wrote its colour (assembled
-  // triangles numbered from 0 in API order across draws), or -1.
+  // Per pixel, the id of the primitive that last wrote its colour (assembled
+  // primitives of every kind numbered from 0 in API order across draws), or -1.
   std::vector<int64_t> last_writer;
   Stats stats;
 };
