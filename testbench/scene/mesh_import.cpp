@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <utility>
 
 namespace gpusim {
 namespace {
@@ -185,22 +186,25 @@ std::vector<ImportedMesh> import_mesh(const std::string& file) {
   for (unsigned mi = 0; mi < scene->mNumMeshes; ++mi) {
     const aiMesh* mesh = scene->mMeshes[mi];
     if (mesh == nullptr || mesh->mVertices == nullptr) continue;
-    ImportedMesh im;
-    im.index = mi;
-    // SortByPType leaves each mesh with one primitive type, but a face count
-    // check costs nothing and keeps points and lines out whatever assimp does.
+    // Faces by kind: 3 indices a triangle, 2 a line, 1 a point. Triangulate
+    // has split polygons and leaves lines and points alone; SortByPType has
+    // put each kind in its own aiMesh, so normally only one list fills.
+    std::vector<uint32_t> by_size[4];
     for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
       const aiFace& face = mesh->mFaces[f];
-      if (face.mNumIndices != 3) continue;
-      for (unsigned k = 0; k < 3; ++k) {
+      if (face.mNumIndices < 1 || face.mNumIndices > 3) continue;
+      for (unsigned k = 0; k < face.mNumIndices; ++k) {
         if (face.mIndices[k] >= mesh->mNumVertices) {
           throw MeshImportError("mesh " + std::to_string(mi) + " face " + std::to_string(f) +
                                 " has an out-of-range vertex index");
         }
-        im.indices.push_back(face.mIndices[k]);
+        by_size[face.mNumIndices].push_back(face.mIndices[k]);
       }
     }
-    if (im.indices.empty()) continue;
+    if (by_size[1].empty() && by_size[2].empty() && by_size[3].empty()) continue;
+
+    ImportedMesh im;
+    im.index = mi;
 
     const auto where = [&](unsigned v) {
       return "mesh " + std::to_string(mi) + " vertex " + std::to_string(v);
@@ -235,7 +239,15 @@ std::vector<ImportedMesh> import_mesh(const std::string& file) {
         scene->mMaterials[mesh->mMaterialIndex] != nullptr) {
       im.material = convert_material(*scene->mMaterials[mesh->mMaterialIndex]);
     }
-    out.push_back(std::move(im));
+    const std::pair<unsigned, PrimitiveType> kinds[] = {
+        {3, PrimitiveType::triangles}, {2, PrimitiveType::lines}, {1, PrimitiveType::points}};
+    for (const auto& [size, primitive] : kinds) {
+      if (by_size[size].empty()) continue;
+      ImportedMesh part = im;  // a copy of the vertices per kind: rare, see above
+      part.primitive = primitive;
+      part.indices = std::move(by_size[size]);
+      out.push_back(std::move(part));
+    }
   }
   if (out.empty()) {
     std::string why;
@@ -244,7 +256,8 @@ std::vector<ImportedMesh> import_mesh(const std::string& file) {
       if (why.size() > 200) break;
       why += (why.empty() ? "assimp: " : "; ") + m;
     }
-    throw MeshImportError("the file has no triangles" + (why.empty() ? "" : " (" + why + ")"));
+    throw MeshImportError("the file has no triangles, lines or points" +
+                          (why.empty() ? "" : " (" + why + ")"));
   }
   return out;
 }

@@ -1,5 +1,5 @@
-// Mesh files (anything assimp reads) turned into triangle lists for the scene
-// loader. Kept apart from scene_loader.cpp so assimp's headers stay here.
+// Mesh files (anything assimp reads) turned into triangle, line and point lists
+// for the scene loader. Kept apart from scene_loader.cpp so assimp's headers stay here.
 #pragma once
 
 #include <cstdint>
@@ -19,18 +19,25 @@ class MeshImportError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// One assimp mesh with triangles, after pre-transforming the node hierarchy.
+// One assimp mesh's triangles, lines or points, after pre-transforming the node
+// hierarchy. assimp's SortByPType gives each aiMesh one kind of primitive; an
+// aiMesh that still mixed kinds would give one ImportedMesh per kind.
 struct ImportedMesh {
   unsigned index = 0;  // the aiMesh's index in the post-processed scene
+  // triangles, lines or points: the faces of 3, 2 or 1 indices (assimp splits
+  // an OBJ polyline `l 1 2 3` into the lines (1, 2) and (2, 3)).
+  PrimitiveType primitive = PrimitiveType::triangles;
   std::vector<glm::vec4> positions;
-  std::vector<glm::vec3> normals;  // one per position, or empty
+  std::vector<glm::vec3> normals;  // one per position, or empty (lines and points
+                                   // have normals only when the file gives them)
   std::vector<glm::vec4> colors;   // colour set 0, or empty
-  std::vector<uint32_t> indices;   // three per triangle
+  std::vector<uint32_t> indices;   // three per triangle, two per line, one per point
   Material material;               // from the file's material (see docs/scene-format.md)
 };
 
 // Reads `file`; throws MeshImportError (one line) when assimp cannot read it,
-// it has no triangles, or its data is unusable (non-finite values).
+// it has no triangles, lines or points, or its data is unusable (non-finite
+// values). Each aiMesh's triangles come before its lines and its points.
 std::vector<ImportedMesh> import_mesh(const std::string& file);
 
 }  // namespace gpusim

@@ -294,10 +294,11 @@ Json SceneReader::parse(const std::string& text) const {
     fail("", "byte " + std::to_string(e.byte) + ": " +
                  (b == std::string::npos ? msg : msg.substr(b + 2)));
   } catch (const Json::exception& e) {
-    // e.g. out_of_range.406 "number overflow parsing '1e400'".
+    // e.g. out_of_range.406 "number overflow parsing '1e400'", thrown while
+    // reading the number, so `stack` still holds the path to it.
     const std::string msg = e.what();
     const size_t b = msg.find("] ");
-    fail("", b == std::string::npos ? msg : msg.substr(b + 2));
+    fail(path_of(stack.size()), b == std::string::npos ? msg : msg.substr(b + 2));
   }
 }
 
@@ -742,12 +743,22 @@ void SceneReader::read_draw(const At& a, Scene& scene) const {
   for (ImportedMesh& m : meshes) {
     Draw d;
     d.name = a.path + " " + base + " mesh " + std::to_string(m.index);
-    d.primitive = PrimitiveType::triangles;
+    // Triangle draws keep the name they always had; the others say what they are.
+    if (m.primitive != PrimitiveType::triangles)
+      d.name += " " + std::string(to_string(m.primitive));
+    d.primitive = m.primitive;
     d.positions = std::move(m.positions);
     d.normals = std::move(m.normals);
     d.colors = std::move(m.colors);
     d.indices = std::move(m.indices);
-    d.lighting = lighting.value_or(!scene.lights.empty() && !d.normals.empty());
+    if (m.primitive != PrimitiveType::triangles && d.normals.empty()) {
+      // assimp generates normals for triangles only, and a file rarely gives
+      // lines or points any: such a draw is unlit whatever "lighting" says, so
+      // that "lighting": true still lights the file's triangles.
+      d.lighting = false;
+    } else {
+      d.lighting = lighting.value_or(!scene.lights.empty() && !d.normals.empty());
+    }
     if (d.lighting && d.normals.empty()) {
       fail(member_path(a.path, "lighting"), "mesh " + std::to_string(m.index) + " has no normals");
     }

@@ -146,7 +146,32 @@ std::vector<BadCase> cases() {
         R"({"draws": [{"positions": [[0,0,0]], "indices": [4294967296, 0, 0]}]})",
         {"draws[0].indices[0]"});
   scene("beyond_float", R"({"ambient": [1e39, 0, 0, 1]})", {"ambient[0]", "float range"});
-  scene("beyond_double", R"({"ambient": [1e400, 0, 0, 1]})", {"1e400"});
+  scene("beyond_double", R"({"ambient": [1e400, 0, 0, 1]})",
+        {"ambient[0]: number overflow parsing '1e400'"});
+  // Lines and points: width and size in (0, 255], a number; the enumerations.
+  const auto state = [&](const std::string& name, const std::string& json,
+                         const std::string& expect) {
+    scene(name, R"({"draws": [{"primitive": "lines", "positions": [], "state": {)" + json + "}}]}",
+          {expect});
+  };
+  state("line_width_zero", R"("line_width": 0)",
+        "draws[0].state.line_width: expected 0 < value <= 255, got 0");
+  state("line_width_negative", R"("line_width": -1)",
+        "draws[0].state.line_width: expected 0 < value <= 255, got -1");
+  state("line_width_256", R"("line_width": 256)",
+        "draws[0].state.line_width: expected 0 < value <= 255, got 256");
+  state("line_width_string", R"("line_width": "wide")",
+        "draws[0].state.line_width: expected a number, got \"wide\"");
+  state("point_size_nan_string", R"("point_size": "NaN")",
+        "draws[0].state.point_size: expected a number, got \"NaN\"");
+  state("point_size_infinity", R"("point_size": 1e999)",
+        "draws[0].state.point_size: number overflow parsing '1e999'");
+  state("point_size_numeric_string", R"("point_size": "8")",
+        "draws[0].state.point_size: expected a number, got \"8\"");
+  state("line_rasterization_unknown", R"("line_rasterization": "wu")",
+        "draws[0].state.line_rasterization: expected one of diamond_exit, bresenham, got \"wu\"");
+  state("polygon_mode_unknown", R"("polygon_mode": "wireframe")",
+        "draws[0].state.polygon_mode: expected one of fill, line, point, got \"wireframe\"");
   scene("zero_direction", R"({"lights": [{"type": "directional", "direction": [0, 0, 0]}]})",
         {"lights[0].direction"});
   scene("colours_per_position",
@@ -167,12 +192,13 @@ std::vector<BadCase> cases() {
                "scene.json",
                "",
                {"draws[0].mesh: cannot read \"model.xyz\"", "No suitable reader"}});
-  c.push_back({"mesh_without_triangles",
-               {{"scene.json", mesh_scene("lines.obj")},
-                {"lines.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nl 1 2 3\n"}},
+  // Vertices only: no triangles, lines or points (assimp's validator says so).
+  c.push_back({"mesh_without_elements",
+               {{"scene.json", mesh_scene("vertices.obj")},
+                {"vertices.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\n"}},
                "scene.json",
                "",
-               {"cannot read \"lines.obj\": the file has no triangles"}});
+               {"cannot read \"vertices.obj\": Validation failed: ", "contains no faces"}});
   c.push_back(
       {"mesh_bad_face_index",
        {{"scene.json", mesh_scene("bad.obj")}, {"bad.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 9\n"}},

@@ -178,15 +178,16 @@ TEST_F(SceneLoaderTest, SpiderMatchesObjFile) {
   EXPECT_EQ(s.resolved["draws"][0]["material_from"], "mesh file");
 }
 
-TEST_F(SceneLoaderTest, RelativeObjIsTriangulatedAndLinesIgnored) {
-  // A quad, a pentagon and a line: 2 + 3 triangles, the line dropped.
+TEST_F(SceneLoaderTest, RelativeObjIsTriangulated) {
+  // A quad and a pentagon: 2 + 3 triangles.
   write("shapes.obj",
         "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
         "v 2 0 0\nv 3 0 0\nv 3.5 1 0\nv 2.5 2 0\nv 1.5 1 0\n"
-        "f 1 2 3 4\nf 5 6 7 8 9\nl 1 5\n");
+        "f 1 2 3 4\nf 5 6 7 8 9\n");
   const Scene s = load(R"({"draws": [{"mesh": "shapes.obj"}]})");
   ASSERT_EQ(s.draws.size(), 1u);
   const Draw& d = s.draws[0];
+  EXPECT_EQ(d.primitive, PrimitiveType::triangles);
   EXPECT_EQ(d.indices.size(), 15u);
   EXPECT_EQ(d.positions.size(), 9u);
   EXPECT_EQ(d.normals.size(), 9u);  // generated (the file has none)
@@ -195,6 +196,144 @@ TEST_F(SceneLoaderTest, RelativeObjIsTriangulatedAndLinesIgnored) {
   EXPECT_EQ(fs::path(s.resolved["draws"][0]["mesh"].get<std::string>()), dir_ / "shapes.obj");
   // Generated normals of a flat mesh in the z = 0 plane wound CCW point to +z.
   for (const glm::vec3& n : d.normals) expect_near(n, glm::vec3(0, 0, 1), 1e-5f);
+}
+
+// The OBJ file's faces, polylines and points, read by the test itself: what
+// the loader's triangles, lines and points draws must hold, as positions.
+struct ObjPrimitives {
+  std::multiset<std::vector<float>> triangles, lines, points;  // x, y, z of each corner
+};
+
+ObjPrimitives read_obj_primitives(const std::string& text) {
+  std::vector<std::vector<float>> v;
+  ObjPrimitives out;
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line)) {
+    std::istringstream ls(line);
+    std::string tag;
+    ls >> tag;
+    if (tag == "v") {
+      float x, y, z;
+      ls >> x >> y >> z;
+      v.push_back({x, y, z});
+      continue;
+    }
+    std::vector<int> ids;
+    for (int i; ls >> i;) ids.push_back(i - 1);
+    const auto join = [&](std::initializer_list<int> corners) {
+      std::vector<float> key;
+      for (int c : corners) key.insert(key.end(), v[c].begin(), v[c].end());
+      return key;
+    };
+    // OBJ: a face is a polygon (fan-triangulated), `l` a polyline, `p` points.
+    if (tag == "f") {
+      for (size_t i = 1; i + 1 < ids.size(); ++i) {
+        out.triangles.insert(join({ids[0], ids[i], ids[i + 1]}));
+      }
+    }
+    if (tag == "l") {
+      for (size_t i = 0; i + 1 < ids.size(); ++i) out.lines.insert(join({ids[i], ids[i + 1]}));
+    }
+    if (tag == "p") {
+      for (int i : ids) out.points.insert(join({i}));
+    }
+  }
+  return out;
+}
+
+// A draw's primitives as positions, in the same form as read_obj_primitives.
+std::multiset<std::vector<float>> draw_primitives(const Draw& d, size_t corners) {
+  std::multiset<std::vector<float>> out;
+  for (size_t i = 0; i + corners <= d.indices.size(); i += corners) {
+    std::vector<float> key;
+    for (size_t k = 0; k < corners; ++k) {
+      const glm::vec4 p = d.positions.at(d.indices[i + k]);
+      key.insert(key.end(), {p.x, p.y, p.z});
+    }
+    out.insert(key);
+  }
+  return out;
+}
+
+TEST_F(SceneLoaderTest, MeshLinesAndPointsBecomeDraws) {
+  // A quad, a polyline of 4 vertices, a single segment, and 3 + 1 points.
+  const std::string obj =
+      "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\nv 3 1 0\nv 4 0 0\n"
+      "f 1 2 3 4\n"
+      "l 5 6 7 5\n"
+      "l 1 3\n"
+      "p 2 4 6\n"
+      "p 7\n";
+  write("mixed.obj", obj);
+  const ObjPrimitives want = read_obj_primitives(obj);
+  ASSERT_EQ(want.triangles.size(), 2u);  // the test's own reading, checked by hand
+  ASSERT_EQ(want.lines.size(), 4u);
+  ASSERT_EQ(want.points.size(), 4u);
+  // "lighting": true lights the triangles; lines and points have no normals.
+  const Scene s = load(R"({"lights": [{"type": "directional", "direction": [0, 0, -1]}],
+      "draws": [{"mesh": "mixed.obj", "lighting": true, "transform": {"translate": [0, 0, -2]},
+                 "material": {"color": [1, 0.5, 0, 1]},
+                 "state": {"line_width": 3, "point_size": 5, "shading": "flat"}}]})");
+  ASSERT_EQ(s.draws.size(), 3u);
+  ASSERT_EQ(s.resolved["draws"].size(), 3u);
+  int seen[3] = {0, 0, 0};
+  for (size_t i = 0; i < s.draws.size(); ++i) {
+    const Draw& d = s.draws[i];
+    const nlohmann::json& r = s.resolved["draws"][i];
+    SCOPED_TRACE(d.name);
+    // Every part of the mesh draw shares its transform, material and state.
+    EXPECT_EQ(d.model_view[3][2], -2.0f);
+    expect_near(d.material.diffuse, glm::vec4(1, 0.5f, 0, 1));
+    EXPECT_EQ(d.state.line_width, 3.0f);
+    EXPECT_EQ(d.state.point_size, 5.0f);
+    EXPECT_EQ(d.state.shading, Shading::flat);
+    EXPECT_EQ(r["mesh"], (dir_ / "mixed.obj").string());
+    EXPECT_EQ(r["primitive"], std::string(to_string(d.primitive)));
+    EXPECT_EQ(d.name.rfind("draws[0] mixed.obj mesh ", 0), 0u);
+    switch (d.primitive) {
+      case PrimitiveType::triangles:
+        ++seen[0];
+        EXPECT_EQ(draw_primitives(d, 3), want.triangles);
+        EXPECT_EQ(r["primitives"], want.triangles.size());
+        EXPECT_TRUE(d.lighting);
+        EXPECT_EQ(d.name.find("lines"), std::string::npos);
+        break;
+      case PrimitiveType::lines:
+        ++seen[1];
+        EXPECT_EQ(draw_primitives(d, 2), want.lines);
+        EXPECT_EQ(r["primitives"], want.lines.size());
+        EXPECT_FALSE(d.lighting);
+        EXPECT_TRUE(d.normals.empty());
+        EXPECT_EQ(r["lighting"], false);
+        EXPECT_EQ(d.name.substr(d.name.size() - 6), " lines");
+        break;
+      case PrimitiveType::points:
+        ++seen[2];
+        EXPECT_EQ(draw_primitives(d, 1), want.points);
+        EXPECT_EQ(r["primitives"], want.points.size());
+        EXPECT_FALSE(d.lighting);
+        EXPECT_EQ(d.name.substr(d.name.size() - 7), " points");
+        break;
+      default:
+        ADD_FAILURE() << "unexpected primitive " << to_string(d.primitive);
+    }
+  }
+  EXPECT_EQ(seen[0], 1);
+  EXPECT_EQ(seen[1], 1);
+  EXPECT_EQ(seen[2], 1);
+}
+
+TEST_F(SceneLoaderTest, MeshOfLinesOnly) {
+  // A file of nothing but a polyline, which used to be "no triangles".
+  const std::string obj = "v 0 0 0\nv 1 0 0\nv 1 1 0\nl 1 2 3\n";
+  write("lines.obj", obj);
+  const Scene s = load(R"({"draws": [{"mesh": "lines.obj"}]})");
+  ASSERT_EQ(s.draws.size(), 1u);
+  EXPECT_EQ(s.draws[0].primitive, PrimitiveType::lines);
+  EXPECT_EQ(draw_primitives(s.draws[0], 2), read_obj_primitives(obj).lines);
+  EXPECT_EQ(s.resolved["draws"][0]["primitives"], 2);
+  EXPECT_EQ(s.draws[0].name, "draws[0] lines.obj mesh 0 lines");
 }
 
 TEST_F(SceneLoaderTest, PlyVertexColoursAndLightingOverride) {
@@ -224,10 +363,12 @@ TEST_F(SceneLoaderTest, PlyVertexColoursAndLightingOverride) {
 }
 
 TEST_F(SceneLoaderTest, MeshErrors) {
-  write("lines.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nl 1 2 3\n");
+  // Vertices and no elements: assimp's validator refuses the empty mesh.
+  write("vertices.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\n");
   write("flat.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
-  EXPECT_EQ(error_of(R"({"draws": [{"mesh": "lines.obj"}]})"),
-            "draws[0].mesh: cannot read \"lines.obj\": the file has no triangles");
+  EXPECT_EQ(error_of(R"({"draws": [{"mesh": "vertices.obj"}]})")
+                .rfind("draws[0].mesh: cannot read \"vertices.obj\": Validation failed: ", 0),
+            0u);
   const std::string missing = error_of(R"({"draws": [{"mesh": "missing.obj"}]})");
   EXPECT_EQ(missing.rfind("draws[0].mesh: cannot read \"missing.obj\": ", 0), 0u) << missing;
   EXPECT_GT(missing.size(), std::string("draws[0].mesh: cannot read \"missing.obj\": ").size());
@@ -411,6 +552,21 @@ TEST_F(SceneLoaderTest, EveryStateValueParses) {
        }},
       {R"("shading": "flat")", [](auto& s) { return s.shading == Shading::flat; }},
       {R"("shading": "gouraud")", [](auto& s) { return s.shading == Shading::gouraud; }},
+      // Widths and sizes: any number in (0, 255], fractions kept as written.
+      {R"("line_width": 0.25)", [](auto& s) { return s.line_width == 0.25f; }},
+      {R"("line_width": 255)", [](auto& s) { return s.line_width == 255.0f; }},
+      {R"("line_width": 7)", [](auto& s) { return s.line_width == 7.0f && s.point_size == 1.0f; }},
+      {R"("point_size": 0.5)", [](auto& s) { return s.point_size == 0.5f; }},
+      {R"("point_size": 255)", [](auto& s) { return s.point_size == 255.0f; }},
+      {R"("point_size": 64)",
+       [](auto& s) { return s.point_size == 64.0f && s.line_width == 1.0f; }},
+      {R"("line_rasterization": "diamond_exit")",
+       [](auto& s) { return s.line_rasterization == LineRasterization::diamond_exit; }},
+      {R"("line_rasterization": "bresenham")",
+       [](auto& s) { return s.line_rasterization == LineRasterization::bresenham; }},
+      {R"("polygon_mode": "fill")", [](auto& s) { return s.polygon_mode == PolygonMode::fill; }},
+      {R"("polygon_mode": "line")", [](auto& s) { return s.polygon_mode == PolygonMode::line; }},
+      {R"("polygon_mode": "point")", [](auto& s) { return s.polygon_mode == PolygonMode::point; }},
   };
   const std::vector<std::pair<std::string, BlendFactor>> factors = {
       {"zero", BlendFactor::zero},
@@ -428,6 +584,12 @@ TEST_F(SceneLoaderTest, EveryStateValueParses) {
   for (const Case& c : cases) {
     const Scene s = load(R"({"draws": [{"positions": [], "state": {)" + c.state + "}}]}");
     EXPECT_TRUE(c.check(s.draws[0].state)) << c.state;
+    // The resolved state gives the key back with the value as written.
+    const nlohmann::json written = nlohmann::json::parse("{" + c.state + "}");
+    const std::string key = written.begin().key();
+    if (key != "depth_test" && key != "blend") {  // these two are rewritten (see below)
+      EXPECT_EQ(s.resolved["draws"][0]["state"][key], written.begin().value()) << c.state;
+    }
   }
   for (const auto& [name, factor] : factors) {
     const Scene s = load(R"({"draws": [{"positions": [], "state": {"blend": {"src": ")" + name +
@@ -468,6 +630,10 @@ TEST_F(SceneLoaderTest, DefaultsAreFilledIn) {
   EXPECT_TRUE(d.state.depth_write);
   EXPECT_FALSE(d.state.blend);
   EXPECT_EQ(d.state.shading, Shading::gouraud);
+  EXPECT_EQ(d.state.line_width, 1.0f);
+  EXPECT_EQ(d.state.point_size, 1.0f);
+  EXPECT_EQ(d.state.line_rasterization, LineRasterization::diamond_exit);
+  EXPECT_EQ(d.state.polygon_mode, PolygonMode::fill);
   EXPECT_EQ(d.mvp, glm::mat4(1.0f));
 
   // The resolved settings name everything as a scene file would.
@@ -485,6 +651,10 @@ TEST_F(SceneLoaderTest, DefaultsAreFilledIn) {
   EXPECT_EQ(rd["state"]["depth_test"], "less");
   EXPECT_EQ(rd["state"]["blend"], "off");
   EXPECT_EQ(rd["state"]["cull"], "none");
+  EXPECT_EQ(rd["state"]["line_width"], 1);
+  EXPECT_EQ(rd["state"]["point_size"], 1);
+  EXPECT_EQ(rd["state"]["line_rasterization"], "diamond_exit");
+  EXPECT_EQ(rd["state"]["polygon_mode"], "fill");
   EXPECT_EQ(rd["material"]["diffuse"], nlohmann::json::parse("[0.8, 0.8, 0.8, 1.0]"));
 }
 
@@ -533,6 +703,41 @@ TEST_F(SceneLoaderTest, ExplicitSettingsAndCounts) {
   EXPECT_EQ(s.resolved["framebuffer"]["depth_format"], "float32");
 }
 
+TEST_F(SceneLoaderTest, PointAndLinePrimitiveCounts) {
+  // GL's assembly (docs/pipeline-spec.md section 3), counted by hand for n
+  // vertex slots = 0, 1, 2, 3, 5: points n; lines pairs; a strip n - 1
+  // segments; a loop the strip plus the closing segment (two lines for n = 2).
+  const std::vector<int> slots = {0, 1, 2, 3, 5};
+  const std::map<std::string, std::vector<int>> want = {{"points", {0, 1, 2, 3, 5}},
+                                                        {"lines", {0, 0, 1, 1, 2}},
+                                                        {"line_strip", {0, 0, 1, 2, 4}},
+                                                        {"line_loop", {0, 0, 2, 3, 5}}};
+  for (const auto& [primitive, counts] : want) {
+    for (size_t k = 0; k < slots.size(); ++k) {
+      const int n = slots[k];
+      // Non-indexed: n positions. Indexed: 2 positions and n indices, so the
+      // count follows the indices, not the positions.
+      std::string positions, indices;
+      for (int i = 0; i < n; ++i) {
+        positions += std::string(i ? ", " : "") + "[" + std::to_string(i) + ", 0, 0]";
+        indices += std::string(i ? ", " : "") + std::to_string(i % 2);
+      }
+      const Scene s =
+          load(R"({"draws": [{"primitive": ")" + primitive + R"(", "positions": [)" + positions +
+               R"(]}, {"primitive": ")" + primitive +
+               R"(", "positions": [[0, 0, 0], [1, 1, 0]], "indices": [)" + indices + "]}]}");
+      ASSERT_EQ(s.draws.size(), 2u);
+      EXPECT_EQ(s.draws[0].primitive, enum_from_string<PrimitiveType>(primitive)) << primitive;
+      EXPECT_EQ(s.resolved["draws"][0]["primitive"], primitive);
+      EXPECT_EQ(s.resolved["draws"][0]["primitives"], counts[k]) << primitive << " n=" << n;
+      EXPECT_EQ(s.resolved["draws"][1]["indices"], n);
+      // An empty index list is no index list (Draw::indices), so the 2 positions count.
+      const int indexed = n == 0 ? want.at(primitive)[2] : counts[k];
+      EXPECT_EQ(s.resolved["draws"][1]["primitives"], indexed) << primitive << " indexed n=" << n;
+    }
+  }
+}
+
 TEST_F(SceneLoaderTest, ShippedScenesLoad) {
   for (const char* name : {"default.json", "spider.json", "quad_clipspace.json"}) {
     const std::string path = std::string(GPUSIM_SOURCE_DIR) + "/testbench/scenes/" + name;
@@ -575,7 +780,12 @@ TEST_F(SceneLoaderTest, MalformedJsonReportsLineAndColumn) {
   const std::string msg = error_of("{\n  \"framebuffer\": {\n    \"width\": 256,,\n  }\n}\n");
   EXPECT_EQ(msg.rfind("line 3, column 18: ", 0), 0u) << msg;
   EXPECT_EQ(error_of("").rfind("line 1, column 1: ", 0), 0u);
-  EXPECT_NE(error_of(R"({"ambient": [1e400, 0, 0, 1]})").find("1e400"), std::string::npos);
+  // Beyond double: nlohmann refuses it while parsing; the message names where.
+  EXPECT_EQ(error_of(R"({"ambient": [0, 1e400, 0, 1]})"),
+            "ambient[1]: number overflow parsing '1e400'");
+  EXPECT_EQ(error_of(R"({"draws": [{"positions": [], "state": {"point_size": -1e999}}]})"),
+            "draws[0].state.point_size: number overflow parsing '-1e999'");
+  EXPECT_EQ(error_of("1e400"), "number overflow parsing '1e400'");
 }
 
 TEST_F(SceneLoaderTest, FileErrors) {
@@ -723,6 +933,41 @@ TEST_F(SceneLoaderTest, TypeAndRangeErrors) {
       {R"({"draws": [{"positions": [], "state": {"polygon_offset": [1]}}]})",
        "draws[0].state.polygon_offset: expected an array of 2 numbers, got an array of 1 "
        "element"},
+      // Line width and point size: 0 < value <= 255, a number.
+      {R"({"draws": [{"positions": [], "state": {"line_width": 0}}]})",
+       "draws[0].state.line_width: expected 0 < value <= 255, got 0"},
+      {R"({"draws": [{"positions": [], "state": {"line_width": -1}}]})",
+       "draws[0].state.line_width: expected 0 < value <= 255, got -1"},
+      {R"({"draws": [{"positions": [], "state": {"line_width": 256}}]})",
+       "draws[0].state.line_width: expected 0 < value <= 255, got 256"},
+      {R"({"draws": [{"positions": [], "state": {"line_width": 255.5}}]})",
+       "draws[0].state.line_width: expected 0 < value <= 255, got 255.5"},
+      {R"({"draws": [{"positions": [], "state": {"line_width": "wide"}}]})",
+       R"(draws[0].state.line_width: expected a number, got "wide")"},
+      {R"({"draws": [{"positions": [], "state": {"line_width": [2]}}]})",
+       "draws[0].state.line_width: expected a number, got an array of 1 element"},
+      {R"({"draws": [{"positions": [], "state": {"point_size": "NaN"}}]})",
+       R"(draws[0].state.point_size: expected a number, got "NaN")"},
+      {R"({"draws": [{"positions": [], "state": {"point_size": "inf"}}]})",
+       R"(draws[0].state.point_size: expected a number, got "inf")"},
+      {R"({"draws": [{"positions": [], "state": {"point_size": "4"}}]})",
+       R"(draws[0].state.point_size: expected a number, got "4")"},
+      {R"({"draws": [{"positions": [], "state": {"point_size": 1e39}}]})",
+       "draws[0].state.point_size: expected a number in float range, got 1e+39"},
+      {R"({"draws": [{"positions": [], "state": {"point_size": 0}}]})",
+       "draws[0].state.point_size: expected 0 < value <= 255, got 0"},
+      {R"({"draws": [{"positions": [], "state": {"point_size": null}}]})",
+       "draws[0].state.point_size: expected a number, got null"},
+      {R"({"draws": [{"positions": [], "state": {"line_rasterization": "dda"}}]})",
+       R"(draws[0].state.line_rasterization: expected one of diamond_exit, bresenham, got "dda")"},
+      {R"({"draws": [{"positions": [], "state": {"polygon_mode": "wireframe"}}]})",
+       R"(draws[0].state.polygon_mode: expected one of fill, line, point, got "wireframe")"},
+      {R"({"draws": [{"positions": [], "state": {"polygon_mode": "lines"}}]})",
+       R"(draws[0].state.polygon_mode: expected one of fill, line, point, got "lines")"},
+      {R"({"draws": [{"positions": [], "state": {"line_stipple": 1}}]})",
+       "draws[0].state.line_stipple: unknown key (allowed: cull, front_face, depth_test, "
+       "depth_write, polygon_offset, blend, color_mask, shading, line_width, point_size, "
+       "line_rasterization, polygon_mode)"},
   };
   for (const auto& [json, want] : cases) EXPECT_EQ(error_of(json), want) << json;
 }
