@@ -833,7 +833,12 @@ std::vector<Pixel> bresenham_pixels(int64_t ax, int64_t ay, int64_t bx, int64_t 
   const int64_t m = du;
   // Wide lines: the minor run starts floor((w - 1) / 2) below the pixel.
   const int64_t below = (w - 1) / 2;
-  for (int64_t i = 0; i <= m; ++i) {
+  // Only the steps whose major coordinate is inside the framebuffer can
+  // produce fragments: skip the rest of a line that runs far off-screen.
+  const int64_t major_size = x_major ? width : height;
+  const int64_t i_first = std::max<int64_t>(0, su > 0 ? -u0 : u0 - (major_size - 1));
+  const int64_t i_last = std::min<int64_t>(m, su > 0 ? major_size - 1 - u0 : u0);
+  for (int64_t i = i_first; i <= i_last; ++i) {
     if (i == 0 && !draw_first) continue;
     if (i == m && !draw_last) continue;
     // Closed form: the minor step nearest the line, a tie not stepping.

@@ -1,7 +1,9 @@
 // The golden model: the executable specification of the pipeline
 // (docs/pipeline-spec.md). Plain C++, no SystemC, the simplest correct
-// algorithm: per triangle in API order, scan the bounding box, evaluate every
-// pixel exactly. Each step is a free function so tests can check it alone.
+// algorithm: per primitive in API order, evaluate every candidate pixel
+// exactly: a triangle's bounding box, the few pixels per column (or row)
+// around a line, tested against the diamond-exit rule's definition, a point's
+// square. Each step is a free function so tests can check it alone.
 #pragma once
 
 #include <array>
