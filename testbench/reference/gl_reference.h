@@ -75,7 +75,8 @@ class NotRenderable : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// What happened to the scene's triangles on the way into OpenGL.
+// What happened to the scene's triangles, lines and points on the way into
+// OpenGL.
 struct ReferenceStats {
   uint64_t triangles = 0;          // assembled (spec section 3)
   uint64_t triangles_invalid = 0;  // out-of-range index or non-finite position: not drawn
