@@ -162,7 +162,8 @@ int main_with_errors(int argc, char** argv) {
   app.add_option("--out", job.exr,
                  "Output EXR (R, G, B, A half; Z float), like gpusim golden's frame.exr");
   app.add_option("--png", job.png, "Also write an 8-bit PNG preview");
-  app.add_option("--stats", job.stats, "Also write how the primitives were handed to OpenGL (JSON)");
+  app.add_option("--stats", job.stats,
+                 "Also write how the primitives were handed to OpenGL (JSON)");
   app.add_option(
       "--batch", batch,
       "Render every line \"SCENE OUT.exr [OUT.png [STATS.json]]\" of this file (\"-\": no PNG)");
