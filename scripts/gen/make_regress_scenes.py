@@ -1092,6 +1092,26 @@ def polygon_mode_point():
     }
 
 
+@scene("polygon_mode_point_clipped", "polygon mode", "4, 4d, 8c",
+       "raw triangles in polygon_mode point, size 3, cut by the near and far planes and by w = 0 "
+       "(a polygon's points: the original vertices inside and the vertices where an edge enters "
+       "the volume, per the edge flags), flat colours, perspective camera")
+def polygon_mode_point_clipped():
+    rng = random.Random(1213)
+    tris, col = [], []
+    for _ in range(16):
+        cx, cy = rng.uniform(-1.2, 1.2), rng.uniform(-0.9, 0.9)
+        for k in range(3):
+            tris.append([r(cx + rng.uniform(-1, 1)), r(cy + rng.uniform(-0.8, 0.8)),
+                         r(rng.uniform(-9, 0.6))])
+            col.append(rcol(rng))
+    return {"framebuffer": {"width": 128, "height": 128, "clear_color": [0, 0, 0, 1]},
+            "camera": {"type": "perspective", "fovy": 70, "near": 0.5, "far": 8},
+            "draws": [{"positions": tris, "colors": col,
+                       "state": {"polygon_mode": "point", "point_size": 3, "shading": "flat",
+                                 "depth_test": "off"}}]}
+
+
 LINE_MESH = "lines_mesh.obj"
 
 
