@@ -767,6 +767,383 @@ def constant_depth_lequal():
     }
 
 
+# ------------------------------------------------------ lines and points
+# Window coordinates are given in pixels and written as exact clip
+# coordinates (power-of-two framebuffers, multiples of 1/256 pixel), never
+# rounded by r(), so the spec and llvmpipe start from the same end points.
+
+def win(px, py, size, z=0.0):
+    """Clip coordinates (w = 1) of window point (px, py) in a size x size target."""
+    return [clip_x(px, size), clip_x(py, size), z]
+
+
+def sub(v):
+    """v rounded to the 1/256-pixel grid."""
+    return round(v * 256) / 256
+
+
+@scene("lines_octants", "lines", "3, 8b",
+       "a star of 48 width-1 lines from random subpixel end points near the centre out to a "
+       "circle, every octant and both directions of travel, plus the four axis directions and "
+       "the four exact diagonals; flat colours")
+def lines_octants():
+    rng = random.Random(1201)
+    size = 128
+    pos, col = [], []
+    for k in range(48):
+        a = 2 * math.pi * (k + rng.uniform(0.1, 0.9)) / 48
+        x0, y0 = sub(64 + rng.uniform(-3, 3)), sub(64 + rng.uniform(-3, 3))
+        x1, y1 = sub(64 + 58 * math.cos(a)), sub(64 + 58 * math.sin(a))
+        if k % 2:  # travel inwards as often as outwards
+            x0, y0, x1, y1 = x1, y1, x0, y0
+        pos += [win(x0, y0, size), win(x1, y1, size)]
+        col += [rcol(rng), rcol(rng)]
+    for (dx, dy) in ((1, 0), (0, 1), (-1, 0), (0, -1), (1, 1), (-1, 1), (-1, -1), (1, -1)):
+        x0, y0 = sub(20.3 + 4 * (dx + 2)), sub(20.7 + 4 * (dy + 2))
+        pos += [win(x0, y0, size), win(x0 + 12 * dx, y0 + 12 * dy, size)]
+        col += [rcol(rng), rcol(rng)]
+    return {"framebuffer": {"width": size, "height": size, "clear_color": [0, 0, 0, 1]},
+            "draws": [{"primitive": "lines", "positions": pos, "colors": col,
+                       "state": {"depth_test": "off", "shading": "flat"}}]}
+
+
+@scene("lines_pixel_centres", "lines", "8b",
+       "width-1 lines whose end points lie on pixel centres, in every octant (slopes 0, 1/3, 1/2, "
+       "1, 2, 3, infinite, both directions): llvmpipe 22.3 drops the first pixel of y-major lines "
+       "going downward from a centre (docs/validation.md)")
+def lines_pixel_centres():
+    size = 128
+    pos, col = [], []
+    dirs = [(12, 0), (12, 4), (12, 6), (12, 12), (6, 12), (4, 12), (0, 12)]
+    k = 0
+    for sx in (1, -1):
+        for sy in (1, -1):
+            for (dx, dy) in dirs:
+                cx = 16 + 30 * (k % 4) + 0.5
+                cy = 10 + 15 * (k // 4) + 0.5
+                x0, y0 = cx - sx * dx / 2, cy - sy * dy / 2
+                x0, y0 = math.floor(x0) + 0.5, math.floor(y0) + 0.5
+                pos += [win(x0, y0, size), win(x0 + sx * dx, y0 + sy * dy, size)]
+                col += [id_col(k), id_col(k)]
+                k += 1
+    return {"framebuffer": {"width": size, "height": size, "clear_color": [0, 0, 0, 1]},
+            "draws": [{"primitive": "lines", "positions": pos, "colors": col,
+                       "state": {"depth_test": "off", "shading": "flat"}}]}
+
+
+def id_col(k):
+    return [((k * 53) % 200 + 55) / 255, ((k * 97) % 200 + 55) / 255, ((k * 31) % 200 + 55) / 255, 1]
+
+
+@scene("lines_diamond_edges", "lines", "8b",
+       "width-1 lines exactly on diamond boundaries: horizontal and vertical lines halfway "
+       "between pixel centres, 45-degree lines through diamond corners, end points on diamond "
+       "corners and edges (the tie rules of section 8b)")
+def lines_diamond_edges():
+    size = 128
+    pos, col = [], []
+    segs = []
+    for i in range(4):
+        y = 8 + 6 * i  # integer y: halfway between two rows of centres
+        segs.append(((4.5 + i * 0.25, y), (40.5 + i * 0.5, y)))
+        segs.append(((40.5 + i * 0.5, y + 3), (4.5 + i * 0.25, y + 3)))
+        x = 50 + 6 * i  # integer x: halfway between two columns
+        segs.append(((x, 4.5 + i * 0.25), (x, 40.5 + i * 0.5)))
+        segs.append(((x + 3, 40.5 + i * 0.5), (x + 3, 4.5 + i * 0.25)))
+    for i in range(6):
+        # 45-degree lines through the corners (x + 0.5, y) of diamonds.
+        x0, y0 = 6 + 8 * i + 0.0, 50.5
+        d = 1 if i % 2 else -1
+        segs.append(((x0, y0), (x0 + 14, y0 + 14 * d + (14 if d < 0 else 0))))
+        segs.append(((x0 + 0.5, 80), (x0 + 0.5 + 12, 92)))
+        segs.append(((x0 + 12.5, 100), (x0 + 0.5, 112)))
+    # End points on diamond corners and edge midpoints.
+    for i, (ox, oy) in enumerate(((0.5, 0), (0, 0.5), (0.25, 0.25), (-0.25, 0.25), (0.5, 0.5))):
+        x0, y0 = 70 + 0.5 + ox, 60 + 8 * i + 0.5 + oy
+        segs.append(((x0, y0), (x0 + 20, y0 + 3)))
+        segs.append(((x0 + 30, y0 + 5), (x0 + 25, y0 - 2)))
+    for k, ((x0, y0), (x1, y1)) in enumerate(segs):
+        pos += [win(x0, y0, size), win(x1, y1, size)]
+        col += [id_col(k), id_col(k)]
+    return {"framebuffer": {"width": size, "height": size, "clear_color": [0, 0, 0, 1]},
+            "draws": [{"primitive": "lines", "positions": pos, "colors": col,
+                       "state": {"depth_test": "off", "shading": "flat"}}]}
+
+
+@scene("line_strips_loops", "lines", "3, 8b, 9",
+       "line strips and loops, indexed and not, Gouraud and flat, with a degenerate "
+       "(zero-length) segment and a two-vertex loop; shared vertices drawn once")
+def line_strips_loops():
+    rng = random.Random(1203)
+    size = 128
+    draws = []
+    for k, prim in enumerate(("line_strip", "line_loop", "line_strip", "line_loop")):
+        n = 7 + 2 * k
+        cx, cy = 32 + 64 * (k % 2), 32 + 64 * (k // 2)
+        pts = []
+        for i in range(n):
+            a = 2 * math.pi * i / n + rng.uniform(-0.2, 0.2)
+            rad = rng.uniform(10, 28)
+            pts.append(win(sub(cx + rad * math.cos(a)), sub(cy + rad * math.sin(a)), size))
+        if k == 2:
+            pts.insert(3, list(pts[3]))  # a zero-length segment
+        d = {"primitive": prim, "positions": pts, "colors": [rcol(rng) for _ in pts],
+             "state": {"depth_test": "off", "shading": "flat" if k % 2 else "gouraud"}}
+        if k >= 2:
+            order = list(range(len(pts)))
+            rng.shuffle(order)
+            d["positions"] = [pts[i] for i in order]
+            d["colors"] = [d["colors"][i] for i in order]
+            inv = {o: j for j, o in enumerate(order)}
+            d["indices"] = [inv[i] for i in range(len(pts))]
+        draws.append(d)
+    draws.append({"primitive": "line_loop", "positions": [win(60.3, 60.6, size), win(68.2, 66.9, size)],
+                  "colors": [[1, 1, 1, 1], [1, 0.5, 0, 1]], "state": {"depth_test": "off", "shading": "flat"}})
+    return {"framebuffer": {"width": size, "height": size, "clear_color": [0, 0, 0, 1]},
+            "draws": draws}
+
+
+@scene("lines_wide", "lines", "8b",
+       "wide lines, widths 1 to 10 and fractional widths (1.4, 1.5, 2.5, 3.7, 6.5), x-major, "
+       "y-major and 45 degrees, subpixel end points; widths round half away from zero")
+def lines_wide():
+    rng = random.Random(1205)
+    size = 256
+    draws = []
+    widths = [1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 1.4, 1.5, 2.5, 3.7, 6.5]
+    for k, w in enumerate(widths):
+        pos = []
+        x0, y0 = sub(8 + 16 * k + rng.uniform(0, 1)), sub(12 + rng.uniform(0, 1))
+        pos += [win(x0, y0, size), win(sub(x0 + rng.uniform(-5, 5)), sub(y0 + 70), size)]  # y-major
+        x0, y0 = sub(12 + rng.uniform(0, 1)), sub(100 + 10 * k + rng.uniform(0, 1))
+        if k < 8:
+            pos += [win(x0, y0, size), win(sub(x0 + 100), sub(y0 + rng.uniform(-4, 4)), size)]  # x-major
+        else:
+            pos += [win(sub(x0 + 130), y0, size), win(sub(x0 + 230), sub(y0 + rng.uniform(-4, 4)), size)]
+        x0, y0 = 130.5 + 14 * (k % 8), 200.25 + 25 * (k // 8)
+        pos += [win(x0, y0, size), win(x0 + 10, y0 + 10 * (1 if k % 2 else -1), size)]   # 45 degrees
+        draws.append({"primitive": "lines", "positions": pos, "colors": [id_col(k)] * len(pos),
+                      "state": {"depth_test": "off", "shading": "flat", "line_width": w}})
+    return {"framebuffer": {"width": size, "height": size, "clear_color": [0, 0, 0, 1]},
+            "draws": draws}
+
+
+@scene("points_sizes", "points", "8c",
+       "points of sizes 1 to 64 and fractional sizes (0.25, 0.5, 1.5, 2.25, 3.7, 4.5, 10.3, "
+       "33.3) at random subpixel positions, on pixel centres and on pixel corners")
+def points_sizes():
+    rng = random.Random(1207)
+    size = 256
+    sizes = [1, 2, 3, 4, 5, 8, 13, 16, 24, 32, 64, 0.25, 0.5, 1.5, 2.25, 3.7, 4.5, 10.3, 33.3]
+    draws = []
+    for k, s in enumerate(sizes):
+        pos = []
+        for j, (fx, fy) in enumerate(((None, None), (0.5, 0.5), (0.0, 0.0))):
+            cx = 12 + (k % 6) * 40 + j * 11 if s < 30 else 40 + 90 * (k % 3)
+            cy = 16 + (k // 6) * 44 if s < 30 else 200
+            if s >= 30:
+                cx, cy = cx + j * 0.3, cy
+                if j:
+                    continue
+            if fx is None:
+                x, y = sub(cx + rng.random()), sub(cy + rng.random())
+            else:
+                x, y = math.floor(cx) + fx, math.floor(cy) + fy
+            pos.append(win(x, y, size))
+        draws.append({"primitive": "points", "positions": pos, "colors": [id_col(k)] * len(pos),
+                      "state": {"depth_test": "off", "point_size": s}})
+    return {"framebuffer": {"width": size, "height": size, "clear_color": [0, 0, 0, 1]},
+            "draws": draws}
+
+
+@scene("points_ties", "points", "4c, 8c",
+       "points whose (x_w - 0.5) * 256 falls exactly halfway between subpixels (the snap rounds "
+       "half away from zero, unlike vertex snapping), sizes 1, 2, 3, 1.5, 2.5 with odd and even "
+       "subpixel widths, and many 1-pixel points at random float positions; Gouraud state, "
+       "depth test on")
+def points_ties():
+    rng = random.Random(1208)
+    size = 128
+    draws = []
+    for k, s in enumerate((1, 2, 3, 1.5, 2.5, 1 + 1 / 256, 2 - 1 / 512)):
+        pos = []
+        for j in range(12):
+            # x_w a multiple of 1/512 pixel: an odd multiple is a tie of the
+            # point snap; every third point is moved off the tie.
+            fx = rng.randrange(512) / 512 + (1 / 1024 if j % 3 == 0 else 0)
+            fy = rng.randrange(512) / 512
+            pos.append(win(6 + 10 * j + fx, 6 + 9 * k + fy, size, r(rng.uniform(-0.5, 0.5))))
+        draws.append({"primitive": "points", "positions": pos, "colors": [rcol(rng) for _ in pos],
+                      "state": {"depth_test": "less", "point_size": s}})
+    pos = [[r(rng.uniform(-0.95, 0.95)), r(rng.uniform(0.1, 0.95)), r(rng.uniform(-1, 1))] for _ in range(300)]
+    draws.append({"primitive": "points", "positions": pos, "colors": [rcol(rng) for _ in pos],
+                  "state": {"depth_test": "less"}})
+    return {"framebuffer": {"width": size, "height": size, "clear_color": [0, 0, 0, 1]},
+            "draws": draws}
+
+
+@scene("lines_clipped", "clipping", "4b, 8b",
+       "lines cut by the near plane, many with an end behind the eye (w < 0), crossing the "
+       "framebuffer's edges (inside the guard band: not clipped), entirely off-screen, and "
+       "entirely behind (clipped away); perspective camera, depth test on")
+def lines_clipped():
+    rng = random.Random(1209)
+    pos, col = [], []
+    for _ in range(14):  # across the near plane (z = -0.5 in eye space)
+        pos += [[r(rng.uniform(-1.5, 1.5)), r(rng.uniform(-1, 1)), r(rng.uniform(-0.45, 0.4))],
+                [r(rng.uniform(-3, 3)), r(rng.uniform(-2, 2)), r(rng.uniform(-8, -2))]]
+        col += [rcol(rng), rcol(rng)]
+    for _ in range(10):  # crossing the left/right/top/bottom edges
+        pos += [[r(rng.uniform(-2, 2)), r(rng.uniform(-2, 2)), -3],
+                [r(rng.uniform(-6, 6)), r(rng.uniform(-5, 5)), r(rng.uniform(-6, -3))]]
+        col += [rcol(rng), rcol(rng)]
+    pos += [[8, 0, -3], [9, 2, -4], [0.2, 0.3, 2], [0.5, -0.3, 3]]  # off-screen; behind the eye
+    col += [[1, 1, 1, 1]] * 4
+    return {"framebuffer": {"width": 160, "height": 128, "depth_format": "float32",
+                            "clear_color": [0.05, 0.05, 0.1, 1]},
+            "camera": {"type": "perspective", "fovy": 70, "near": 0.5, "far": 40},
+            "draws": [{"primitive": "lines", "positions": pos, "colors": col,
+                       "state": {"depth_test": "less", "shading": "flat"}}]}
+
+
+@scene("points_clipped", "clipping", "4c, 8c",
+       "points near and beyond the framebuffer's edges (large points partly outside with the "
+       "centre inside: drawn; centre outside: discarded whole; centre exactly on the edge: "
+       "drawn), behind the near plane, beyond far, and with w < 0; raw clip coordinates")
+def points_clipped():
+    size = 64
+    pos = []
+    for k, c in enumerate((0.05, 0.5, 0.95, 1.0, 1.02, 1.3)):
+        pos += [[clip_x(c, size), clip_x(10 + 8 * k, size), 0.1],
+                [clip_x(size - c, size), clip_x(12 + 8 * k, size), 0.1],
+                [clip_x(10 + 8 * k, size), clip_x(c, size), 0.1],
+                [clip_x(12 + 8 * k, size), clip_x(size - c, size), 0.1]]
+    pos += [[clip_x(0, size), clip_x(30, size), 0.2], [clip_x(size, size), clip_x(34, size), 0.2],
+            [clip_x(30, size), clip_x(0, size), 0.2], [clip_x(34, size), clip_x(size, size), 0.2],
+            [clip_x(-0.01, size), clip_x(40, size), 0.2], [clip_x(size + 0.01, size), clip_x(44, size), 0.2]]
+    near = [[0, 0, -1.01, 1], [0.2, 0.1, -0.999, 1], [-0.2, 0.1, 1.001, 1], [0.2, -0.2, 0.999, 1],
+            [0.3, 0.3, 0, -1], [-0.3, -0.3, 0, 0], [0.4, -0.4, 0, 1e-12], [-0.1, 0.4, 0.5, 2]]
+    return {"framebuffer": {"width": size, "height": size, "clear_color": [0, 0, 0, 1]},
+            "draws": [{"primitive": "points", "positions": pos,
+                       "colors": [id_col(k) for k in range(len(pos))],
+                       "state": {"depth_test": "off", "point_size": 6}},
+                      {"primitive": "points", "positions": near,
+                       "colors": [id_col(40 + k) for k in range(len(near))],
+                       "state": {"depth_test": "off", "point_size": 5}}]}
+
+
+@scene("wireframe_mesh", "polygon mode", "4d, 8b",
+       "duck.dae in polygon_mode line with its back faces culled (cull front, front_face cw, as "
+       "mesh_duck_cull_front): the edges of front faces only, an edge shared by two of them "
+       "drawn twice; perspective camera, depth test on")
+def wireframe_mesh():
+    return {
+        "framebuffer": {"width": 256, "height": 256, "clear_color": [0, 0, 0, 1]},
+        "camera": {"type": "perspective", "fovy": 50, "near": 0.5, "far": 10,
+                   "eye": [1.6, 1.6, 2.2], "target": [0.1, 0.8, 0]},
+        "draws": [{"mesh": MODELS + "/Collada/duck.dae", "lighting": False,
+                   "material": {"color": [0.9, 0.8, 0.2, 1]},
+                   "state": {"cull": "front", "front_face": "cw", "polygon_mode": "line",
+                             "depth_test": "less"}}],
+    }
+
+
+@scene("wireframe_wide_clipped", "polygon mode", "4, 4d, 8b",
+       "raw triangles in polygon_mode line, widths 1 and 3: culled ones (cull back), ones cut "
+       "by the near plane (the cut edge is not drawn: edge flags), strips with flat provoking "
+       "colours")
+def wireframe_wide_clipped():
+    rng = random.Random(1211)
+    size = 128
+    tris, col = [], []
+    for _ in range(10):
+        cx, cy = rng.uniform(-0.8, 0.8), rng.uniform(-0.8, 0.8)
+        for k in range(3):
+            tris.append([r(cx + rng.uniform(-0.4, 0.4)), r(cy + rng.uniform(-0.4, 0.4)),
+                         r(rng.uniform(-0.6, 0.6))])
+            col.append(rcol(rng))
+    cut = [[-0.9, -0.9, -1.6], [0.9, -0.7, 0.2], [0.0, 0.9, 0.3],
+           [0.2, -0.2, 0.5], [0.95, 0.1, -1.4], [0.5, 0.95, 0.1]]
+    return {"framebuffer": {"width": size, "height": size, "clear_color": [0, 0, 0, 1]},
+            "draws": [{"positions": tris, "colors": col,
+                       "state": {"polygon_mode": "line", "cull": "back", "shading": "flat",
+                                 "depth_test": "off"}},
+                      {"positions": cut, "colors": [rcol(rng) for _ in cut],
+                       "state": {"polygon_mode": "line", "shading": "flat", "depth_test": "off"}},
+                      {"primitive": "triangle_strip",
+                       "positions": quad_strip(-0.6, -0.95, 0.6, -0.75) + quad_strip(-0.6, 0.75, 0.6, 0.95),
+                       "colors": [rcol(rng) for _ in range(8)],
+                       "state": {"polygon_mode": "line", "line_width": 3, "shading": "flat",
+                                 "depth_test": "off"}}]}
+
+
+@scene("polygon_mode_point", "polygon mode", "4d, 8c",
+       "WusonOBJ.obj in polygon_mode point, point size 2, back faces culled, orthographic camera, "
+       "depth test on")
+def polygon_mode_point():
+    return {
+        "framebuffer": {"width": 256, "height": 256, "clear_color": [0, 0, 0, 1]},
+        "camera": {"type": "orthographic", "left": -1.6, "right": 1.6, "bottom": -0.6, "top": 2.6,
+                   "near": -10, "far": 10, "eye": [1, 0.6, 1.5], "target": [0, 0, 0]},
+        "draws": [{"mesh": MODELS + "/OBJ/WusonOBJ.obj", "lighting": False,
+                   "material": {"color": [0.3, 0.9, 0.6, 1]},
+                   "state": {"cull": "back", "polygon_mode": "point", "point_size": 2,
+                             "depth_test": "less"}}],
+    }
+
+
+@scene("polygon_mode_point_clipped", "polygon mode", "4, 4d, 8c",
+       "raw triangles in polygon_mode point, size 3, cut by the near and far planes and by w = 0 "
+       "(a polygon's points: the original vertices inside and the vertices where an edge enters "
+       "the volume, per the edge flags), flat colours, perspective camera")
+def polygon_mode_point_clipped():
+    rng = random.Random(1213)
+    tris, col = [], []
+    for _ in range(16):
+        cx, cy = rng.uniform(-1.2, 1.2), rng.uniform(-0.9, 0.9)
+        for k in range(3):
+            tris.append([r(cx + rng.uniform(-1, 1)), r(cy + rng.uniform(-0.8, 0.8)),
+                         r(rng.uniform(-9, 0.6))])
+            col.append(rcol(rng))
+    return {"framebuffer": {"width": 128, "height": 128, "clear_color": [0, 0, 0, 1]},
+            "camera": {"type": "perspective", "fovy": 70, "near": 0.5, "far": 8},
+            "draws": [{"positions": tris, "colors": col,
+                       "state": {"polygon_mode": "point", "point_size": 3, "shading": "flat",
+                                 "depth_test": "off"}}]}
+
+
+LINE_MESH = "lines_mesh.obj"
+
+
+def line_mesh_obj():
+    """A wire helix and a box's 12 edges as OBJ `l` elements (polylines)."""
+    lines = ["# written by scripts/gen/make_regress_scenes.py: OBJ line elements (`l`)"]
+    n = 60
+    for i in range(n):
+        a = 2 * math.pi * i / 20
+        lines.append(f"v {0.8 * math.cos(a):.6f} {-1 + 2 * i / (n - 1):.6f} {0.8 * math.sin(a):.6f}")
+    lines.append("l " + " ".join(str(i + 1) for i in range(n)))
+    for (x, y, z) in [(x, y, z) for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)]:
+        lines.append(f"v {x} {y} {z}")
+    b = n + 1
+    for (i, j) in ((0, 1), (2, 3), (4, 5), (6, 7), (0, 2), (1, 3), (4, 6), (5, 7), (0, 4), (1, 5), (2, 6), (3, 7)):
+        lines.append(f"l {b + i} {b + j}")
+    return "\n".join(lines) + "\n"
+
+
+@scene("mesh_lines_obj", "lines", "3, 4b, 8b",
+       "a mesh file with line primitives: " + LINE_MESH + " (written by the generator), a helix "
+       "polyline and a box's 12 edges as OBJ `l` elements, perspective camera")
+def mesh_lines_obj():
+    return {
+        "framebuffer": {"width": 128, "height": 128, "clear_color": [0, 0, 0, 1]},
+        "camera": {"type": "perspective", "fovy": 50, "near": 0.5, "far": 20,
+                   "eye": [2.2, 1.6, 3.4], "target": [0, 0, 0]},
+        "draws": [{"mesh": LINE_MESH, "lighting": False, "material": {"color": [0.6, 0.8, 1, 1]},
+                   "state": {"depth_test": "less"}}],
+    }
+
+
 # ------------------------------------------- known disagreements (reported)
 # Minimal reproductions of the differences found between the golden model and
 # llvmpipe; scripts/regress expects them (KNOWN_DISAGREEMENTS) and reports
@@ -819,6 +1196,8 @@ def main():
             print(f"| `{name}` | {category} | {sections} | {description} |")
         return
     os.makedirs(OUT, exist_ok=True)
+    with open(os.path.join(OUT, LINE_MESH), "w") as f:
+        f.write(line_mesh_obj())
     for name, _, _, _, fn in SCENES:
         with open(os.path.join(OUT, name + ".json"), "w") as f:
             f.write(dump(fn()))

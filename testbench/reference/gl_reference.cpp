@@ -11,6 +11,7 @@
 #include <cstddef>
 #include <cstdio>
 #include <cstdlib>
+#include <string>
 #include <vector>
 
 #include "testbench/golden/golden_model.h"
@@ -78,7 +79,10 @@ namespace {
   X(PFNGLDELETEPROGRAMPROC, glDeleteProgram)                     \
   X(PFNGLUSEPROGRAMPROC, glUseProgram)                           \
   X(PFNGLGETUNIFORMLOCATIONPROC, glGetUniformLocation)           \
-  X(PFNGLUNIFORM1IPROC, glUniform1i)
+  X(PFNGLUNIFORM1IPROC, glUniform1i)                             \
+  X(PFNGLLINEWIDTHPROC, glLineWidth)                             \
+  X(PFNGLPOINTSIZEPROC, glPointSize)                             \
+  X(PFNGLPOLYGONMODEPROC, glPolygonMode)
 
 struct Gl {
 #define GPUSIM_GL_MEMBER(type, name) type name = nullptr;
@@ -155,8 +159,31 @@ GLenum gl_primitive(PrimitiveType p) {
       return GL_TRIANGLE_STRIP;
     case PrimitiveType::triangle_fan:
       return GL_TRIANGLE_FAN;
+    case PrimitiveType::points:
+      return GL_POINTS;
+    case PrimitiveType::lines:
+      return GL_LINES;
+    case PrimitiveType::line_strip:
+      return GL_LINE_STRIP;
+    case PrimitiveType::line_loop:
+      return GL_LINE_LOOP;
   }
   return GL_TRIANGLES;
+}
+
+// Line assembly (spec section 3): the vertex slots of each line in API order,
+// the second one provoking; a loop's closing line is (n - 1, 0).
+std::vector<std::array<uint32_t, 2>> assemble_lines(PrimitiveType type, size_t n) {
+  std::vector<std::array<uint32_t, 2>> out;
+  if (n < 2) return out;
+  const uint32_t last = static_cast<uint32_t>(n - 1);
+  if (type == PrimitiveType::lines) {
+    for (uint32_t i = 0; i + 1 < n; i += 2) out.push_back({i, i + 1});
+  } else {
+    for (uint32_t i = 0; i < last; ++i) out.push_back({i, i + 1});
+    if (type == PrimitiveType::line_loop) out.push_back({last, 0});
+  }
+  return out;
 }
 
 GLenum gl_compare(CompareFunc f) {
@@ -247,9 +274,25 @@ struct GlReference::Impl {
 
   // One OpenGL draw call, prepared before the timed part of a render: its
   // vertices shaded by the spec's vertex stage, converted and uploaded.
+  // The viewport a batch's vertices are written for.
+  enum class Viewport {
+    // V x V with NDC (0, 0) at window (tx, ty): snapped window coordinates
+    // pass exactly (see the header).
+    centered,
+    // V x V with NDC (0, 0) at window (0, 0): the viewport transform is a
+    // multiplication by the power of two V/2 alone, so any float window
+    // coordinate passes exactly (points: the spec's point rule starts from
+    // the unsnapped x_w, section 8c).
+    origin,
+    // The scene's own W x H viewport: OpenGL's clipper decides against the
+    // scene's view volume itself (points the spec discards).
+    framebuffer,
+  };
   struct Batch {
     const RenderState* state = nullptr;
     bool window_space = true;
+    Viewport viewport = Viewport::centered;
+    bool flat = false;  // flat colour whatever the state says (points, section 9)
     GLenum primitive = GL_TRIANGLES;
     GLsizei count = 0;
     bool indexed = false;
@@ -437,6 +480,40 @@ struct GlReference::Impl {
     return out;
   }
 
+  // A point the spec keeps (section 4c), for the `origin` viewport: the
+  // spec's float window coordinates (section 5, unsnapped: the point rule of
+  // section 8c rounds x_w itself) divided by the power of two V/2, exact.
+  GlVertex window_point_vertex(const golden::ShadedVertex& v) const {
+    const golden::WindowVertex w = golden::to_window(v, width, height);
+    // The same float operations as golden::to_window before its snap.
+    const float inv_w = 1.0f / v.clip.w;
+    const float xw = (v.clip.x * inv_w + 1.0f) * (0.5f * static_cast<float>(width));
+    const float yw = (v.clip.y * inv_w + 1.0f) * (0.5f * static_cast<float>(height));
+    const float half = static_cast<float>(viewport_side / 2);
+    GlVertex out{};
+    out.position[0] = xw / half;
+    out.position[1] = yw / half;
+    out.position[2] = w.z;
+    out.position[3] = 1.0f;
+    for (int k = 0; k < 4; ++k) out.color[k] = v.color[k];
+    out.inv_w = 1.0f;
+    return out;
+  }
+
+  // A point the spec discards, for the `framebuffer` viewport: plain clip
+  // coordinates (depth mapped to GL_ZERO_TO_ONE), so OpenGL's own clipper
+  // must discard it too.
+  static GlVertex framebuffer_clip_vertex(const golden::ShadedVertex& v) {
+    GlVertex out{};
+    out.position[0] = v.clip.x;
+    out.position[1] = v.clip.y;
+    out.position[2] = (v.clip.z + v.clip.w) * 0.5f;
+    out.position[3] = v.clip.w;
+    for (int k = 0; k < 4; ++k) out.color[k] = v.color[k];
+    out.inv_w = 1.0f;
+    return out;
+  }
+
   bool beyond_viewport(const GlVertex& v) const {
     return std::fabs(v.position[0]) > 1.0f || std::fabs(v.position[1]) > 1.0f;
   }
@@ -470,6 +547,13 @@ struct GlReference::Impl {
       gl.glDisable(GL_BLEND);
     }
     gl.glColorMask(st.color_mask[0], st.color_mask[1], st.color_mask[2], st.color_mask[3]);
+    // Only triangles look at the polygon mode. The default EGL core context
+    // is not forward-compatible, so llvmpipe accepts wide lines (up to 255).
+    gl.glPolygonMode(GL_FRONT_AND_BACK, st.polygon_mode == PolygonMode::line    ? GL_LINE
+                                        : st.polygon_mode == PolygonMode::point ? GL_POINT
+                                                                                : GL_FILL);
+    gl.glLineWidth(st.line_width);
+    gl.glPointSize(st.point_size);
     check("render state");
   }
 
@@ -498,10 +582,13 @@ struct GlReference::Impl {
 
   void add_batch(const RenderState& state, bool window_space, GLenum primitive,
                  const std::vector<GlVertex>& vertices, GLsizei count,
-                 const std::vector<uint32_t>* indices) {
+                 const std::vector<uint32_t>* indices, Viewport viewport = Viewport::centered,
+                 bool flat = false) {
     Batch b;
     b.state = &state;
     b.window_space = window_space;
+    b.viewport = viewport;
+    b.flat = flat;
     b.primitive = primitive;
     b.count = count;
     b.vertex_buffer = upload(GL_ARRAY_BUFFER, vertices.data(), vertices.size() * sizeof(GlVertex));
@@ -514,8 +601,20 @@ struct GlReference::Impl {
   }
 
   void draw_batch(const Batch& b) {
+    const int half = viewport_side / 2;
+    switch (b.viewport) {
+      case Viewport::centered:
+        gl.glViewport(tx - half, ty - half, viewport_side, viewport_side);
+        break;
+      case Viewport::origin:
+        gl.glViewport(-half, -half, viewport_side, viewport_side);
+        break;
+      case Viewport::framebuffer:
+        gl.glViewport(0, 0, width, height);
+        break;
+    }
     apply_state(*b.state);
-    set_mode(b.window_space, b.state->shading);
+    set_mode(b.window_space, b.flat ? Shading::flat : b.state->shading);
     gl.glBindBuffer(GL_ARRAY_BUFFER, b.vertex_buffer);
     set_attribute_pointers();
     if (b.indexed) {
@@ -527,12 +626,154 @@ struct GlReference::Impl {
     check("draw");
   }
 
+  // The vertex behind slot `slot` of the draw, or -1 when the slot's index
+  // is out of range or its clip coordinates are not finite (an invalid
+  // primitive, section 3).
+  static int64_t valid_vertex(const Draw& draw, const std::vector<golden::ShadedVertex>& shaded,
+                              uint32_t slot) {
+    const uint32_t vi = draw.indices.empty() ? slot : draw.indices[slot];
+    if (vi >= shaded.size() || !finite4(shaded[vi].clip)) return -1;
+    return vi;
+  }
+
+  // Points (sections 4c, 8c). A point the spec keeps is handed over in
+  // window space through the `origin` viewport, so llvmpipe's point rule
+  // starts from the spec's float x_w, y_w; one it discards is handed over in
+  // clip space through the scene's own viewport, where OpenGL must discard
+  // it as well (llvmpipe drops a point whose centre is outside the
+  // viewport). Flat colour: a point takes its vertex's colour (section 9).
+  void prepare_points(const Draw& draw, const std::vector<golden::ShadedVertex>& shaded) {
+    std::vector<GlVertex> kept, discarded;
+    for (uint32_t slot = 0; slot < draw.vertex_count(); ++slot) {
+      ++stats.points;
+      const int64_t vi = valid_vertex(draw, shaded, slot);
+      if (vi < 0) {
+        ++stats.points_invalid;
+        continue;
+      }
+      const glm::vec4& c = shaded[vi].clip;
+      const bool inside = c.w - golden::kMinClipW >= 0.0f && c.x + c.w >= 0.0f &&
+                          c.w - c.x >= 0.0f && c.y + c.w >= 0.0f && c.w - c.y >= 0.0f &&
+                          c.z + c.w >= 0.0f && c.w - c.z >= 0.0f;
+      if (inside) {
+        ++stats.points_exact;
+        kept.push_back(window_point_vertex(shaded[vi]));
+      } else {
+        ++stats.points_discarded;
+        discarded.push_back(framebuffer_clip_vertex(shaded[vi]));
+      }
+    }
+    // Two batches, each in API order: the kept points, then the discarded
+    // ones (which draw nothing unless OpenGL disagrees about discarding).
+    if (!kept.empty()) {
+      add_batch(draw.state, true, GL_POINTS, kept, static_cast<GLsizei>(kept.size()), nullptr,
+                Viewport::origin, true);
+    }
+    if (!discarded.empty()) {
+      add_batch(draw.state, false, GL_POINTS, discarded, static_cast<GLsizei>(discarded.size()),
+                nullptr, Viewport::framebuffer, true);
+    }
+    check("point upload");
+  }
+
+  // Lines (sections 3, 4b, 8b). A line the spec does not clip (both ends
+  // inside all seven planes) is handed over in window space like a
+  // triangle; one it clips in clip space, and OpenGL clips it. When every
+  // line of the draw is unclipped, the draw goes over natively
+  // (GL_LINE_STRIP, GL_LINE_LOOP, its index list) so that OpenGL assembles
+  // the lines itself; otherwise line by line as GL_LINES, each line's
+  // provoking vertex second (a loop's closing line ends at vertex 0).
+  void prepare_lines(const Draw& draw, const std::vector<golden::ShadedVertex>& shaded,
+                     const golden::GuardBand& gb) {
+    enum class Kind { invalid, window, clip };
+    const auto lines = assemble_lines(draw.primitive, draw.vertex_count());
+    std::vector<Kind> kinds(lines.size());
+    std::vector<std::array<uint32_t, 2>> ids(lines.size());
+    bool all_window = true;
+    for (size_t l = 0; l < lines.size(); ++l) {
+      Kind kind = Kind::window;
+      for (int k = 0; k < 2 && kind == Kind::window; ++k) {
+        const int64_t vi = valid_vertex(draw, shaded, lines[l][k]);
+        if (vi < 0) {
+          kind = Kind::invalid;
+        } else {
+          ids[l][k] = static_cast<uint32_t>(vi);
+        }
+      }
+      for (int plane = 0; plane < golden::kClipPlaneCount && kind == Kind::window; ++plane) {
+        for (int k = 0; k < 2; ++k) {
+          if (!(golden::clip_distance(plane, shaded[ids[l][k]].clip, gb) >= 0.0f)) {
+            kind = Kind::clip;
+            break;
+          }
+        }
+      }
+      kinds[l] = kind;
+      all_window = all_window && kind == Kind::window;
+      ++stats.lines;
+      if (kind == Kind::invalid) ++stats.lines_invalid;
+      if (kind == Kind::window) ++stats.lines_exact;
+      if (kind == Kind::clip) ++stats.lines_clipped;
+    }
+    if (lines.empty()) return;
+    if (all_window) {
+      ++stats.native_draws;
+      std::vector<GlVertex> vertices(shaded.size(), GlVertex{});
+      for (const auto& pair : ids) {
+        for (uint32_t vi : pair) vertices[vi] = window_vertex(shaded[vi]);
+      }
+      for (const auto& pair : ids) {
+        if (beyond_viewport(vertices[pair[0]]) || beyond_viewport(vertices[pair[1]])) {
+          ++stats.lines_beyond_viewport;
+        }
+      }
+      add_batch(draw.state, true, gl_primitive(draw.primitive), vertices,
+                static_cast<GLsizei>(draw.vertex_count()),
+                draw.indices.empty() ? nullptr : &draw.indices);
+      check("native line upload");
+      return;
+    }
+    ++stats.expanded_draws;
+    size_t l = 0;
+    while (l < lines.size()) {
+      if (kinds[l] == Kind::invalid) {
+        ++l;
+        continue;
+      }
+      const Kind kind = kinds[l];
+      std::vector<GlVertex> vertices;
+      for (; l < lines.size() && kinds[l] == kind; ++l) {
+        for (int k = 0; k < 2; ++k) {
+          const golden::ShadedVertex& v = shaded[ids[l][k]];
+          vertices.push_back(kind == Kind::window ? window_vertex(v) : clip_vertex(v));
+        }
+      }
+      add_batch(draw.state, kind == Kind::window, GL_LINES, vertices,
+                static_cast<GLsizei>(vertices.size()), nullptr);
+      check("expanded line upload");
+    }
+  }
+
   // The untimed part of a draw: the spec's vertex stage, the classification
-  // of its triangles, and the upload of what OpenGL draws (add_batch).
+  // of its primitives, and the upload of what OpenGL draws (add_batch).
+  // Triangles in polygon mode line or point are classified and handed over
+  // as filled ones are; OpenGL's glPolygonMode (apply_state) then culls and
+  // draws their edges or vertices, with the edge flags of its own clipper.
   void prepare_draw(const Scene& scene, const Draw& draw) {
     std::vector<golden::ShadedVertex> shaded(draw.positions.size());
     for (uint32_t i = 0; i < shaded.size(); ++i) shaded[i] = golden::shade_vertex(scene, draw, i);
     const golden::GuardBand gb = golden::guard_band_for(width, height);
+    switch (primitive_class(draw.primitive)) {
+      case PrimitiveClass::point:
+        prepare_points(draw, shaded);
+        return;
+      case PrimitiveClass::line:
+        prepare_lines(draw, shaded, gb);
+        return;
+      case PrimitiveClass::triangle:
+        break;
+    }
+    if (draw.state.polygon_mode != PolygonMode::fill) ++stats.unfilled_draws;
 
     // Classify every assembled triangle: invalid, unclipped by the spec
     // (window space), or clipped by the spec (clip space).
@@ -622,6 +863,17 @@ struct GlReference::Impl {
   }
 
   ReferenceResult render(const Scene& scene, int repeat) {
+    for (size_t d = 0; d < scene.draws.size(); ++d) {
+      const Draw& draw = scene.draws[d];
+      const bool draws_lines = primitive_class(draw.primitive) == PrimitiveClass::line ||
+                               (primitive_class(draw.primitive) == PrimitiveClass::triangle &&
+                                draw.state.polygon_mode == PolygonMode::line);
+      if (draws_lines && draw.state.line_rasterization == LineRasterization::bresenham) {
+        throw NotRenderable("draw " + std::to_string(d) +
+                            " asks for line_rasterization \"bresenham\", which OpenGL has no "
+                            "equivalent of: the scene is not rendered by the reference");
+      }
+    }
     const FramebufferDesc& desc = scene.framebuffer;
     width = desc.width;
     height = desc.height;
@@ -666,8 +918,13 @@ struct GlReference::Impl {
     }
     check("framebuffer set-up");
 
-    // Fixed state for the whole frame.
+    // Fixed state for the whole frame (each batch sets its viewport).
     gl.glViewport(tx - viewport_side / 2, ty - viewport_side / 2, viewport_side, viewport_side);
+    // Aliased lines and points: no smoothing, no multisampling, the point
+    // size from glPointSize (GL_PROGRAM_POINT_SIZE off).
+    gl.glDisable(GL_LINE_SMOOTH);
+    gl.glDisable(GL_POLYGON_SMOOTH);
+    gl.glDisable(GL_PROGRAM_POINT_SIZE);
     gl.glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
     gl.glDepthRange(0.0, 1.0);
     gl.glProvokingVertex(GL_LAST_VERTEX_CONVENTION);

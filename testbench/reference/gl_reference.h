@@ -30,6 +30,19 @@
 // colour / w and 1 / w in `noperspective` varyings and divided per fragment,
 // which is perspective-correct interpolation.
 //
+// Lines take the same two routes: a line the spec does not clip (section 4b)
+// goes over in window space with its snapped end points, a clipped one in
+// clip space. Points differ: the spec's point rule (section 8c) rounds the
+// unsnapped float x_w itself, so a point the spec keeps goes over through a
+// second V x V viewport whose centre is window (0, 0), where the viewport
+// transform is a multiplication by V/2 and any float x_w passes exactly; a
+// point the spec discards goes over in plain clip space through the scene's
+// own W x H viewport, so that OpenGL's clipper has to discard it too.
+// Triangles in polygon mode line or point are handed over like filled ones,
+// and glPolygonMode has OpenGL cull them and draw their edges or vertices.
+// Bresenham lines have no OpenGL equivalent: such scenes are refused
+// (NotRenderable), never rendered some other way.
+//
 // A triangle the spec clips (crossing near, far, w = 0, or the guard band) is
 // handed to OpenGL in homogeneous clip coordinates, rescaled so that the
 // divide and viewport give the spec's window coordinates up to rounding, with
@@ -55,7 +68,15 @@ class ReferenceError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// What happened to the scene's triangles on the way into OpenGL.
+// A scene the reference cannot render faithfully (line_rasterization
+// "bresenham": OpenGL only has the diamond-exit rule). Nothing is drawn.
+class NotRenderable : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// What happened to the scene's triangles, lines and points on the way into
+// OpenGL.
 struct ReferenceStats {
   uint64_t triangles = 0;          // assembled (spec section 3)
   uint64_t triangles_invalid = 0;  // out-of-range index or non-finite position: not drawn
@@ -64,8 +85,18 @@ struct ReferenceStats {
   // Exact triangles with a vertex outside OpenGL's viewport: llvmpipe clips
   // them at the viewport edge, V/2 pixels beyond the framebuffer.
   uint64_t triangles_beyond_viewport = 0;
-  uint64_t native_draws = 0;    // draws submitted with their own primitive type and indices
-  uint64_t expanded_draws = 0;  // draws submitted triangle by triangle (GL_TRIANGLES)
+  uint64_t lines = 0;                  // assembled (spec section 3)
+  uint64_t lines_invalid = 0;          // not drawn
+  uint64_t lines_exact = 0;            // handed over in window space (spec does not clip them)
+  uint64_t lines_clipped = 0;          // handed over in clip space: OpenGL clips them
+  uint64_t lines_beyond_viewport = 0;  // exact, with an end outside OpenGL's viewport
+  uint64_t points = 0;
+  uint64_t points_invalid = 0;
+  uint64_t points_exact = 0;      // kept by the spec: in window space (unsnapped x_w, y_w)
+  uint64_t points_discarded = 0;  // discarded by the spec: in clip space, OpenGL must drop them
+  uint64_t unfilled_draws = 0;    // triangle draws in polygon mode line or point
+  uint64_t native_draws = 0;      // draws submitted with their own primitive type and indices
+  uint64_t expanded_draws = 0;    // draws submitted primitive by primitive (GL_TRIANGLES, GL_LINES)
 };
 
 struct ReferenceResult {
@@ -95,7 +126,8 @@ class GlReference {
   GlReference& operator=(const GlReference&) = delete;
 
   // Render the scene: clear, then every draw in order, and read back colour
-  // and depth in the scene's formats. With repeat > 1 the frame (clear and
+  // and depth in the scene's formats. Throws NotRenderable for a scene with
+  // Bresenham lines. With repeat > 1 the frame (clear and
   // draws, from the same uploaded buffers) is drawn that many times, each
   // timed; the result is the same each time. Throws ReferenceError on a GL
   // error.

@@ -12,7 +12,9 @@
 // glFinish() returning; see ReferenceResult), for scripts/bench.
 //
 // Exit status: 0 done, 2 bad input (one line naming the file and the
-// problem), 3 no usable OpenGL (no EGL, no llvmpipe, a GL error).
+// problem), 3 no usable OpenGL (no EGL, no llvmpipe, a GL error), 4 some
+// scene not rendered because OpenGL cannot draw it (Bresenham lines: the
+// output says which; the other scenes of a batch are rendered).
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cstdio>
@@ -34,6 +36,7 @@ namespace {
 
 constexpr int kExitError = 2;
 constexpr int kExitNoGl = 3;
+constexpr int kExitNotRendered = 4;
 
 nlohmann::json stats_json(const reference::ReferenceStats& s) {
   return {{"triangles", s.triangles},
@@ -41,6 +44,16 @@ nlohmann::json stats_json(const reference::ReferenceStats& s) {
           {"triangles_exact", s.triangles_exact},
           {"triangles_clipped", s.triangles_clipped},
           {"triangles_beyond_viewport", s.triangles_beyond_viewport},
+          {"lines", s.lines},
+          {"lines_invalid", s.lines_invalid},
+          {"lines_exact", s.lines_exact},
+          {"lines_clipped", s.lines_clipped},
+          {"lines_beyond_viewport", s.lines_beyond_viewport},
+          {"points", s.points},
+          {"points_invalid", s.points_invalid},
+          {"points_exact", s.points_exact},
+          {"points_discarded", s.points_discarded},
+          {"unfilled_draws", s.unfilled_draws},
           {"native_draws", s.native_draws},
           {"expanded_draws", s.expanded_draws}};
 }
@@ -95,6 +108,21 @@ void render_job(reference::GlReference& gl, const Job& job, int repeat) {
       static_cast<unsigned long long>(s.triangles_clipped),
       static_cast<unsigned long long>(s.triangles_invalid),
       static_cast<unsigned long long>(s.triangles_beyond_viewport));
+  if (s.lines > 0) {
+    std::printf("  %llu lines (%llu exact, %llu clipped by OpenGL, %llu invalid)\n",
+                static_cast<unsigned long long>(s.lines),
+                static_cast<unsigned long long>(s.lines_exact),
+                static_cast<unsigned long long>(s.lines_clipped),
+                static_cast<unsigned long long>(s.lines_invalid));
+  }
+  if (s.points > 0) {
+    std::printf(
+        "  %llu points (%llu exact, %llu discarded by the spec and left to OpenGL's "
+        "clipper, %llu invalid)\n",
+        static_cast<unsigned long long>(s.points), static_cast<unsigned long long>(s.points_exact),
+        static_cast<unsigned long long>(s.points_discarded),
+        static_cast<unsigned long long>(s.points_invalid));
+  }
   if (repeat > 1) {
     std::printf("  rendered %d times in %.4f s median (first %.4f s), prepared in %.4f s\n", repeat,
                 median(result.render_seconds), result.render_seconds.front(),
@@ -134,7 +162,8 @@ int main_with_errors(int argc, char** argv) {
   app.add_option("--out", job.exr,
                  "Output EXR (R, G, B, A half; Z float), like gpusim golden's frame.exr");
   app.add_option("--png", job.png, "Also write an 8-bit PNG preview");
-  app.add_option("--stats", job.stats, "Also write how the triangles were handed to OpenGL (JSON)");
+  app.add_option("--stats", job.stats,
+                 "Also write how the primitives were handed to OpenGL (JSON)");
   app.add_option(
       "--batch", batch,
       "Render every line \"SCENE OUT.exr [OUT.png [STATS.json]]\" of this file (\"-\": no PNG)");
@@ -166,18 +195,27 @@ int main_with_errors(int argc, char** argv) {
     return kExitError;
   }
 
+  bool not_rendered = false;
   try {
     reference::GlReference gl;
     if (info) {
       std::printf("GL_RENDERER: %s\nGL_VERSION: %s\nviewport side: %d\n", gl.renderer().c_str(),
                   gl.version().c_str(), gl.viewport_side());
     }
-    for (const Job& j : jobs) render_job(gl, j, repeat);
+    for (const Job& j : jobs) {
+      try {
+        render_job(gl, j, repeat);
+      } catch (const reference::NotRenderable& e) {
+        // Said plainly, and the exit status says it too: never a reference.
+        std::printf("reference: %s: NOT RENDERED: %s\n", j.scene.c_str(), e.what());
+        not_rendered = true;
+      }
+    }
   } catch (const reference::ReferenceError& e) {
     std::cerr << "gpusim_reference: no usable OpenGL reference: " << e.what() << "\n";
     return kExitNoGl;
   }
-  return 0;
+  return not_rendered ? kExitNotRendered : 0;
 }
 
 }  // namespace
