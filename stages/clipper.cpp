@@ -291,10 +291,13 @@ void Clipper::draw_unfilled(ClippedPrimitive& t) {
   t.draw_first = true;
   t.draw_last = false;
   uint64_t emitted = 0;
+  // A point's colour is its own vertex's unless shading is flat (spec 4d, 9).
+  const bool own_colour = !lines && m_state->shading != Shading::flat;
   for (size_t i = 0; i < n; ++i) {
     if (!m_flags[i]) continue;
     t.v[0] = m_window[i];
     if (lines) t.v[1] = m_window[i + 1 == n ? 0 : i + 1];
+    if (own_colour) t.flat_varyings = m_poly[i].varyings;
     m_out.push_back(t);
     ++emitted;
   }

@@ -123,7 +123,8 @@ std::string case_name(const ::testing::TestParamInfo<Case>& info) {
 INSTANTIATE_TEST_SUITE_P(
     Scenes, BitExact,
     ::testing::Combine(::testing::Values("default", "spider", "quad_clipspace", "tiny_triangles",
-                                         "shared_edges", "clipping", "zfight_offset", "states"),
+                                         "shared_edges", "clipping", "zfight_offset", "states",
+                                         "lines_random", "points_wireframe", "lines_points"),
                        ::testing::Range(0, 18)),
     case_name);
 
