@@ -275,9 +275,25 @@ inline Scene decode_diff_scene(const uint8_t* data, size_t size, size_t& index) 
     Draw d;
     d.name = "draws[" + std::to_string(k) + "]";
     const uint8_t flags = in.byte(), state = in.byte();
-    d.primitive = static_cast<PrimitiveType>(flags % 3);
-    const bool indexed = flags & 0x04, colors = flags & 0x08;
     RenderState& st = d.state;
+    if ((flags & 3) == 3) {
+      // Lines and points, or triangles drawn as lines or points: a byte more
+      // picks the kind, the width or size and the line rule.
+      const uint8_t lp = in.byte();
+      static const float sizes[] = {1.0f, 1.0f, 2.0f, 3.0f, 1.5f, 0.25f, 7.0f, 64.0f};
+      st.line_width = st.point_size = sizes[(lp >> 3) % 8];
+      st.line_rasterization =
+          lp & 0x40 ? LineRasterization::bresenham : LineRasterization::diamond_exit;
+      if (lp % 8 < 4) {
+        d.primitive = static_cast<PrimitiveType>(static_cast<int>(PrimitiveType::points) + lp % 4);
+      } else {
+        d.primitive = static_cast<PrimitiveType>(lp % 8 - 4 < 3 ? lp % 8 - 4 : 0);
+        st.polygon_mode = lp & 0x80 ? PolygonMode::point : PolygonMode::line;
+      }
+    } else {
+      d.primitive = static_cast<PrimitiveType>(flags & 3);
+    }
+    const bool indexed = flags & 0x04, colors = flags & 0x08;
     st.shading = flags & 0x10 ? Shading::flat : Shading::gouraud;
     st.depth_test = !(flags & 0x20);
     st.depth_write = !(flags & 0x40);
