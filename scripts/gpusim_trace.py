@@ -187,11 +187,6 @@ class Trace:
                 end = max(start, min(int(w[1]), self.cycles))
         return start, end
 
-    def draws(self):
-        """manifest.json's draws: first_primitive_id, primitives, and (traces written
-        since lines and points) primitive and polygon_mode."""
-        return list(self.manifest.get("draws") or [])
-
     def stage_units(self):
         """numpy array: stage index -> unit (-1 for front-end stages)."""
         return np.array([-1 if s.get("unit") is None else int(s["unit"]) for s in self.stages],

@@ -17,7 +17,7 @@
 namespace gpusim {
 
 struct Draw {
-  std::string name;  // "draws[3] (spider.obj)", for messages and stats
+  std::string name;  // "draws[3] spider.obj mesh 0", "draws[2] wide lines": for stats
   PrimitiveType primitive = PrimitiveType::triangles;
   std::vector<glm::vec4> positions;  // object space
   std::vector<glm::vec3> normals;    // object space; empty, or one per position
