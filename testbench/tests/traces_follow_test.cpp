@@ -266,13 +266,7 @@ TEST_F(TraceFollowTest, PixelShowsEveryFragmentAndTheDepthTestOutcome) {
 //  - draw 1, point 1: window (20.5, 20.5), size 3 (8c): F = 768,
 //    X0 = Y0 = round(20 * 256) - 384 = 4736, pixels with
 //    4736 <= 256 x < 5504: x, y in 19..21 (9, all in tile (1, 1)).
-// DISABLED until the cycle model draws lines and points (the clipper of
-// branch hw-front, setup and the rasterizer of hw-raster): without them
-// gpusim run stops on the conservation check ("triangles_in = 0, but
-// triangles assembled from the frame's draws = 2"). It passed on a trial
-// merge of golden-lines, hw-front, hw-raster and this branch; remove
-// DISABLED_ when they are merged.
-TEST_F(TraceFollowTest, DISABLED_FollowsALineAndAPoint) {
+TEST_F(TraceFollowTest, FollowsALineAndAPoint) {
   const int w = 32, h = 32;
   const std::string scene = write_json(
       "line_point.json",
