@@ -290,14 +290,15 @@ void Clipper::draw_unfilled(ClippedPrimitive& t) {
   // Every polygon vertex starts one edge: Bresenham draws each vertex once.
   t.draw_first = true;
   t.draw_last = false;
+  // A point shows its flat varyings (spec section 9): the triangle's
+  // provoking vertex's with flat shading, else its own vertex's.
+  const bool own_varyings = !lines && m_state->shading != Shading::flat;
   uint64_t emitted = 0;
-  // A point's colour is its own vertex's unless shading is flat (spec 4d, 9).
-  const bool own_colour = !lines && m_state->shading != Shading::flat;
   for (size_t i = 0; i < n; ++i) {
     if (!m_flags[i]) continue;
     t.v[0] = m_window[i];
     if (lines) t.v[1] = m_window[i + 1 == n ? 0 : i + 1];
-    if (own_colour) t.flat_varyings = m_poly[i].varyings;
+    if (own_varyings) t.flat_varyings = m_poly[i].varyings;
     m_out.push_back(t);
     ++emitted;
   }

@@ -43,8 +43,10 @@
 //   clipper, which Gpu::pipeline_counts adds to setup's. A surviving one
 //   (triangles_unfilled) becomes a line per flagged edge (draw_first set,
 //   draw_last clear) or a point per flagged vertex, in polygon order, with
-//   the triangle's primitive id and provoking varyings. These triangles do
-//   not count in triangles_after_clip.
+//   the triangle's primitive id. Lines carry the triangle's provoking
+//   varyings; a point's flat varyings are the colour it shows (section 9):
+//   the provoking vertex's with flat shading, else its own vertex's. These
+//   triangles do not count in triangles_after_clip.
 // - A cut vertex interpolates the clip position and every varying of the
 //   draw (its VaryingLayout's count, whatever they mean) with the same
 //   formula, in one loop.

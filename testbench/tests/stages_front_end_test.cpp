@@ -1080,14 +1080,18 @@ TEST(FrontEndPolygonMode, AVertexOnAPlaneIsDrawnTwiceInPointMode) {
 }
 
 TEST(FrontEndPolygonMode, PointModeDrawsTheVertices) {
+  // A point shows its flat varyings (section 9): with Gouraud shading its
+  // own vertex's colour, with flat shading the triangle's provoking one.
+  Draw flat = unfilled(PolygonMode::point, CullMode::front, kCw);
+  flat.state.shading = Shading::flat;
   const FrontEndRun r =
-      run_front_end(clip_space_scene({unfilled(PolygonMode::point, CullMode::front, kCw)}));
-  ASSERT_EQ(r.prims.size(), 3u);
+      run_front_end(clip_space_scene({unfilled(PolygonMode::point, CullMode::front, kCw), flat}));
+  ASSERT_EQ(r.prims.size(), 6u);
   const float x[3] = {32.0f, 64.0f, 96.0f};
-  for (size_t i = 0; i < 3; ++i) {
+  for (size_t i = 0; i < 6; ++i) {
     EXPECT_EQ(r.prims[i].primitive_kind, PrimitiveKind::point);
-    EXPECT_EQ(r.prims[i].v[0].x, x[i]);
-    EXPECT_TRUE(holds_color(r.prims[i].flat_varyings, color_of(2)));
+    EXPECT_EQ(r.prims[i].v[0].x, x[i % 3]);
+    EXPECT_TRUE(holds_color(r.prims[i].flat_varyings, color_of(i < 3 ? i : 2)));
   }
 }
 
