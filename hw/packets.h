@@ -8,13 +8,12 @@
 //
 // After assembly the packets are primitive-generic: a ClippedPrimitive and a
 // RasterPrimitive name their kind (point, line, triangle) and vertex count
-// (1, 2, 3), in vertex slots sized for a triangle; only triangles are
-// assembled today. Every vertex carries its draw's varyings as one
-// fixed-capacity array, Varyings (kMaxVaryings = 12 float32 components,
-// hw/varying_layout.h), whose meaning the draw's VaryingLayout gives; the
-// stages loop over the draw's `count` components without knowing what they
-// are. 12 holds what is planned: colour 4, eye-space normal 3 and position 3,
-// texture coordinate 2.
+// (1, 2, 3), in vertex slots sized for a triangle. Every vertex carries its
+// draw's varyings as one fixed-capacity array, Varyings (kMaxVaryings = 12
+// float32 components, hw/varying_layout.h), whose meaning the draw's
+// VaryingLayout gives; the stages loop over the draw's `count` components
+// without knowing what they are. 12 holds what is planned: colour 4,
+// eye-space normal 3 and position 3, texture coordinate 2.
 //
 // Widths, as hardware would carry them (float32 components):
 // - ClippedVertex: x, y, z, 1/w and 12 varyings: 16 words, 512 bits.
@@ -22,9 +21,11 @@
 //   plus a header of packet kind (2 bits), primitive kind (2), vertex count
 //   (2), draw id (32) and primitive id (64).
 // - RasterPrimitive: 3 x 12 varyings over w and 12 flat ones, 1536 bits;
-//   z and 1/w, 192; snapped vertices, area2, edge equations, pixel box and
-//   polygon offset at the widths hw/fixed_point.h proves, about 600; plus
-//   the header above.
+//   z and 1/w, 192; snapped vertices, area2, the interpolation and coverage
+//   equations (6 x about 105 bits), pixel box and polygon offset at the
+//   widths hw/fixed_point.h proves, and the line fields (rule, width, the
+//   Bresenham end pixels and flags, about 80), about 1000; plus the header
+//   above.
 // A draw uses only its `count` components (4 today, so 8 words per clipped
 // vertex), which is what hardware would move; the model keeps the full
 // capacity in every packet so that packets have one fixed size and moving a
@@ -59,8 +60,8 @@ struct Command {
 };
 std::ostream& operator<<(std::ostream& os, const Command& c);
 
-// What an assembled primitive is. Only triangles are assembled today; the
-// kind travels with every primitive so lines and points can share the packets.
+// What an assembled primitive is. The kind travels with every primitive, so
+// lines and points share the triangles' packets.
 enum class PrimitiveKind : uint8_t { point, line, triangle };
 std::ostream& operator<<(std::ostream& os, PrimitiveKind k);
 // Vertices of a primitive of kind k: 1, 2 or 3.
@@ -150,7 +151,9 @@ struct RasterPrimitive {
   std::array<Subpixel, 3> x{}, y{};
   EdgeValue area2 = 0;  // > 0
   std::array<EdgeEquation, 3> edge;
-  static constexpr unsigned kMaxCoverageEdges = 4;
+  // A triangle's three edges are the most any kind needs: a diamond-exit
+  // line's ends are its box's sides, a point is its box.
+  static constexpr unsigned kMaxCoverageEdges = 3;
   std::array<EdgeEquation, kMaxCoverageEdges> coverage{};
   uint8_t coverage_count = 3;
   int32_t x0 = 0, y0 = 0, x1 = -1,

@@ -89,7 +89,7 @@ void TileRasterizer::rasterize(const std::shared_ptr<const RasterPrimitive>& tri
     walk_line(tri);
     return;
   }
-  // The edge core has four edge units; a triangle uses three, a diamond-exit
+  // The edge core has three edge units; a triangle uses them all, a diamond-exit
   // line two (its band), a point none (its square is the box). One
   // instantiation per count keeps the triangle path's loops fixed at three.
   switch (t.coverage_count) {

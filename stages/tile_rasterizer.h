@@ -57,8 +57,13 @@
 // centres are < 2^22 subpixels. Every value the stepping produces (tile
 // origins, tile corners, stamp origins, pixels) is the exact equation
 // a * px + b * py + c at such a point: |a|, |b| < 2^25 give products < 2^47,
-// |c| < 2^50, so |E| < 2^51, and int64 holds it with 12 bits to spare. The
-// steps themselves are < 2^25 * 2^16 = 2^41.
+// |c| < 2^50 (a line's band edge: < 2^50 + 2^40), so |E| < 2^52, and int64
+// holds it with 11 bits to spare. The steps themselves are < 2^25 * 2^16 =
+// 2^41. A line's or point's interpolation functions evaluated at a stamp
+// origin are below 2^52 too (hw/fixed_point.h).
+// The line walker's end point pixels lie within +-2^16 (snapped coordinates
+// saturate at +-2^24 subpixels), so |dM|, |dN| < 2^17 and the decision
+// variable and 2 i |dN| stay below 2^35: a 36-bit signed register.
 //
 // Cost model (cycles) of the tile walk, per primitive: 1 per tile visited (the tile test),
 // plus ii(rasterizer) per stamp evaluated in a partial tile and per stamp

@@ -221,9 +221,10 @@ TEST(Clipper, CarriesAndInterpolatesEveryVaryingOfTheLayout) {
 }
 
 // ---------------------------------------------------------------------------
-// Triangle setup sets up triangles only: any other kind is a model error.
+// Triangle setup sets up every kind, but a vertex count that does not match
+// the kind is a model error.
 
-TEST(TriangleSetup, RejectsAPrimitiveThatIsNotATriangle) {
+TEST(TriangleSetup, RejectsAVertexCountThatDoesNotMatchTheKind) {
   FrameState frame;
   frame.draws.resize(1);
   const GpuConfig config;
@@ -234,7 +235,7 @@ TEST(TriangleSetup, RejectsAPrimitiveThatIsNotATriangle) {
   setup.out(out);
   ClippedPrimitive line;
   line.primitive_kind = PrimitiveKind::line;
-  line.vertex_count = vertex_count_of(PrimitiveKind::line);
+  line.vertex_count = vertex_count_of(PrimitiveKind::triangle);
   line.v[0].x = 1.0f;
   line.v[1].x = 10.0f;
   line.v[1].y = 5.0f;
