@@ -807,6 +807,7 @@ std::vector<Pixel> diamond_exit_pixels(int64_t ax, int64_t ay, int64_t bx, int64
     const int64_t v = va + (du > 0 ? floor_div(num, du) : floor_div(-num, -du));
     const int64_t base = floor_div(v, kSubpixelOne);
     for (int64_t j = base - 2; j <= base + 2; ++j) {
+      if (j + w <= 0 || j >= minor_size) continue;  // its run is off-screen
       const int px = static_cast<int>(x_major ? i : j), py = static_cast<int>(x_major ? j : i);
       if (!diamond_exit_covers(ax, ay, bx, by, px, py)) continue;
       for (int k = 0; k < w; ++k) {

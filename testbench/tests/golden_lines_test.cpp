@@ -1107,3 +1107,58 @@ TEST(GoldenLinesStats, CountersBalance) {
 
 }  // namespace
 }  // namespace gpusim
+
+namespace gpusim {
+namespace {
+
+// Extreme clip coordinates (near w = 0, near the float range): every line,
+// point and wireframe triangle is accounted for once (section 13), and
+// nothing is drawn outside the framebuffer or takes long.
+TEST(GoldenLinesStats, ExtremeInputsBalance) {
+  std::mt19937_64 rng(2024);
+  const float values[] = {0.0f,   1e-30f, -1e-30f, 0.5f,   -0.5f,  1.0f,   -1.0f,
+                          2.0f,   -3.0f,  1e5f,    -1e5f,  1e30f,  -1e30f, 3e38f,
+                          -3e38f, 1e-8f,  -1e-8f,  0.999f, 1.001f, 4.0e4f, -4.0e4f};
+  std::uniform_int_distribution<size_t> pick(0, std::size(values) - 1);
+  Scene s = make_scene(kW, kH);
+  for (int n = 0; n < 60; ++n) {
+    Draw d;
+    d.primitive = n % 3 == 0   ? PrimitiveType::line_loop
+                  : n % 3 == 1 ? PrimitiveType::points
+                               : PrimitiveType::triangles;
+    for (int k = 0; k < 30; ++k) {
+      d.positions.push_back(
+          {values[pick(rng)], values[pick(rng)], values[pick(rng)], values[pick(rng)]});
+    }
+    d.state.depth_test = false;
+    d.state.line_width = static_cast<float>(1 + n % 7);
+    d.state.point_size = static_cast<float>(1 + n % 5) * 3.0f;
+    d.state.line_rasterization =
+        n % 2 ? LineRasterization::bresenham : LineRasterization::diamond_exit;
+    d.state.polygon_mode = n % 4 == 2 ? PolygonMode::line : PolygonMode::point;
+    s.draws.push_back(d);
+  }
+  const golden::Result r = golden::render(s);
+  const golden::Stats& st = r.stats;
+  EXPECT_EQ(st.lines_in, 20u * 30u);
+  EXPECT_EQ(st.points_in, 20u * 30u);
+  EXPECT_EQ(st.triangles_in, 20u * 10u);
+  const uint64_t line_survivors = st.lines_in - st.lines_invalid - st.lines_clipped_away;
+  const uint64_t triangle_survivors =
+      st.triangles_in - st.triangles_invalid - st.triangles_clipped_away;
+  // Every surviving wireframe triangle is degenerate, culled or unfilled;
+  // they draw up to one line or point per polygon vertex (at most 9).
+  EXPECT_EQ(triangle_survivors,
+            st.triangles_degenerate + st.triangles_culled + st.triangles_unfilled);
+  EXPECT_EQ(st.triangles_after_clip, 0u);
+  EXPECT_GE(st.lines_rasterized + st.lines_degenerate, line_survivors);
+  EXPECT_LE(st.lines_rasterized + st.lines_degenerate, line_survivors + 9 * st.triangles_unfilled);
+  EXPECT_GE(st.points_rasterized, st.points_in - st.points_invalid - st.points_clipped_away);
+  EXPECT_GT(st.lines_clipped, 0u);
+  EXPECT_GT(st.points_clipped_away, 0u);
+  EXPECT_GT(st.triangles_unfilled, 0u);
+  EXPECT_GT(st.fragments_generated, 0u);
+}
+
+}  // namespace
+}  // namespace gpusim
