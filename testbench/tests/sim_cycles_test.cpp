@@ -181,6 +181,51 @@ TEST(Cycles, FifoDepthOneExposesSetupLatency) {
   EXPECT_EQ(cycles(b) - cycles(a), 640 * latency);
 }
 
+// `count` copies of a short line or a point in pixel (8, 8) of a 256x256
+// screen: the line runs from window (8.1, 8.5) to (9.1, 8.5), so it leaves
+// pixel (8, 8)'s diamond and ends outside pixel (9, 8)'s (spec 8b): one
+// fragment; the point (size 1) covers pixel (8, 8).
+Scene tiny_primitives(PrimitiveType type, int count) {
+  Scene s = clip_space_scene();
+  const auto clip = [](float wx, float wy) {
+    return glm::vec4(wx / 128.0f - 1.0f, wy / 128.0f - 1.0f, 0.5f, 1.0f);
+  };
+  Draw d = triangles({});
+  d.primitive = type;
+  for (int i = 0; i < count; ++i) {
+    if (type == PrimitiveType::lines) {
+      d.positions.push_back(clip(8.1f, 8.5f));
+      d.positions.push_back(clip(9.1f, 8.5f));
+    } else {
+      d.positions.push_back(clip(8.5f, 8.5f));
+    }
+  }
+  s.draws.push_back(d);
+  return s;
+}
+
+TEST(Cycles, TinyLinesAndPointsRunAtSetupInitiationInterval) {
+  // Per line the other stages need fewer cycles than setup's ii = 4: fetch
+  // 2 slots x 1, the shader (ii 1 here) 2 vertices, the clipper 2, the
+  // distributor 1, the rasterizer 1 tile test + 1 stamp, the back end 1
+  // stamp each; 2 vertices are 32 bytes, one bus cycle. A point needs half
+  // the front end's. So each extra line or point adds exactly setup's ii.
+  // 640 and 1920 lines are multiples of the 32-slot fetch batch; so are the
+  // points. The clipper writes a batch's primitives after working on the
+  // whole batch: 32 points are more than a 16-deep FIFO holds, so with 16
+  // setup would drain the FIFO while the clipper works on the next batch and
+  // wait once per batch (4 cycles, measured); 32, a batch's worth, keeps
+  // setup fed.
+  for (const PrimitiveType type : {PrimitiveType::lines, PrimitiveType::points}) {
+    const GpuConfig c = setup_bound(type == PrimitiveType::lines ? 16 : 32);
+    const int64_t ii = c.stage("triangle_setup").ii;
+    const GpuRunResult a = run(tiny_primitives(type, 640), c);
+    const GpuRunResult b = run(tiny_primitives(type, 1920), c);
+    EXPECT_EQ(cycles(b) - cycles(a), 1280 * ii) << to_string(type);
+    EXPECT_EQ(b.counts.at("fragments_generated").get<uint64_t>(), 1920u) << to_string(type);
+  }
+}
+
 TEST(Cycles, MemoryBandwidthCapSlowsTheWriteBackAsPredicted) {
   // The giant triangle with the depth test on: fast clears mean no memory
   // reads, and the tile caches hold every tile, so the frame's memory traffic
