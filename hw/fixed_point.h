@@ -61,6 +61,18 @@ inline Subpixel snap_to_subpixel(float x) {
 }
 
 // Pixel (ix, iy) has its centre at subpixel (ix * 256 + 128, iy * 256 + 128).
+// Round to an integer, half away from zero (C's lround, util_iround in
+// Mesa), saturating as snap_to_subpixel does: |v| >= kSnapLimit gives
+// +-kSnapLimit and NaN gives 0. The rounding of a point's square
+// (docs/pipeline-spec.md, section 8c), whose corner comes from an unsnapped
+// window coordinate: a polygon-mode vertex on extreme inputs can be anywhere.
+inline int32_t round_half_away(float v) {
+  if (v != v) return 0;
+  if (v >= static_cast<float>(kSnapLimit)) return kSnapLimit;
+  if (v <= -static_cast<float>(kSnapLimit)) return -kSnapLimit;
+  return static_cast<int32_t>(std::lround(v));
+}
+
 inline Subpixel pixel_center(int i) {
   return i * kSubpixelOne + kSubpixelHalf;
 }

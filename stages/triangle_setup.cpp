@@ -28,12 +28,6 @@ float polygon_offset(const RasterPrimitive& t, const RenderState& st, DepthForma
   return st.offset_factor * m + st.offset_units * min_resolvable_depth(fmt, max_z);
 }
 
-// Rounding half away from zero (docs/pipeline-spec.md, sections 8b and 8c);
-// std::lround is exactly that. Arguments are below 2^24 in magnitude.
-int64_t iround(float v) {
-  return static_cast<int64_t>(std::lround(v));
-}
-
 int64_t ceil_div_subpixel(int64_t v) {
   return -static_cast<int64_t>(floor_div_subpixel(-v));
 }
@@ -234,7 +228,7 @@ std::shared_ptr<RasterPrimitive> TriangleSetup::setup_line(const ClippedPrimitiv
     t->area2 = l2;
   }
   const int64_t w =
-      std::clamp<int64_t>(iround(st.line_width), 1, static_cast<int64_t>(kMaxLineWidth));
+      std::clamp<int64_t>(round_half_away(st.line_width), 1, static_cast<int64_t>(kMaxLineWidth));
   t->width = static_cast<uint16_t>(w);
   t->draw_first = in.draw_first;
   t->draw_last = in.draw_last;
@@ -345,9 +339,9 @@ std::shared_ptr<RasterPrimitive> TriangleSetup::setup_point(const ClippedPrimiti
   t->area2 = 1;
   // The square (spec 8c): X0 <= 256 x < X0 + F, likewise y. The pixel box
   // is the square itself, so no coverage edge is needed.
-  const int64_t f = std::max<int64_t>(256, iround(st.point_size * 256.0f));
-  const int64_t x0 = iround((v.x - 0.5f) * 256.0f) - f / 2;
-  const int64_t y0 = iround((v.y - 0.5f) * 256.0f) - f / 2;
+  const int64_t f = std::max<int64_t>(256, round_half_away(st.point_size * 256.0f));
+  const int64_t x0 = round_half_away((v.x - 0.5f) * 256.0f) - f / 2;
+  const int64_t y0 = round_half_away((v.y - 0.5f) * 256.0f) - f / 2;
   t->coverage_count = 0;
   t->x0 = static_cast<int32_t>(std::max<int64_t>(0, ceil_div_subpixel(x0)));
   t->x1 = static_cast<int32_t>(std::min<int64_t>(fb.width - 1, floor_div_subpixel(x0 + f - 1)));

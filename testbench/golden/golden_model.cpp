@@ -733,8 +733,8 @@ bool line_is_x_major(int64_t dx, int64_t dy) {
 }
 
 int line_width_pixels(float line_width) {
-  // std::lround rounds half away from zero; widths are at most 255.
-  return std::max(1, static_cast<int>(std::lround(line_width)));
+  // Widths are at most 255 (the scene loader's range).
+  return std::max(1, static_cast<int>(round_half_away(line_width)));
 }
 
 bool diamond_exit_covers(int64_t ax, int64_t ay, int64_t bx, int64_t by, int x, int y) {
@@ -856,11 +856,12 @@ std::vector<Pixel> bresenham_pixels(int64_t ax, int64_t ay, int64_t bx, int64_t 
 }
 
 PointSquare point_square(float x_w, float y_w, float point_size) {
-  // Multiplying by 256 is exact; std::lround rounds half away from zero.
+  // Multiplying by 256 is exact; the rounding is half away from zero and
+  // saturates on extreme inputs (section 8c).
   PointSquare sq;
-  sq.side = std::max<int64_t>(kSubpixelOne, std::lround(point_size * 256.0f));
-  sq.x0 = std::lround((x_w - 0.5f) * 256.0f) - sq.side / 2;
-  sq.y0 = std::lround((y_w - 0.5f) * 256.0f) - sq.side / 2;
+  sq.side = std::max<int64_t>(kSubpixelOne, round_half_away(point_size * 256.0f));
+  sq.x0 = int64_t{round_half_away((x_w - 0.5f) * 256.0f)} - sq.side / 2;
+  sq.y0 = int64_t{round_half_away((y_w - 0.5f) * 256.0f)} - sq.side / 2;
   return sq;
 }
 

@@ -278,6 +278,32 @@ TEST(Degenerate, ClipRoundingOnExtremeInputs) {
   const nlohmann::json s = expect_models_agree(scene_of(8192, 2, {draw_of(v)}));
   EXPECT_EQ(count(s, "triangles_invalid"), 0u);
   EXPECT_GT(count(s, "triangles_clipped"), 0u);
+
+  // The same vertices as lines, strips, loops and points, and as triangles
+  // drawn as lines or points: cuts and polygon-mode vertices far outside,
+  // where snapping and the point's corner saturate (spec sections 6, 8c).
+  std::vector<Draw> draws;
+  for (const PrimitiveType type : {PrimitiveType::lines, PrimitiveType::line_strip,
+                                   PrimitiveType::line_loop, PrimitiveType::points}) {
+    for (const LineRasterization rule :
+         {LineRasterization::diamond_exit, LineRasterization::bresenham}) {
+      Draw d = draw_of(v, type);
+      d.state.line_rasterization = rule;
+      d.state.line_width = rule == LineRasterization::bresenham ? 3.0f : 2.0f;
+      d.state.point_size = 5.5f;
+      draws.push_back(d);
+    }
+  }
+  for (const PolygonMode mode : {PolygonMode::line, PolygonMode::point}) {
+    Draw d = draw_of(v);
+    d.state.polygon_mode = mode;
+    d.state.point_size = 9.0f;
+    draws.push_back(d);
+  }
+  const nlohmann::json lp = expect_models_agree(scene_of(8192, 2, draws));
+  EXPECT_GT(count(lp, "lines_clipped"), 0u);
+  EXPECT_GT(count(lp, "points_clipped_away"), 0u);
+  EXPECT_GT(count(lp, "triangles_unfilled"), 0u);
 }
 
 TEST(Degenerate, ZeroAreaAndCollinear) {
