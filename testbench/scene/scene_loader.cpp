@@ -284,7 +284,9 @@ Json SceneReader::parse(const std::string& text) const {
   };
 
   try {
-    return Json::parse(text, callback);
+    // `//` and `/* */` comments are allowed, as in GPU configurations
+    // (hw/gpu_config.cpp); nlohmann counts lines and columns through them.
+    return Json::parse(text, callback, /*allow_exceptions=*/true, /*ignore_comments=*/true);
   } catch (const Json::parse_error& e) {
     const std::string msg = e.what();
     // "[json.exception.parse_error.101] parse error at line 3, column 7: ..."

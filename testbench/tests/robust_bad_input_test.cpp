@@ -100,7 +100,7 @@ std::vector<BadCase> cases() {
   scene("binary_garbage", std::string("\x00\xff\xfe\x01garbage\x1b[2J", 15), {"byte 0 is NUL"});
   scene("control_characters", "{\"framebuffer\": \x1b[2J\xff}", {"syntax error"});
   scene("utf16", std::string("\xff\xfe{\0}\0", 6), {"UTF-16"});
-  scene("comment", "{\n  // a comment\n}", {"line 2", "syntax error"});
+  scene("unclosed_comment", "{\n  /* a comment\n}", {"line 3", "syntax error"});
   scene("top_level_array", "[]", {"expected an object, got an array"});
   scene("duplicate_key", R"({"framebuffer": {"width": 64, "width": 32}})",
         {"framebuffer.width: duplicate key"});

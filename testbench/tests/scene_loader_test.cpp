@@ -813,6 +813,28 @@ TEST_F(SceneLoaderTest, MalformedJsonReportsLineAndColumn) {
   EXPECT_EQ(error_of("1e400"), "number overflow parsing '1e400'");
 }
 
+// Scene files take the same comments as GPU configurations (docs/scene-format.md,
+// docs/gpu-config.md); they used to be a syntax error at the first `/`.
+TEST_F(SceneLoaderTest, CommentsAreAllowed) {
+  const Scene scene = load(
+      "// a 64x32 frame\n"
+      "{\n"
+      "  /* the framebuffer,\n"
+      "     in pixels */\n"
+      "  \"framebuffer\": {\"width\": 64, /* wide */ \"height\": 32}  // tall enough\n"
+      "}\n");
+  EXPECT_EQ(scene.framebuffer.width, 64);
+  EXPECT_EQ(scene.framebuffer.height, 32);
+  // An error after comments still names its own line and column: the second
+  // comma is line 4, column 27.
+  const std::string msg =
+      error_of("{\n  // one line\n  /* two\n   lines */ \"ambient\": [0,, 0, 0, 1]\n}\n");
+  EXPECT_EQ(msg.rfind("line 4, column 27: ", 0), 0u) << msg;
+  // A comment that never ends is a syntax error.
+  const std::string open = error_of("{\n  /* never closed\n}\n");
+  EXPECT_NE(open.find("syntax error"), std::string::npos) << open;
+}
+
 TEST_F(SceneLoaderTest, FileErrors) {
   const std::string missing = (dir_ / "nope.json").string();
   try {
