@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Writes the regression scenes in testbench/scenes/regress/ (deterministic:
+"""Writes the regression scenes of testbench/scenes/regress/ (deterministic:
 every scene has its own fixed seed, so running it again gives the same
 files). A scene's category, the sections of docs/pipeline-spec.md it
 exercises and its description live here (SCENES), not in the scene file;
@@ -7,8 +7,14 @@ scripts/regress imports them for its report, and --table prints them as the
 Markdown table of docs/validation.md. The reference images
 (testbench/references/) come from scripts/make_references.
 
-usage: scripts/gen/make_regress_scenes.py [--table]
+Writes only where told: `--out DIR` writes the scenes (and lines_mesh.obj,
+which they name relatively) into DIR, `--write-testbench` rewrites the
+committed copies in testbench/scenes/regress/. With neither, it prints its
+usage and writes nothing.
+
+usage: scripts/gen/make_regress_scenes.py (--out DIR | --write-testbench | --table)
 """
+import argparse
 import json
 import math
 import os
@@ -1188,21 +1194,40 @@ def dump(value):
     return text + "\n"
 
 
-def main():
-    if sys.argv[1:] == ["--table"]:
+def main(argv=None):
+    global OUT
+    parser = argparse.ArgumentParser(
+        description="Write the regression scenes (docs/validation.md), or print their table.")
+    what = parser.add_mutually_exclusive_group()
+    what.add_argument("--out", metavar="DIR",
+                      help="write the scenes and lines_mesh.obj into DIR (created if needed)")
+    what.add_argument("--write-testbench", action="store_true",
+                      help="rewrite the committed scenes in testbench/scenes/regress/")
+    what.add_argument("--table", action="store_true",
+                      help="print the scenes as a Markdown table; write nothing")
+    args = parser.parse_args(argv)
+    if not (args.table or args.write_testbench or args.out is not None):
+        parser.print_usage(sys.stderr)
+        print(f"{parser.prog}: error: give --out DIR, --write-testbench to rewrite "
+              "testbench/scenes/regress/, or --table", file=sys.stderr)
+        return 2
+    if args.table:
         print("| scene | category | spec sections | what it exercises |")
         print("|---|---|---|---|")
         for name, category, sections, description, _ in SCENES:
             print(f"| `{name}` | {category} | {sections} | {description} |")
-        return
+        return 0
+    if args.out is not None:
+        OUT = args.out
     os.makedirs(OUT, exist_ok=True)
     with open(os.path.join(OUT, LINE_MESH), "w") as f:
         f.write(line_mesh_obj())
     for name, _, _, _, fn in SCENES:
         with open(os.path.join(OUT, name + ".json"), "w") as f:
             f.write(dump(fn()))
-    print(f"wrote {len(SCENES)} scenes to {os.path.relpath(OUT, ROOT)}")
+    print(f"wrote {len(SCENES)} scenes to {os.path.relpath(OUT)}")
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

@@ -1,12 +1,20 @@
 #!/usr/bin/env python3
-"""Writes the procedural test scenes in testbench/scenes/ (deterministic: a
-fixed seed, so running it again gives the same files)."""
+"""Writes the procedural test scenes (deterministic: a fixed seed, so running
+it again gives the same files).
+
+Writes only where told: `--out DIR` writes them into DIR, `--write-testbench`
+rewrites the committed copies in testbench/scenes/. With neither, it prints
+its usage and writes nothing; `--help` prints the usage."""
+import argparse
 import json
 import math
 import os
 import random
+import sys
 
-OUT = os.path.join(os.path.dirname(__file__), "..", "..", "testbench", "scenes")
+TESTBENCH = os.path.normpath(
+    os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "testbench", "scenes"))
+OUT = TESTBENCH
 
 
 def write(name, scene):
@@ -241,11 +249,33 @@ def points_wireframe():
     }
 
 
-if __name__ == "__main__":
+def main(argv=None):
+    global OUT
+    parser = argparse.ArgumentParser(
+        description="Write the procedural test scenes (tiny_triangles.json, shared_edges.json, "
+                    "clipping.json, zfight_offset.json, states.json, lines_random.json).")
+    where = parser.add_mutually_exclusive_group()
+    where.add_argument("--out", metavar="DIR", help="write the scenes into DIR (created if needed)")
+    where.add_argument("--write-testbench", action="store_true",
+                       help="rewrite the committed scenes in testbench/scenes/")
+    args = parser.parse_args(argv)
+    if args.out is None and not args.write_testbench:
+        parser.print_usage(sys.stderr)
+        print(f"{parser.prog}: error: give --out DIR, or --write-testbench to rewrite "
+              "testbench/scenes/", file=sys.stderr)
+        return 2
+    OUT = TESTBENCH if args.write_testbench else args.out
+    os.makedirs(OUT, exist_ok=True)
     write("tiny_triangles.json", tiny_triangles())
     write("shared_edges.json", shared_edges())
     write("clipping.json", clipping())
     write("zfight_offset.json", zfight())
     write("states.json", states())
     write("lines_random.json", lines_random())
+    print(f"wrote 6 scenes to {OUT}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
     write("points_wireframe.json", points_wireframe())

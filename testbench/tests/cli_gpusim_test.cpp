@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
@@ -184,6 +185,51 @@ TEST_F(Cli, CompareExitCodesAndFirstDifferingPixel) {
   EXPECT_EQ(run("compare " + a + " " + b + " --channel-tolerance G=0.005").status, 0);
   EXPECT_EQ(run("compare " + a + " " + (dir_ / "nope.exr").string()).status, 2);
   EXPECT_EQ(run("compare " + a).status, 2);
+}
+
+// The scene generators write only where told (issue 16 item 6: --help used to
+// rewrite testbench/scenes/): --help prints usage, no flag prints usage and
+// fails, and neither touches a file; --out writes the committed scenes' bytes.
+TEST_F(Cli, SceneGeneratorsWriteOnlyWhereTold) {
+  const std::string scenes = GPUSIM_SOURCE_DIR "/testbench/scenes";
+  std::map<std::string, fs::file_time_type> before;
+  for (const auto& e : fs::recursive_directory_iterator(scenes)) {
+    before[e.path().string()] = fs::last_write_time(e.path());
+  }
+  const auto python = [&](const std::string& script, const std::string& args) {
+    const std::string command = "cd " + dir_.string() + " && /usr/bin/python3 " +
+                                GPUSIM_SOURCE_DIR "/scripts/gen/" + script + " " + args + " 2>&1";
+    CommandResult r;
+    FILE* p = popen(command.c_str(), "r");
+    if (!p) return r;
+    std::array<char, 4096> buf;
+    size_t n;
+    while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
+    const int st = pclose(p);
+    r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+    return r;
+  };
+  for (const std::string script : {"make_test_scenes.py", "make_regress_scenes.py"}) {
+    const CommandResult help = python(script, "--help");
+    EXPECT_EQ(help.status, 0) << script << "\n" << help.out;
+    EXPECT_EQ(help.out.rfind("usage: " + script, 0), 0u) << help.out;
+    const CommandResult bare = python(script, "");
+    EXPECT_EQ(bare.status, 2) << script << "\n" << bare.out;
+    EXPECT_NE(bare.out.find("give --out DIR"), std::string::npos) << bare.out;
+  }
+  std::map<std::string, fs::file_time_type> after;
+  for (const auto& e : fs::recursive_directory_iterator(scenes)) {
+    after[e.path().string()] = fs::last_write_time(e.path());
+  }
+  EXPECT_EQ(before, after) << "a generator wrote into testbench/scenes/";
+  EXPECT_TRUE(fs::is_empty(dir_)) << "a generator wrote into the current directory";
+
+  // --out writes there, the same bytes as the committed scenes.
+  const CommandResult out = python("make_test_scenes.py", "--out gen");
+  EXPECT_EQ(out.status, 0) << out.out;
+  for (const char* name : {"tiny_triangles.json", "clipping.json", "lines_random.json"}) {
+    EXPECT_EQ(slurp(dir_ / "gen" / name), slurp(fs::path(scenes) / name)) << name;
+  }
 }
 
 }  // namespace
