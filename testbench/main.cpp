@@ -6,17 +6,20 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <functional>
 #include <iostream>
 #include <map>
 #include <new>
 #include <optional>
 #include <string>
 #include <systemc>
+#include <vector>
 
 #include "hw/gpu_config.h"
 #include "hw/input_error.h"
@@ -273,8 +276,10 @@ int run_cycle_model(const RunArgs& args) {
 
   const double mhz = config.clock_mhz;
   std::printf(
-      "run: %s on %u units: %llu cycles (%.3f ms at %g MHz), simulated in %.3f s (%.3g cycles/s)\n",
-      args.scene.c_str(), config.units, static_cast<unsigned long long>(result.cycles),
+      "run: %s on %u unit%s: %llu cycles (%.3f ms at %g MHz), simulated in %.3f s (%.3g "
+      "cycles/s)\n",
+      args.scene.c_str(), config.units, config.units == 1 ? "" : "s",
+      static_cast<unsigned long long>(result.cycles),
       static_cast<double>(result.cycles) / (mhz * 1e3), mhz, result.wall_seconds,
       static_cast<double>(result.cycles) / std::max(result.wall_seconds, 1e-9));
   print_counts(result.counts);
@@ -388,6 +393,128 @@ int run_trace_follow(const TraceArgs& args, bool by_prim) {
   return 0;
 }
 
+// ---------------------------------------------------------------- messages
+
+// Levenshtein distance, for "did you mean" suggestions.
+size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diagonal = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1] ? 1 : 0)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+// The candidate closest to `word`, if it is close enough to be a likely typo.
+std::string closest(const std::string& word, const std::vector<std::string>& candidates) {
+  std::string best;
+  size_t best_distance = std::max<size_t>(2, word.size() / 3) + 1;
+  for (const std::string& c : candidates) {
+    const size_t d = edit_distance(word, c);
+    if (d < best_distance) best_distance = d, best = c;
+  }
+  return best;
+}
+
+// The most deeply nested subcommand that was parsed (`app` itself when none).
+const CLI::App* deepest_parsed(const CLI::App* app) {
+  for (const CLI::App* sub : app->get_subcommands()) {  // the parsed ones
+    return deepest_parsed(sub);
+  }
+  return app;
+}
+
+// "run", "trace follow": the command words leading to `app`.
+std::string command_path(const CLI::App* app) {
+  std::string path;
+  for (; app->get_parent() != nullptr; app = app->get_parent()) {
+    path = path.empty() ? app->get_name() : app->get_name() + " " + path;
+  }
+  return path;
+}
+
+std::string join(const std::vector<std::string>& words, const std::string& sep) {
+  std::string out;
+  for (const std::string& w : words) out += (out.empty() ? "" : sep) + w;
+  return out;
+}
+
+// One line for a command-line error CLI11 reported, naming the word at fault,
+// in the order it was typed, and the help to read.
+std::string parse_error_message(const CLI::App& app, const CLI::ParseError& e, int argc,
+                                char** argv) {
+  const CLI::App* where = deepest_parsed(&app);
+  const std::string path = command_path(where);
+  const std::string prefix = path.empty() ? "" : path + ": ";
+  const std::string help = "see gpusim " + (path.empty() ? "" : path + " ") + "--help";
+  std::vector<std::string> subcommands;
+  const std::function<bool(const CLI::App*)> all = [](const CLI::App*) { return true; };
+  for (const CLI::App* sub : where->get_subcommands(all)) subcommands.push_back(sub->get_name());
+
+  // The words after the command path, in the order typed.
+  std::vector<std::string> words(argv + 1, argv + argc);
+  size_t depth = path.empty() ? 0 : std::count(path.begin(), path.end(), ' ') + 1;
+  size_t first = 0;
+  for (; depth > 0 && first < words.size(); ++first) {
+    if (words[first].empty() || words[first][0] != '-') --depth;
+  }
+
+  if (dynamic_cast<const CLI::ExtrasError*>(&e) != nullptr ||
+      (!subcommands.empty() && dynamic_cast<const CLI::RequiredError*>(&e) != nullptr)) {
+    // The first word this command does not know: an option or a positional.
+    std::vector<std::string> options;
+    for (const CLI::Option* o : where->get_options()) {
+      for (const std::string& n : o->get_lnames()) options.push_back("--" + n);
+      for (const std::string& n : o->get_snames()) options.push_back("-" + n);
+    }
+    for (size_t i = first; i < words.size(); ++i) {
+      const std::string& w = words[i];
+      if (w.size() > 1 && w[0] == '-') {
+        const std::string name = w.substr(0, w.find('='));
+        if (std::find(options.begin(), options.end(), name) != options.end()) continue;
+        const std::string suggestion = closest(name, options);
+        std::string hint = suggestion.empty() ? "" : " (did you mean " + suggestion + "?)";
+        // `run --tile-size 32`: a GPU configuration key, set in the --config file.
+        std::string key = name.substr(name.find_first_not_of('-'));
+        std::replace(key.begin(), key.end(), '-', '_');
+        if (path == "run" && to_json(GpuConfig{}).contains(key)) {
+          hint = " (" + key +
+                 " is a GPU configuration key: set it in the --config file, "
+                 "docs/gpu-config.md)";
+        }
+        return prefix + "unknown option " + name + hint + "; " + help;
+      }
+    }
+    if (!subcommands.empty()) {
+      // A command that takes a subcommand, given none or an unknown one.
+      for (size_t i = first; i < words.size(); ++i) {
+        if (words[i].empty() || words[i][0] == '-') continue;
+        const std::string suggestion = closest(words[i], subcommands);
+        return prefix + "unknown command '" + words[i] + "'" +
+               (suggestion.empty() ? "" : " (did you mean " + suggestion + "?)") +
+               "; commands: " + join(subcommands, ", ") + "; " + help;
+      }
+      return prefix + "a command is required: " + join(subcommands, ", ") + "; " + help;
+    }
+    const std::vector<std::string> extras = where->remaining();
+    if (!extras.empty()) {
+      // remaining() may list them in reverse: report the first one typed.
+      for (size_t i = first; i < words.size(); ++i) {
+        if (std::find(extras.begin(), extras.end(), words[i]) != extras.end()) {
+          return prefix + "unexpected argument '" + words[i] + "'; " + help;
+        }
+      }
+    }
+  }
+  return prefix + e.what() + "; " + help;
+}
+
 int main_with_errors(int argc, char** argv) {
   CLI::App app{"gpusim: a fixed-function GPU modeled in SystemC, and its golden model"};
   app.require_subcommand(1);
@@ -473,7 +600,7 @@ int main_with_errors(int argc, char** argv) {
   } catch (const CLI::CallForAllHelp& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    std::cerr << "gpusim: " << e.what() << " (see gpusim --help)\n";
+    std::cerr << "gpusim: " << parse_error_message(app, e, argc, argv) << "\n";
     return kExitError;
   }
 
