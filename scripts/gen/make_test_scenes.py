@@ -253,7 +253,7 @@ def main(argv=None):
     global OUT
     parser = argparse.ArgumentParser(
         description="Write the procedural test scenes (tiny_triangles.json, shared_edges.json, "
-                    "clipping.json, zfight_offset.json, states.json, lines_random.json).")
+                    "clipping.json, zfight_offset.json, states.json, lines_random.json, points_wireframe.json).")
     where = parser.add_mutually_exclusive_group()
     where.add_argument("--out", metavar="DIR", help="write the scenes into DIR (created if needed)")
     where.add_argument("--write-testbench", action="store_true",
