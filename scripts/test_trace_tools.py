@@ -242,6 +242,27 @@ def check_report(trace, out_html, summary):
     check("shared_edges.json" in text, "report: names the scene")
 
 
+def check_not_a_trace(tmp, gpusim):
+    """Issue #16 item 5: a run's --out directory given as a trace said only
+    `manifest.json: cannot open`; every tool now says what it is."""
+    out = os.path.join(tmp, "out")  # written by run --out above: stats.json, frame.exr
+    want = (f"{out}: not a trace directory (no manifest.json; write one with gpusim run SCENE --trace DIR) "
+            f"(this looks like a run's --out directory)")
+    for name, cmd in (("trace summary", [gpusim, "trace", "summary", out]),
+                      ("trace follow", [gpusim, "trace", "follow", out, "--prim", "0"]),
+                      ("trace_plots", [os.path.join(HERE, "trace_plots"), out]),
+                      ("report", [os.path.join(HERE, "report"), out, "--gpusim", gpusim])):
+        r = run(cmd)
+        lines = r.stderr.strip().splitlines()
+        check(r.returncode == 2 and len(lines) == 1 and lines[0].endswith(want),
+              f"{name}: --out directory exits 2 with one line ({r.stderr.strip()!r})")
+    empty = os.path.join(tmp, "empty_dir")
+    os.makedirs(empty, exist_ok=True)
+    r = run([gpusim, "trace", "summary", empty])
+    check(r.returncode == 2 and "not a trace directory" in r.stderr and "--out directory" not in r.stderr,
+          f"trace summary: an empty directory is not a trace, without the --out hint ({r.stderr.strip()!r})")
+
+
 def check_bad_input(tmp, trace):
     for script in ("trace_plots", "report"):
         r = run([os.path.join(HERE, script), os.path.join(tmp, "no_such_dir")])
@@ -308,7 +329,7 @@ def main():
         check(os.path.isfile(os.path.join(trace, "report.html")), "report: default DIR/report.html")
 
         # Filtered traces still plot; without depth-test fragments the
-        # overdraw map falls back on stamps.
+        # overdraw map falls back on the ROP's fragments, else on stamps.
         cycles = manifest["cycles"]
         ftrace = os.path.join(tmp, "trace_filtered")
         must([gpusim, "run", args.scene, "--out", os.path.join(tmp, "out"), "--trace", ftrace, "--trace-window", f"{cycles // 4}:{cycles // 2}",
@@ -326,6 +347,7 @@ def main():
         must([os.path.join(HERE, "report"), ptrace, "--gpusim", gpusim])
 
         check_bad_input(tmp, trace)
+        check_not_a_trace(tmp, gpusim)
     finally:
         if not args.keep:
             shutil.rmtree(tmp, ignore_errors=True)
