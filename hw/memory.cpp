@@ -80,6 +80,7 @@ void MemoryArbiter::grant(Client& client, const Request& r) {
   r.sink->pending = false;
   client.busy_cycles += r.busy;
   client.queued += start - r.arrival;
+  client.queued_max = std::max(client.queued_max, start - r.arrival);
   m_busy_cycles += r.busy;
 }
 
@@ -226,6 +227,7 @@ MemoryClientStats Memory::client_stats(unsigned index) const {
   MemoryClientStats s = m_clients.at(index).stats;
   s.busy_cycles = m_arbiter.client_busy_cycles(index);
   s.queued = m_arbiter.client_queued(index);
+  s.queued_max = m_arbiter.client_queued_max(index);
   return s;
 }
 
@@ -242,6 +244,8 @@ nlohmann::json Memory::stats_json() const {
         {"bytes_written", s.bytes_written},
         {"busy_cycles", s.busy_cycles},
         {"queued_cycles", s.queued / m_cycle},
+        {"queued_cycles_mean", s.requests ? s.queued / m_cycle / s.requests : 0.0},
+        {"queued_cycles_max", s.queued_max / m_cycle},
         {"errors", s.errors},
     };
   }
@@ -271,7 +275,10 @@ nlohmann::json Memory::descriptions() {
         {"bytes_read", d("bytes", "bytes read")},
         {"bytes_written", d("bytes", "bytes written")},
         {"busy_cycles", d("cycles", "bus cycles its requests occupied")},
-        {"queued_cycles", d("cycles", "summed waits for the bus")},
+        {"queued_cycles",
+         d("cycles", "summed waits for the bus (arrival to start of transfer) of all requests")},
+        {"queued_cycles_mean", d("cycles", "queued_cycles over requests: the mean wait")},
+        {"queued_cycles_max", d("cycles", "the longest wait of one request")},
         {"errors", d("requests", "requests answered with an error")}}},
   };
 }

@@ -84,9 +84,10 @@ struct MemoryClientStats {
   uint64_t writes = 0;
   uint64_t bytes_read = 0;
   uint64_t bytes_written = 0;
-  uint64_t busy_cycles = 0;  // bus cycles its requests occupied
-  sc_core::sc_time queued;   // summed waits for the bus: S - A
-  uint64_t errors = 0;       // requests answered with an error
+  uint64_t busy_cycles = 0;     // bus cycles its requests occupied
+  sc_core::sc_time queued;      // summed waits for the bus: S - A
+  sc_core::sc_time queued_max;  // the longest single wait S - A
+  uint64_t errors = 0;          // requests answered with an error
 };
 
 // The timing half of the memory: collects a delta's requests and grants them
@@ -128,6 +129,9 @@ class MemoryArbiter : public sc_core::sc_prim_channel {
   sc_core::sc_time client_queued(unsigned client) const {
     return sc_core::sc_time::from_value(m_clients.at(client).queued);
   }
+  sc_core::sc_time client_queued_max(unsigned client) const {
+    return sc_core::sc_time::from_value(m_clients.at(client).queued_max);
+  }
 
  private:
   struct Request {
@@ -141,7 +145,8 @@ class MemoryArbiter : public sc_core::sc_prim_channel {
     std::vector<Request> queue;
     size_t head = 0;  // the next one to grant
     uint64_t busy_cycles = 0;
-    uint64_t queued = 0;  // sc_time value
+    uint64_t queued = 0;      // sc_time value
+    uint64_t queued_max = 0;  // sc_time value
   };
 
   void update() override;
@@ -202,8 +207,9 @@ class Memory : public sc_core::sc_module {
 
   // {"size_bytes", "latency", "bytes_per_cycle", "busy_cycles", "utilization",
   //  "clients": {name: {requests, reads, writes, bytes_read, bytes_written,
-  //  busy_cycles, queued_cycles, errors}}}; utilization is busy cycles over
-  // the cycles elapsed so far.
+  //  busy_cycles, queued_cycles, queued_cycles_mean, queued_cycles_max,
+  //  errors}}}; utilization is busy cycles over the cycles elapsed so far;
+  // queued_cycles_mean is queued_cycles over requests (0 without requests).
   nlohmann::json stats_json() const;
   // What each stats_json() field means: {name: {"unit", "description"}}.
   static nlohmann::json descriptions();

@@ -128,8 +128,13 @@ class Trace:
             raise TraceError(f"{directory}: not a directory")
         mpath = self.path("manifest.json")
         if not os.path.isfile(mpath):
+            # The likeliest mix-up, a run's --out directory, is named as such
+            # (the same words as gpusim's TraceReader).
+            looks_like_out = any(os.path.exists(os.path.join(directory, f))
+                                 for f in ("stats.json", "frame.exr"))
             raise TraceError(f"{directory}: not a trace directory (no manifest.json; write one with "
-                             f"gpusim run SCENE --trace DIR)")
+                             f"gpusim run SCENE --trace DIR)"
+                             + (" (this looks like a run's --out directory)" if looks_like_out else ""))
         m = _load_json(mpath)
         if not isinstance(m, dict) or m.get("format") != FORMAT:
             raise TraceError(f"{mpath}: not a gpusim trace manifest (format is not \"{FORMAT}\")")

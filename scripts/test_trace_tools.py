@@ -242,6 +242,51 @@ def check_report(trace, out_html, summary):
     check("shared_edges.json" in text, "report: names the scene")
 
 
+def check_rop_only_overdraw(tmp, gpusim, scene):
+    """Issue #16 item 5: with --trace-stages triangle_setup,rop the overdraw
+    plot was empty and captioned "fragments not recorded" although the ROP's
+    fragments were; it now draws those, and the report says so."""
+    trace = os.path.join(tmp, "trace_rop")
+    must([gpusim, "run", scene, "--out", os.path.join(tmp, "out"), "--trace", trace,
+          "--trace-stages", "triangle_setup,rop"])
+    plots = os.path.join(tmp, "plots_rop")
+    must([os.path.join(HERE, "trace_plots"), trace, "--out", plots])
+    tiles = json.load(open(os.path.join(plots, "tiles.json")))
+    rop = [r for r in read_raw(os.path.join(trace, "fragments.bin"), b"GPUSIMFR", FR_FMT) if r[4] == 1]
+    check(tiles["overdraw_source"] == "rop fragments", f"rop only: overdraw from {tiles['overdraw_source']}")
+    total = sum(map(sum, tiles["rop_fragments"]))
+    check(len(rop) > 0 and total == len(rop), f"rop only: {total} ROP fragments in tiles.json, "
+                                              f"{len(rop)} in fragments.bin")
+    check(max(map(max, tiles["overdraw"])) > 0, "rop only: the overdraw map is not empty")
+    png_ok(os.path.join(plots, "tiles_overdraw.png"), "rop only: tiles_overdraw.png")
+    out_html = os.path.join(tmp, "report_rop.html")
+    must([os.path.join(HERE, "report"), trace, "--out", out_html, "--gpusim", gpusim])
+    text = open(out_html, encoding="utf-8").read()
+    check("ROP fragments divided by" in text and "fragments not recorded" not in text,
+          "rop only: the report's overdraw caption names the ROP fragments")
+
+
+def check_not_a_trace(tmp, gpusim):
+    """Issue #16 item 5: a run's --out directory given as a trace said only
+    `manifest.json: cannot open`; every tool now says what it is."""
+    out = os.path.join(tmp, "out")  # written by run --out above: stats.json, frame.exr
+    want = (f"{out}: not a trace directory (no manifest.json; write one with gpusim run SCENE --trace DIR) "
+            f"(this looks like a run's --out directory)")
+    for name, cmd in (("trace summary", [gpusim, "trace", "summary", out]),
+                      ("trace follow", [gpusim, "trace", "follow", out, "--prim", "0"]),
+                      ("trace_plots", [os.path.join(HERE, "trace_plots"), out]),
+                      ("report", [os.path.join(HERE, "report"), out, "--gpusim", gpusim])):
+        r = run(cmd)
+        lines = r.stderr.strip().splitlines()
+        check(r.returncode == 2 and len(lines) == 1 and lines[0].endswith(want),
+              f"{name}: --out directory exits 2 with one line ({r.stderr.strip()!r})")
+    empty = os.path.join(tmp, "empty_dir")
+    os.makedirs(empty, exist_ok=True)
+    r = run([gpusim, "trace", "summary", empty])
+    check(r.returncode == 2 and "not a trace directory" in r.stderr and "--out directory" not in r.stderr,
+          f"trace summary: an empty directory is not a trace, without the --out hint ({r.stderr.strip()!r})")
+
+
 def check_bad_input(tmp, trace):
     for script in ("trace_plots", "report"):
         r = run([os.path.join(HERE, script), os.path.join(tmp, "no_such_dir")])
@@ -308,7 +353,7 @@ def main():
         check(os.path.isfile(os.path.join(trace, "report.html")), "report: default DIR/report.html")
 
         # Filtered traces still plot; without depth-test fragments the
-        # overdraw map falls back on stamps.
+        # overdraw map falls back on the ROP's fragments, else on stamps.
         cycles = manifest["cycles"]
         ftrace = os.path.join(tmp, "trace_filtered")
         must([gpusim, "run", args.scene, "--out", os.path.join(tmp, "out"), "--trace", ftrace, "--trace-window", f"{cycles // 4}:{cycles // 2}",
@@ -318,6 +363,7 @@ def main():
         check_plots(ftrace, fplots, manifest, "filtered (window, stages)")
         tiles = json.load(open(os.path.join(fplots, "tiles.json")))
         check(tiles["overdraw_source"] != "fragments", f"filtered: overdraw from {tiles['overdraw_source']}")
+        check_rop_only_overdraw(tmp, gpusim, args.scene)
         ptrace = os.path.join(tmp, "trace_prims")
         must([gpusim, "run", args.scene, "--out", os.path.join(tmp, "out"), "--trace", ptrace, "--trace-prims", "0:9"])
         pplots = os.path.join(tmp, "plots_prims")
@@ -326,6 +372,7 @@ def main():
         must([os.path.join(HERE, "report"), ptrace, "--gpusim", gpusim])
 
         check_bad_input(tmp, trace)
+        check_not_a_trace(tmp, gpusim)
     finally:
         if not args.keep:
             shutil.rmtree(tmp, ignore_errors=True)

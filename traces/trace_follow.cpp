@@ -141,12 +141,6 @@ std::vector<FragmentRecord> TraceFollow::pixel_fragments(int x, int y) const {
 std::string TraceFollow::prim_absence(int64_t prim) const {
   const TraceManifest& m = m_reader.manifest();
   const TraceFilters& f = m.filters;
-  const uint64_t total = m.primitives();
-  if (static_cast<uint64_t>(prim) >= total) {
-    return "primitive " + std::to_string(prim) + " does not exist: the scene has " +
-           std::to_string(total) + " primitive" + (total == 1 ? "" : "s") +
-           (total ? " (ids 0.." + std::to_string(total - 1) + ")" : "");
-  }
   if (f.prims && (prim < f.prims->first || prim > f.prims->second)) {
     return m.prim_word(prim) + " " + std::to_string(prim) +
            " was filtered out of the trace: it was recorded with --trace-prims " +
@@ -164,6 +158,14 @@ std::string TraceFollow::prim_text(int64_t prim) const {
   if (prim < 0)
     throw InputError("--prim " + std::to_string(prim) + ": expected a primitive id >= 0");
   const TraceManifest& m = m_reader.manifest();
+  // An id beyond the scene's primitives is bad input (exit 2), not an answer.
+  const uint64_t total = m.primitives();
+  if (static_cast<uint64_t>(prim) >= total) {
+    throw InputError("--prim " + std::to_string(prim) + ": primitive " + std::to_string(prim) +
+                     " does not exist: the scene has " + std::to_string(total) + " primitive" +
+                     (total == 1 ? "" : "s") +
+                     (total ? " (ids 0.." + std::to_string(total - 1) + ")" : ""));
+  }
   const std::vector<Step> steps = prim_steps(prim);
   if (steps.empty()) return prim_absence(prim) + "\n";
 

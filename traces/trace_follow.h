@@ -2,8 +2,9 @@
 // through the pipeline (transactions.bin), or every fragment that touched one
 // pixel (fragments.bin), streamed from the trace so a large frame's records
 // are never all in memory. When nothing is found, the text says why: the
-// primitive or pixel was filtered out (naming the filter from manifest.json),
-// does not exist, or was dropped before the stages that record it.
+// primitive or pixel was filtered out (naming the filter from manifest.json)
+// or was dropped before the stages that record it; a primitive id the scene
+// does not have is an error.
 #pragma once
 
 #include <cstdint>
@@ -42,7 +43,9 @@ class TraceFollow {
   using FrameLookup = std::function<std::optional<PixelValue>(int x, int y)>;
 
   // The report `gpusim trace follow` prints. An (x, y) outside the
-  // framebuffer or a negative primitive is an InputError.
+  // framebuffer, a negative primitive or one beyond the scene's primitives
+  // is an InputError; a primitive filtered out or never recorded is
+  // explained in the report.
   std::string prim_text(int64_t prim) const;
   std::string pixel_text(int x, int y, const FrameLookup& frame = nullptr) const;
 

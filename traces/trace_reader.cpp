@@ -4,6 +4,7 @@
 #include <array>
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -394,8 +395,27 @@ std::vector<std::string> TraceManifest::unit_kinds() const {
   return kinds;
 }
 
+// A directory without manifest.json is not a trace; the likeliest mix-up,
+// a run's --out directory (stats.json, frame.exr), is named as such. The
+// same words as scripts/gpusim_trace.py's Trace.
+static void check_trace_directory(const std::string& dir) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::file_status st = fs::status(dir, ec);
+  if (!fs::exists(st)) throw InputError(dir + ": no such directory");
+  if (!fs::is_directory(st)) throw InputError(dir + ": not a directory");
+  if (fs::exists(fs::path(dir) / "manifest.json", ec)) return;
+  std::string what = dir +
+                     ": not a trace directory (no manifest.json; write one with gpusim run SCENE "
+                     "--trace DIR)";
+  if (fs::exists(fs::path(dir) / "stats.json", ec) || fs::exists(fs::path(dir) / "frame.exr", ec))
+    what += " (this looks like a run's --out directory)";
+  throw InputError(what);
+}
+
 TraceReader::TraceReader(const std::string& dir) : m_dir(dir) {
   while (m_dir.size() > 1 && m_dir.back() == '/') m_dir.pop_back();
+  check_trace_directory(m_dir);
   m_manifest = parse_manifest(path("manifest.json"));
   check_record_file(path("transactions.bin"), "GPUSIMTX", kTransactionBytes,
                     m_manifest.transaction_records);

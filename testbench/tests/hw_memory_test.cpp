@@ -144,6 +144,41 @@ TEST(Memory, ConcurrentClientsShareTheBandwidth) {
   EXPECT_EQ(mem.busy_cycles(), 2u + 2u + 3u + 1u);
 }
 
+// Mean and maximum wait per request (issue #16 item 8: the summed
+// queued_cycles alone read as absurd). A 32-byte request takes one bus cycle.
+// a and b each issue four 32 B reads at t=0, one round: a's burst goes first
+// (the pointer starts at a), so a's requests start at 0, 1, 2, 3 and b's at
+// 4, 5, 6, 7. a waits 0+1+2+3 = 6 (mean 1.5, max 3), b 4+5+6+7 = 22 (mean
+// 5.5, max 7). A client without requests reports mean and max 0.
+TEST(Memory, QueueingMeanAndMaximumPerRequest) {
+  Memory mem("mem", kSize, 20, 32, kCycle);
+  std::array<uint8_t, 32> buf_a{}, buf_b{};
+  const auto four_reads = [](std::array<uint8_t, 32>& buf, uint64_t base) {
+    return [&buf, base](Client& c) {
+      for (uint64_t i = 0; i < 4; ++i) c.port.read(base + 32 * i, buf.data(), 32);
+      group_delay(c.port);
+    };
+  };
+  Client a("a", mem, four_reads(buf_a, 0));
+  Client b("b", mem, four_reads(buf_b, 512));
+  Client idle("idle", mem, [](Client&) {});
+  sc_core::sc_start();
+  const nlohmann::json clients = mem.stats_json()["clients"];
+  EXPECT_EQ(clients["a"]["requests"], 4u);
+  EXPECT_EQ(clients["a"]["queued_cycles"], 6.0);
+  EXPECT_EQ(clients["a"]["queued_cycles_mean"], 1.5);
+  EXPECT_EQ(clients["a"]["queued_cycles_max"], 3.0);
+  EXPECT_EQ(clients["b"]["queued_cycles"], 22.0);
+  EXPECT_EQ(clients["b"]["queued_cycles_mean"], 5.5);
+  EXPECT_EQ(clients["b"]["queued_cycles_max"], 7.0);
+  EXPECT_EQ(clients["idle"]["queued_cycles_mean"], 0.0);
+  EXPECT_EQ(clients["idle"]["queued_cycles_max"], 0.0);
+  EXPECT_EQ(in_cycles(mem.client_stats(1).queued_max), 7);
+  // Every stats field is described.
+  for (const auto& [key, value] : clients["a"].items())
+    EXPECT_TRUE(Memory::descriptions()["clients"].contains(key)) << key;
+}
+
 // Per-client traffic: a writes 100 B (4 bus cycles) and reads 64 B (2);
 // b reads 32 B (1) and writes 8 B (1).
 TEST(Memory, PerClientStatistics) {

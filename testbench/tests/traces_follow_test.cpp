@@ -142,11 +142,18 @@ TEST_F(TraceFollowTest, PrimitiveCyclesMatchTheCostModel) {
 TEST_F(TraceFollowTest, PrimitiveAbsentOrFilteredIsExplained) {
   const std::string scene = write_json("one_triangle.json", one_triangle_scene());
   const std::string all = trace(scene, "--units 1", "all");
-  CommandResult r = gpusim("trace follow " + all + " --prim 7");
-  EXPECT_EQ(r.status, 0) << r.out;
-  EXPECT_NE(r.out.find("primitive 7 does not exist: the scene has 1 primitive (ids 0..0)"),
-            std::string::npos)
-      << r.out;
+  // A primitive the scene does not have is bad input (issue #16 item 5: it
+  // exited 0): exit 2, one line.
+  for (const char* prim : {"7", "99999999"}) {
+    CommandResult r = gpusim("trace follow " + all + " --prim " + prim);
+    EXPECT_EQ(r.status, 2) << r.out;
+    EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+    EXPECT_NE(r.out.find("--prim " + std::string(prim) + ": primitive " + prim +
+                         " does not exist: the scene has 1 primitive (ids 0..0)"),
+              std::string::npos)
+        << r.out;
+  }
+  CommandResult r;
 
   // A trace filtered to primitives 1:5 holds only control tokens for
   // primitive 0, and says which filter dropped it.

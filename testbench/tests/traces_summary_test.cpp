@@ -2,6 +2,7 @@
 // by one stage (setup, the rasterizers, the memory bus), the signals
 // agreeing with stats.json, and the histograms adding up to the window.
 #include <cmath>
+#include <filesystem>
 #include <string>
 
 #include "testbench/tests/traces_support.h"
@@ -15,6 +16,7 @@ using trace_test::at_window;
 using trace_test::CommandResult;
 using trace_test::gpusim;
 using TraceSummaryTest = trace_test::TraceTest;
+namespace fs = std::filesystem;
 
 // Checks that hold for any unfiltered trace: the signals' busy, stalled and
 // starved cycles equal stats.json's, each stage is in exactly one state at a
@@ -174,6 +176,37 @@ TEST_F(TraceSummaryTest, DefaultSceneIsMemoryBound) {
   const CommandResult r = gpusim("trace summary " + dir);
   ASSERT_EQ(r.status, 0) << r.out;
   EXPECT_NE(r.out.find("memory-bound"), std::string::npos) << r.out;
+}
+
+// Issue #16 item 5: `trace summary` on a run's --out directory said only
+// "manifest.json: cannot open". Every trace subcommand now says the
+// directory is not a trace, how to write one, and, when it holds a run's
+// outputs, that it looks like an --out directory; exit 2, one line.
+TEST_F(TraceSummaryTest, NotATraceDirectoryIsNamed) {
+  const std::string trace_dir =
+      trace(GPUSIM_SOURCE_DIR "/testbench/scenes/quad_clipspace.json", "--units 1", "t");
+  const std::string out = trace_dir + "_out";  // run --out: stats.json, frame.exr
+  ASSERT_TRUE(fs::exists(fs::path(out) / "stats.json"));
+  const std::string not_trace =
+      ": not a trace directory (no manifest.json; write one with gpusim run SCENE --trace DIR)";
+  const std::string hint = " (this looks like a run's --out directory)";
+  for (const std::string& cmd :
+       {"trace summary " + out, "trace summary --json " + out, "trace follow " + out + " --prim 0",
+        "trace follow " + out + " --pixel 1,1"}) {
+    const CommandResult r = gpusim(cmd);
+    EXPECT_EQ(r.status, 2) << cmd << ": " << r.out;
+    EXPECT_EQ(r.out, "gpusim: " + out + not_trace + hint + "\n") << cmd;
+  }
+  const fs::path empty = dir_ / "empty";
+  fs::create_directories(empty);
+  CommandResult r = gpusim("trace summary " + empty.string());
+  EXPECT_EQ(r.status, 2) << r.out;
+  EXPECT_EQ(r.out, "gpusim: " + empty.string() + not_trace + "\n");
+  r = gpusim("trace summary " + (dir_ / "missing").string());
+  EXPECT_EQ(r.status, 2) << r.out;
+  EXPECT_EQ(r.out, "gpusim: " + (dir_ / "missing").string() + ": no such directory\n");
+  // The trace itself still reads.
+  EXPECT_EQ(gpusim("trace summary " + trace_dir).status, 0);
 }
 
 }  // namespace
