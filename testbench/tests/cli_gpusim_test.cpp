@@ -28,9 +28,10 @@ struct CommandResult {
   std::string out;  // stdout and stderr together
 };
 
-CommandResult run(const std::string& args) {
+// Runs a shell command line; its stdout and stderr together.
+CommandResult shell(const std::string& command) {
   CommandResult r;
-  FILE* p = popen((kGpusim + " " + args + " 2>&1").c_str(), "r");
+  FILE* p = popen((command + " 2>&1").c_str(), "r");
   if (!p) return r;
   std::array<char, 4096> buf;
   size_t n;
@@ -38,6 +39,10 @@ CommandResult run(const std::string& args) {
   const int st = pclose(p);
   r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
   return r;
+}
+
+CommandResult run(const std::string& args) {
+  return shell(kGpusim + " " + args);
 }
 
 std::string slurp(const fs::path& p) {
@@ -243,17 +248,8 @@ TEST_F(Cli, SceneGeneratorsWriteOnlyWhereTold) {
     before[e.path().string()] = fs::last_write_time(e.path());
   }
   const auto python = [&](const std::string& script, const std::string& args) {
-    const std::string command = "cd " + dir_.string() + " && /usr/bin/python3 " +
-                                GPUSIM_SOURCE_DIR "/scripts/gen/" + script + " " + args + " 2>&1";
-    CommandResult r;
-    FILE* p = popen(command.c_str(), "r");
-    if (!p) return r;
-    std::array<char, 4096> buf;
-    size_t n;
-    while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
-    const int st = pclose(p);
-    r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-    return r;
+    return shell("cd " + dir_.string() + " && /usr/bin/python3 " +
+                 GPUSIM_SOURCE_DIR "/scripts/gen/" + script + " " + args);
   };
   for (const std::string script : {"make_test_scenes.py", "make_regress_scenes.py"}) {
     const CommandResult help = python(script, "--help");
