@@ -34,6 +34,7 @@
 #include "stages/tile_distributor.h"
 #include "stages/tile_rasterizer.h"
 #include "stages/triangle_setup.h"
+#include "testbench/tests/raster_bench.h"
 
 namespace gpusim {
 namespace {
@@ -55,79 +56,6 @@ struct Rng {
   }
   int64_t range(int64_t lo, int64_t hi) {
     return lo + static_cast<int64_t>(next() % static_cast<uint64_t>(hi - lo + 1));
-  }
-};
-
-// source -> setup -> distributor -> units -> sinks.
-struct Bench {
-  GpuConfig config;
-  FrameState frame;
-  Fifo<ClippedPrimitive> input;
-  TriangleSetup setup;
-  Fifo<SetupPacket> setup_out;
-  TileDistributor distributor;
-  std::vector<std::unique_ptr<Fifo<SetupPacket>>> jobs;
-  std::vector<std::unique_ptr<TileRasterizer>> units;
-  std::vector<std::unique_ptr<Fifo<StampBatch>>> stamps;
-  std::vector<std::vector<StampBatch>> out;
-  std::vector<std::vector<uint64_t>> out_cycle;
-
-  static std::string n(const std::string& p, const std::string& what) { return p + "_" + what; }
-
-  Bench(const std::string& p, const GpuConfig& c, const FrameState& f)
-      : config(c),
-        frame(f),
-        input(n(p, "input").c_str(), config.fifo_depth),
-        setup(n(p, "setup").c_str(), config, frame),
-        setup_out(n(p, "setup_out").c_str(), config.fifo_depth),
-        distributor(n(p, "distributor").c_str(), config, frame),
-        out(config.units),
-        out_cycle(config.units) {
-    setup.in(input);
-    setup.out(setup_out);
-    distributor.in(setup_out);
-    for (unsigned u = 0; u < config.units; ++u) {
-      const std::string s = std::to_string(u);
-      jobs.push_back(std::make_unique<Fifo<SetupPacket>>(n(p, "jobs" + s).c_str(), 16));
-      units.push_back(
-          std::make_unique<TileRasterizer>(n(p, "rasterizer" + s).c_str(), config, frame, u));
-      stamps.push_back(std::make_unique<Fifo<StampBatch>>(n(p, "stamps" + s).c_str(), 16));
-      distributor.out[u](*jobs[u]);
-      units[u]->in(*jobs[u]);
-      units[u]->out(*stamps[u]);
-      sc_core::sc_spawn([this, u] {
-        for (;;) {
-          StampBatch b = stamps[u]->read();
-          out[u].push_back(std::move(b));
-          out_cycle[u].push_back(
-              static_cast<uint64_t>(std::llround(sc_core::sc_time_stamp() / config.cycle())));
-        }
-      });
-    }
-  }
-
-  void feed(const std::vector<ClippedPrimitive>& tokens) {
-    sc_core::sc_spawn([this, tokens] {
-      for (const ClippedPrimitive& t : tokens) input.write(t);
-    });
-  }
-
-  // Every covered pixel of primitive `id`, over all units, as (x, y); a pixel
-  // produced twice shows as a count above 1.
-  std::map<std::pair<int, int>, int> pixels(int64_t id) const {
-    std::map<std::pair<int, int>, int> got;
-    const int sw = static_cast<int>(config.stamp[0]);
-    for (const auto& unit : out) {
-      for (const StampBatch& b : unit) {
-        if (b.kind != PacketKind::work || b.triangle->primitive_id != id) continue;
-        for (const Stamp& s : b.stamps) {
-          for (int bit = 0; bit < 64; ++bit) {
-            if (s.mask >> bit & 1) ++got[{s.x + bit % sw, s.y + bit / sw}];
-          }
-        }
-      }
-    }
-    return got;
   }
 };
 
@@ -382,7 +310,7 @@ TEST(Lines, DiamondExitEqualsIntegerForm) {
                                          config_with(4, 8, 8, 8)};
   std::vector<std::unique_ptr<Bench>> benches;
   for (size_t c = 0; c < configs.size(); ++c) {
-    benches.push_back(std::make_unique<Bench>("de" + std::to_string(c), configs[c], frame));
+    benches.push_back(std::make_unique<Bench>("de" + std::to_string(c), configs[c], frame, false));
     benches.back()->feed(tokens_for(cases));
   }
   sc_core::sc_start();
@@ -431,7 +359,7 @@ TEST(Lines, BresenhamWalkerEqualsClosedFormAcrossUnits) {
                                          config_with(4, 8, 4, 2), config_with(3, 16, 8, 8)};
   std::vector<std::unique_ptr<Bench>> benches;
   for (size_t c = 0; c < configs.size(); ++c) {
-    benches.push_back(std::make_unique<Bench>("br" + std::to_string(c), configs[c], frame));
+    benches.push_back(std::make_unique<Bench>("br" + std::to_string(c), configs[c], frame, false));
     benches.back()->feed(tokens_for(cases));
   }
   sc_core::sc_start();
@@ -473,7 +401,7 @@ TEST(Points, SquareEqualsSpecInequalities) {
     const float y = static_cast<float>(r.range(-4 * 64, (H + 4) * 64)) / 64.0f;
     tokens.push_back(point(i, static_cast<uint32_t>(r.range(0, 47)), x, y));
   }
-  Bench b("pt", config_with(3, 8, 4, 2), frame);
+  Bench b("pt", config_with(3, 8, 4, 2), frame, false);
   b.feed(tokens);
   sc_core::sc_start();
   for (const ClippedPrimitive& p : tokens) {
@@ -514,7 +442,7 @@ TEST(Points, SquareEqualsSpecInequalities) {
 // Busy: 3 tile tests + 11 stamps = 14 cycles; 3 batches.
 TEST(LineTiming, HorizontalDiamondExitOneUnit) {
   GpuConfig cfg = config_with(1, 16, 4, 4);
-  Bench b("h", cfg, frame_with(64, 64, {RenderState{}}));
+  Bench b("h", cfg, frame_with(64, 64, {RenderState{}}), false);
   b.feed({line(0, 0, 2.0f, 5.25f, 42.0f, 5.25f)});
   sc_core::sc_start();
   const StatGroup& r = b.units[0]->stats();
@@ -537,7 +465,7 @@ TEST(LineTiming, HorizontalBresenhamOneUnit) {
   GpuConfig cfg = config_with(1, 16, 4, 4);
   RenderState st;
   st.line_rasterization = LineRasterization::bresenham;
-  Bench b("hb", cfg, frame_with(64, 64, {st}));
+  Bench b("hb", cfg, frame_with(64, 64, {st}), false);
   b.feed({line(0, 0, 2.0f, 5.25f, 42.0f, 5.25f)});
   sc_core::sc_start();
   const StatGroup& r = b.units[0]->stats();
@@ -553,7 +481,7 @@ TEST(LineTiming, HorizontalBresenhamWithoutLastPixel) {
   GpuConfig cfg = config_with(1, 16, 4, 4);
   RenderState st;
   st.line_rasterization = LineRasterization::bresenham;
-  Bench b("hb2", cfg, frame_with(64, 64, {st}));
+  Bench b("hb2", cfg, frame_with(64, 64, {st}), false);
   b.feed({line(0, 0, 2.0f, 5.25f, 42.0f, 5.25f, true, false)});
   sc_core::sc_start();
   const StatGroup& r = b.units[0]->stats();
@@ -569,7 +497,7 @@ TEST(LineTiming, HorizontalBresenhamWithoutLastPixel) {
 // cycles).
 TEST(LineTiming, VerticalDiamondExitAcrossTilesTwoUnits) {
   GpuConfig cfg = config_with(2, 16, 4, 4);
-  Bench b("v", cfg, frame_with(64, 64, {RenderState{}}));
+  Bench b("v", cfg, frame_with(64, 64, {RenderState{}}), false);
   b.feed({line(0, 0, 5.25f, 2.0f, 5.25f, 42.0f)});
   sc_core::sc_start();
   EXPECT_EQ(counter(b.units[0]->stats(), "fragments"), 24u);
@@ -590,7 +518,7 @@ TEST(LineTiming, VerticalBresenhamSkipsOtherUnitsSpans) {
   GpuConfig cfg = config_with(2, 16, 4, 4);
   RenderState st;
   st.line_rasterization = LineRasterization::bresenham;
-  Bench b("vb", cfg, frame_with(64, 64, {st}));
+  Bench b("vb", cfg, frame_with(64, 64, {st}), false);
   b.feed({line(0, 0, 5.25f, 2.0f, 5.25f, 42.0f)});
   sc_core::sc_start();
   EXPECT_EQ(counter(b.units[0]->stats(), "line_spans_skipped"), 1u);
@@ -609,7 +537,7 @@ TEST(PointTiming, SixtyFourPixelPoint) {
   GpuConfig cfg = config_with(1, 16, 4, 4);
   RenderState st;
   st.point_size = 8.0f;
-  Bench b("p", cfg, frame_with(64, 64, {st}));
+  Bench b("p", cfg, frame_with(64, 64, {st}), false);
   b.feed({point(0, 0, 20.0f, 20.0f)});
   sc_core::sc_start();
   const StatGroup& r = b.units[0]->stats();

@@ -29,6 +29,7 @@
 #include "stages/tile_rasterizer.h"
 #include "stages/triangle_setup.h"
 #include "testbench/golden/golden_model.h"
+#include "testbench/tests/raster_bench.h"
 
 namespace gpusim {
 namespace {
@@ -54,94 +55,6 @@ struct Rng {
     return lo + static_cast<int64_t>(next() % static_cast<uint64_t>(hi - lo + 1));
   }
   bool coin() { return next() & 1; }
-};
-
-// ---------------------------------------------------------------------------
-// Testbench: source -> Fifo -> TriangleSetup -> Fifo [-> tap -> Fifo] ->
-// TileDistributor -> Fifo per unit -> TileRasterizer -> Fifo -> sink. The
-// tap records every setup packet and forwards it in the same instant (it adds
-// no time, but one delta; timing tests run without it).
-
-struct Bench {
-  GpuConfig config;
-  FrameState frame;
-  Fifo<ClippedPrimitive> input;
-  TriangleSetup setup;
-  Fifo<SetupPacket> setup_out;
-  Fifo<SetupPacket> tapped;
-  TileDistributor distributor;
-  std::vector<std::unique_ptr<Fifo<SetupPacket>>> jobs;
-  std::vector<std::unique_ptr<TileRasterizer>> units;
-  std::vector<std::unique_ptr<Fifo<StampBatch>>> stamps;
-
-  std::vector<SetupPacket> setup_packets;        // with the tap
-  std::vector<std::vector<StampBatch>> out;      // per unit
-  std::vector<std::vector<uint64_t>> out_cycle;  // per unit, when the sink read each
-
-  static std::string n(const std::string& prefix, const std::string& what) {
-    return prefix + "_" + what;
-  }
-
-  Bench(const std::string& p, const GpuConfig& c, const FrameState& f, bool tap)
-      : config(c),
-        frame(f),
-        input(n(p, "input").c_str(), config.fifo_depth),
-        setup(n(p, "setup").c_str(), config, frame),
-        setup_out(n(p, "setup_out").c_str(), config.fifo_depth),
-        tapped(n(p, "tapped").c_str(), config.fifo_depth),
-        distributor(n(p, "distributor").c_str(), config, frame),
-        out(config.units),
-        out_cycle(config.units) {
-    setup.in(input);
-    setup.out(setup_out);
-    distributor.in(tap ? tapped : setup_out);
-    if (tap) {
-      sc_core::sc_spawn([this] {
-        for (;;) {
-          SetupPacket pk = setup_out.read();
-          setup_packets.push_back(pk);
-          tapped.write(pk);
-        }
-      });
-    }
-    for (unsigned u = 0; u < config.units; ++u) {
-      const std::string s = std::to_string(u);
-      jobs.push_back(
-          std::make_unique<Fifo<SetupPacket>>(n(p, "jobs" + s).c_str(), config.fifo_depth));
-      units.push_back(
-          std::make_unique<TileRasterizer>(n(p, "rasterizer" + s).c_str(), config, frame, u));
-      stamps.push_back(
-          std::make_unique<Fifo<StampBatch>>(n(p, "stamps" + s).c_str(), config.fifo_depth));
-      distributor.out[u](*jobs[u]);
-      units[u]->in(*jobs[u]);
-      units[u]->out(*stamps[u]);
-      sc_core::sc_spawn([this, u] {
-        for (;;) {
-          StampBatch b = stamps[u]->read();
-          out[u].push_back(std::move(b));
-          out_cycle[u].push_back(
-              static_cast<uint64_t>(std::llround(sc_core::sc_time_stamp() / config.cycle())));
-        }
-      });
-    }
-  }
-
-  void feed(const std::vector<ClippedPrimitive>& tokens) {
-    sc_core::sc_spawn([this, tokens] {
-      for (const ClippedPrimitive& t : tokens) input.write(t);
-    });
-  }
-
-  void stall_everything(uint64_t seed) {
-    const sc_core::sc_time c = config.cycle();
-    input.inject_random_stalls(seed + 1, 0.3, 7, c);
-    setup_out.inject_random_stalls(seed + 2, 0.3, 7, c);
-    tapped.inject_random_stalls(seed + 3, 0.3, 7, c);
-    for (unsigned u = 0; u < config.units; ++u) {
-      jobs[u]->inject_random_stalls(seed + 10 + u, 0.3, 9, c);
-      stamps[u]->inject_random_stalls(seed + 100 + u, 0.4, 13, c);
-    }
-  }
 };
 
 // ---------------------------------------------------------------------------
