@@ -15,6 +15,19 @@ bool is_finite(const glm::vec4& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z) && std::isfinite(v.w);
 }
 
+// A primitive leaving the clipper, before its vertices are filled in.
+ClippedPrimitive work_primitive(PrimitiveKind kind, uint32_t draw_id, int64_t primitive_id,
+                                const Varyings& flat) {
+  ClippedPrimitive p;
+  p.kind = PacketKind::work;
+  p.primitive_kind = kind;
+  p.vertex_count = vertex_count_of(kind);
+  p.draw_id = draw_id;
+  p.primitive_id = primitive_id;
+  p.flat_varyings = flat;
+  return p;
+}
+
 }  // namespace
 
 Clipper::Clipper(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame)
@@ -198,13 +211,8 @@ void Clipper::process_triangle(uint32_t draw_id, int64_t primitive_id, const Ver
     ++m_invalid;
     return;
   }
-  ClippedPrimitive t;
-  t.kind = PacketKind::work;
-  t.primitive_kind = PrimitiveKind::triangle;
-  t.vertex_count = vertex_count_of(PrimitiveKind::triangle);
-  t.draw_id = draw_id;
-  t.primitive_id = primitive_id;
-  t.flat_varyings = c.v.varyings;  // the provoking vertex of the original triangle
+  // Flat shading: the provoking vertex of the original triangle.
+  ClippedPrimitive t = work_primitive(PrimitiveKind::triangle, draw_id, primitive_id, c.v.varyings);
 
   // Outcode test: inside every plane means no cut at all.
   bool inside = true;
@@ -349,15 +357,10 @@ void Clipper::process_line(uint32_t draw_id, int64_t primitive_id, const Vertex&
     }
     ++m_lines_clipped;
   }
-  ClippedPrimitive l;
-  l.kind = PacketKind::work;
-  l.primitive_kind = PrimitiveKind::line;
-  l.vertex_count = vertex_count_of(PrimitiveKind::line);
-  l.draw_id = draw_id;
-  l.primitive_id = primitive_id;
+  // Flat shading: the provoking (last) vertex, unclipped.
+  ClippedPrimitive l = work_primitive(PrimitiveKind::line, draw_id, primitive_id, b.v.varyings);
   l.v[0] = to_window(p);
   l.v[1] = to_window(q);
-  l.flat_varyings = b.v.varyings;  // the provoking (last) vertex, unclipped
   l.draw_first = draw_first;
   l.draw_last = draw_last;
   m_out.push_back(l);
@@ -381,14 +384,8 @@ void Clipper::process_point(uint32_t draw_id, int64_t primitive_id, const Vertex
     ++m_points_clipped_away;
     return;
   }
-  ClippedPrimitive pt;
-  pt.kind = PacketKind::work;
-  pt.primitive_kind = PrimitiveKind::point;
-  pt.vertex_count = vertex_count_of(PrimitiveKind::point);
-  pt.draw_id = draw_id;
-  pt.primitive_id = primitive_id;
+  ClippedPrimitive pt = work_primitive(PrimitiveKind::point, draw_id, primitive_id, a.v.varyings);
   pt.v[0] = to_window(a.v);
-  pt.flat_varyings = a.v.varyings;
   m_out.push_back(pt);
   ++m_points_out;
 }
