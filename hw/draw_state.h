@@ -13,9 +13,17 @@
 
 namespace gpusim {
 
+// The framebuffer a scene asks for: width x height is the image written out.
+// Antialiasing (docs/pipeline-spec.md, section 14): `samples` coverage and
+// depth samples per pixel (1, 2, 4, 8 or 16, at Direct3D's standard
+// positions), and supersampling by `supersample` = k: the frame is rendered
+// at k * width x k * height and box-filtered down. In FrameState, the GPU's
+// registers, width and height are the render target's (already times k).
 struct FramebufferDesc {
   int width = 256;
   int height = 256;
+  unsigned samples = 1;
+  unsigned supersample = 1;
   ColorFormat color_format = ColorFormat::rgba8;
   DepthFormat depth_format = DepthFormat::unorm24;
   glm::vec4 clear_color{0.0f, 0.0f, 0.0f, 1.0f};

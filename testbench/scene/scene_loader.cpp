@@ -30,6 +30,7 @@ using Json = nlohmann::ordered_json;
 using Out = nlohmann::json;
 
 constexpr int64_t kMaxFramebufferSize = 8192;
+constexpr int64_t kMaxSupersample = 8;
 // The format nests at most 5 deep; the limit keeps pathological files cheap.
 constexpr size_t kMaxNesting = 32;
 
@@ -355,8 +356,8 @@ void SceneReader::read_framebuffer(const At& root, Scene& scene) {
   if (has(root, "framebuffer")) {
     const At a = member(root, "framebuffer");
     expect_object(a);
-    check_keys(a,
-               {"width", "height", "color_format", "depth_format", "clear_color", "clear_depth"});
+    check_keys(a, {"width", "height", "samples", "supersample", "color_format", "depth_format",
+                   "clear_color", "clear_depth"});
     if (has(a, "width")) fb.width = integer(member(a, "width"), 1, kMaxFramebufferSize);
     if (has(a, "height")) fb.height = integer(member(a, "height"), 1, kMaxFramebufferSize);
     if (has(a, "color_format"))
@@ -369,9 +370,26 @@ void SceneReader::read_framebuffer(const At& root, Scene& scene) {
       fb.clear_depth = real(d);
       if (!(fb.clear_depth >= 0.0f && fb.clear_depth <= 1.0f)) fail_value(d, "expected 0..1");
     }
+    if (has(a, "samples")) {
+      const At s = member(a, "samples");
+      fb.samples = static_cast<unsigned>(integer(s, 1, 16));
+      if ((fb.samples & (fb.samples - 1)) != 0) fail_value(s, "expected 1, 2, 4, 8 or 16");
+    }
+    if (has(a, "supersample")) {
+      const At k = member(a, "supersample");
+      fb.supersample = static_cast<unsigned>(integer(k, 1, kMaxSupersample));
+      // The render target is k times the image on each side.
+      if (std::max(fb.width, fb.height) * int64_t{fb.supersample} > kMaxFramebufferSize) {
+        fail(k.path, "a render target of " + std::to_string(fb.width * fb.supersample) + "x" +
+                         std::to_string(fb.height * fb.supersample) + " exceeds " +
+                         std::to_string(kMaxFramebufferSize) + " pixels on a side");
+      }
+    }
   }
   scene.resolved["framebuffer"] = {{"width", fb.width},
                                    {"height", fb.height},
+                                   {"samples", fb.samples},
+                                   {"supersample", fb.supersample},
                                    {"color_format", to_string(fb.color_format)},
                                    {"depth_format", to_string(fb.depth_format)},
                                    {"clear_color", out_vec(fb.clear_color)},

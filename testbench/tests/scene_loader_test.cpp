@@ -849,8 +849,14 @@ TEST_F(SceneLoaderTest, FileErrors) {
 TEST_F(SceneLoaderTest, StructuralErrors) {
   EXPECT_EQ(error_of("[1, 2]"), "expected an object, got an array of 2 elements");
   EXPECT_EQ(error_of(R"({"framebuffer": {"widht": 256}})"),
-            "framebuffer.widht: unknown key (allowed: width, height, color_format, "
-            "depth_format, clear_color, clear_depth)");
+            "framebuffer.widht: unknown key (allowed: width, height, samples, supersample, "
+            "color_format, depth_format, clear_color, clear_depth)");
+  EXPECT_EQ(error_of(R"({"framebuffer": {"samples": 3}})"),
+            "framebuffer.samples: expected 1, 2, 4, 8 or 16, got 3");
+  EXPECT_EQ(error_of(R"({"framebuffer": {"samples": 32}})"),
+            "framebuffer.samples: expected an integer in 1..16, got 32");
+  EXPECT_EQ(error_of(R"({"framebuffer": {"width": 4096, "supersample": 3}})"),
+            "framebuffer.supersample: a render target of 12288x768 exceeds 8192 pixels on a side");
   EXPECT_EQ(error_of(R"({"framebuffer": {"width": 1, "width": 2}})"),
             "framebuffer.width: duplicate key");
   EXPECT_EQ(error_of(R"({"draws": [{}, {"positions": [], "colors": [[1,1,1,1]]}]})"),
