@@ -191,9 +191,7 @@ Image read_exr(const std::string& path) {
   check_regular_file(path);
   Image img;
   try {
-    if (!Imf::isOpenExrFile(path.c_str())) {
-      throw InputError(path + ": not an OpenEXR or PNG file");
-    }
+    if (!Imf::isOpenExrFile(path.c_str())) throw InputError(path + ": not an OpenEXR file");
     if (Imf::isDeepOpenExrFile(path.c_str())) {
       throw InputError(path + ": deep OpenEXR images are not supported");
     }
@@ -318,6 +316,9 @@ Image read_image(const std::string& path) {
   }
   if (got == sizeof signature && png_sig_cmp(signature, 0, sizeof signature) == 0) {
     return read_png(path);
+  }
+  if (got < sizeof signature || !Imf::isOpenExrFile(path.c_str())) {
+    throw InputError(path + ": not an OpenEXR or PNG file");
   }
   return read_exr(path);
 }

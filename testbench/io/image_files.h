@@ -42,7 +42,9 @@ Image read_exr(const std::string& path);
 // the file has alpha (a colour key included), each value v / 255. 16-bit
 // PNGs are refused. Throws InputError naming the file and the problem.
 Image read_png(const std::string& path);
-// read_png for a file that starts with the PNG signature, else read_exr.
+// read_png for a file that starts with the PNG signature, read_exr for an
+// OpenEXR file; anything else is an InputError "PATH: not an OpenEXR or PNG
+// file".
 Image read_image(const std::string& path);
 
 }  // namespace gpusim
