@@ -1,8 +1,9 @@
 // gpusim: the command line. Subcommands render a scene with a model, or compare
 // frames. Bad input ends in one line on stderr naming the file and the problem
-// and exit status 2 (4 for compare, whose exit codes are idiff's); a simulation that hangs or whose
-// counters do not balance ends in a report and exit status 3 (docs/robustness.md); outputs are
-// written all together or not at all.
+// and exit status 2 (4 for compare, whose exit codes are idiff's); a
+// simulation that hangs or whose counters do not balance ends in a report and
+// exit status 3 (docs/robustness.md); outputs are written all together or not
+// at all.
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -317,9 +318,11 @@ int run_compare(CompareArgs args) {
     const Image b = read_image(args.b);
     args.options.common_channels = a.png || b.png;
     const CompareResult result = compare_images(a, b, args.options, args.a, args.b);
+    // The heat-map first: an unwritable path is then the only line printed.
+    const double max =
+        args.diff_png.empty() ? 0.0 : write_diff_heatmap(a, b, args.diff_png, args.options);
     print_compare_report(std::cout, result, args.a, args.b);
     if (!args.diff_png.empty()) {
-      const double max = write_diff_heatmap(a, b, args.diff_png, args.options);
       std::cout << "heat-map " << args.diff_png;
       if (max > 0.0) {
         std::cout << ": black = not failing; a failing pixel by its largest channel error e, "

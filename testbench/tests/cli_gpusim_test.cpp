@@ -223,7 +223,8 @@ TEST_F(Cli, CompareExitCodesAndFirstFailingPixel) {
   for (const std::string& bad :
        {"compare " + a + " " + (dir_ / "nope.exr").string(), "compare " + a,
         ab + " --channel-tolerance RGBA=x", ab + " --channel-tolerance Y=0.1",
-        ab + " --exact --tolerance 0.1", ab + " --failpercent 120", ab + " --fial 0.1"}) {
+        ab + " --exact --tolerance 0.1", ab + " --failpercent 120", ab + " --fial 0.1",
+        ab + " --diff " + (dir_ / "none" / "d.png").string()}) {
     const CommandResult r = run(bad);
     EXPECT_EQ(r.status, 4) << bad << "\n" << r.out;
     EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << bad << "\n" << r.out;
