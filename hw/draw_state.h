@@ -95,15 +95,21 @@ inline VaryingLayout varying_layout_for(const DrawState& /*draw*/) {
 }
 
 // The colour buffer stores 4 bytes (rgba8) or 8 bytes (rgba16f, half bits)
-// per pixel; the depth buffer 2 bytes (unorm16) or 4 (unorm24 in the low 24
-// bits, float32). Both row-major, row 0 = bottom row, little endian.
+// per sample; the depth buffer 2 bytes (unorm16) or 4 (unorm24 in the low 24
+// bits, float32). Both row-major, row 0 = bottom row, little endian, a
+// pixel's samples adjacent.
 struct FrameState {
   FramebufferDesc framebuffer;
   glm::vec4 global_ambient{0.2f, 0.2f, 0.2f, 1.0f};
   std::vector<Light> lights;
   std::vector<DrawState> draws;
-  uint64_t color_address = 0;
-  uint64_t depth_address = 0;
+  uint64_t color_address = 0;  // N samples per pixel, adjacent
+  uint64_t depth_address = 0;  // likewise
+  // Multisampled or supersampled frames: where the resolve writes the
+  // output image (width / supersample x height / supersample pixels, one
+  // sample each, in the colour format).
+  uint64_t resolve_address = 0;
+  bool needs_resolve() const { return framebuffer.samples > 1 || framebuffer.supersample > 1; }
 };
 
 inline unsigned color_bytes_per_pixel(ColorFormat f) {

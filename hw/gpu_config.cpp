@@ -105,8 +105,14 @@ const std::vector<std::string>& GpuConfig::fifo_names() {
                                               "distributor_to_rasterizer",
                                               "rasterizer_to_depth",
                                               "depth_to_interpolator",
-                                              "interpolator_to_rop"};
+                                              "interpolator_to_rop",
+                                              "rop_to_resolve"};
   return names;
+}
+
+const std::vector<std::string>& GpuConfig::optional_kinds() {
+  static const std::vector<std::string> kinds{"resolve", "rop_to_resolve"};
+  return kinds;
 }
 
 // Defaults model a fully pipelined fixed-function part at 1 GHz; the
@@ -123,6 +129,7 @@ const std::vector<std::pair<std::string, StageCost>>& GpuConfig::default_stage_c
       {"depth_test", {1, 2}},         // per stamp, plus the memory's own delay
       {"interpolator", {1, 6}},       // per stamp: perspective-correct reciprocal and products
       {"rop", {1, 4}},                // per stamp: blend and mask, plus the memory's delay
+      {"resolve", {1, 4}},            // per output stamp and sample pass, plus the memory's
   };
   return list;
 }
@@ -161,7 +168,8 @@ bool GpuConfig::operator==(const GpuConfig& o) const {
   if (clock_mhz != o.clock_mhz || units != o.units || tile_size != o.tile_size ||
       stamp != o.stamp || fifo_depth != o.fifo_depth || stages != o.stages || memory != o.memory ||
       vertex_cache_entries != o.vertex_cache_entries ||
-      tile_cache_entries != o.tile_cache_entries || watchdog_cycles != o.watchdog_cycles) {
+      tile_cache_entries != o.tile_cache_entries || samples_per_pass != o.samples_per_pass ||
+      watchdog_cycles != o.watchdog_cycles) {
     return false;
   }
   for (const auto& n : fifo_names()) {
@@ -174,9 +182,10 @@ GpuConfig gpu_config_from_json(const nlohmann::json& j, const std::string& sourc
   const Reader r(source_name);
   GpuConfig c;
   r.expect_object(j, "");
-  r.check_keys(j, "",
-               {"clock_mhz", "units", "tile_size", "stamp", "fifo_depth", "fifo_depths", "stages",
-                "memory", "vertex_cache_entries", "tile_cache_entries", "watchdog_cycles"});
+  r.check_keys(
+      j, "",
+      {"clock_mhz", "units", "tile_size", "stamp", "fifo_depth", "fifo_depths", "stages", "memory",
+       "vertex_cache_entries", "tile_cache_entries", "samples_per_pass", "watchdog_cycles"});
 
   if (j.contains("clock_mhz")) {
     const auto& v = j["clock_mhz"];
@@ -262,6 +271,9 @@ GpuConfig gpu_config_from_json(const nlohmann::json& j, const std::string& sourc
     c.tile_cache_entries =
         r.get_unsigned(j["tile_cache_entries"], "tile_cache_entries", 1, kMaxTileCache);
   }
+  if (j.contains("samples_per_pass")) {
+    c.samples_per_pass = r.get_unsigned(j["samples_per_pass"], "samples_per_pass", 1, 16);
+  }
   if (j.contains("watchdog_cycles")) {
     c.watchdog_cycles = r.get_uint(j["watchdog_cycles"], "watchdog_cycles", 1, kMaxWatchdog);
   }
@@ -324,6 +336,7 @@ nlohmann::json to_json(const GpuConfig& c) {
   j["memory"] = {{"latency", c.memory.latency}, {"bytes_per_cycle", c.memory.bytes_per_cycle}};
   j["vertex_cache_entries"] = c.vertex_cache_entries;
   j["tile_cache_entries"] = c.tile_cache_entries;
+  j["samples_per_pass"] = c.samples_per_pass;
   j["watchdog_cycles"] = c.watchdog_cycles;
   return j;
 }

@@ -57,15 +57,26 @@ struct GpuConfig {
   MemoryConfig memory;
   unsigned vertex_cache_entries = 32;  // post-transform vertex cache; 0 disables it
   unsigned tile_cache_entries = 16;    // framebuffer tiles cached per unit, per buffer
+  // Multisampling: samples of a pixel the rasterizer's edge core, the depth
+  // test and the ROP handle in one pass over a stamp (a stamp of N samples
+  // per pixel costs ii * ceil(N / samples_per_pass)), and the resolve per
+  // output stamp.
+  unsigned samples_per_pass = 4;
   uint64_t watchdog_cycles = 1000000;  // no stage progress for this long stops the run
 
   // The configurable stages and FIFOs, in pipeline order: the kinds of the
   // netlist (stages/topology.h), which checks them when the GPU is
-  // elaborated; the stages are those of default_stage_cost_list().
+  // elaborated; the stages are those of default_stage_cost_list(). The
+  // resolve stage and its FIFOs exist only in frames that need them
+  // (optional_kinds()).
   static const std::vector<std::string>& stage_names();
   static const std::vector<std::string>& fifo_names();
   static const std::vector<std::pair<std::string, StageCost>>& default_stage_cost_list();
   static std::map<std::string, StageCost, std::less<>> default_stage_costs();
+  // Stage and FIFO kinds elaborated only when the frame needs them.
+  static const std::vector<std::string>& optional_kinds();
+  // Passes over a stamp of n samples per pixel: ceil(n / samples_per_pass).
+  unsigned sample_passes(unsigned n) const { return (n + samples_per_pass - 1) / samples_per_pass; }
 
   // Lookups by a name of stage_names() / fifo_names(); an unknown name is a
   // programming error and throws std::invalid_argument.

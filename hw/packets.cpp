@@ -120,8 +120,10 @@ std::ostream& operator<<(std::ostream& os, const RasterPrimitive& t) {
   print_varyings(os, t.flat_varyings);
   if (t.has_depth_offset) os << " offset " << t.depth_offset;
   if (t.line_rule != LineRule::none) {
-    os << (t.line_rule == LineRule::bresenham ? " bresenham" : " diamond_exit") << " width "
-       << t.width;
+    os << (t.line_rule == LineRule::bresenham   ? " bresenham"
+           : t.line_rule == LineRule::rectangle ? " rectangle"
+                                                : " diamond_exit")
+       << " width " << t.width;
   }
   if (t.line_rule == LineRule::bresenham) {
     os << " pixels (" << t.ia_x << ", " << t.ia_y << ")-(" << t.ib_x << ", " << t.ib_y << ") ends "
@@ -142,7 +144,7 @@ std::ostream& operator<<(std::ostream& os, const SetupPacket& p) {
 
 bool StampBatch::operator==(const StampBatch& o) const {
   return kind == o.kind && same_triangle(triangle, o.triangle) && stamps == o.stamps &&
-         depth == o.depth;
+         samples == o.samples;
 }
 
 std::ostream& operator<<(std::ostream& os, const StampBatch& b) {
@@ -151,18 +153,25 @@ std::ostream& operator<<(std::ostream& os, const StampBatch& b) {
   os << " " << b.stamps.size() << " stamps";
   for (const Stamp& s : b.stamps)
     os << " (" << s.x << ", " << s.y << ": " << std::hex << s.mask << std::dec << ")";
+  if (!b.samples.empty()) os << " " << b.samples.size() << " sample masks";
   return os << "}";
 }
 
 bool ShadedStampBatch::operator==(const ShadedStampBatch& o) const {
   return kind == o.kind && same_triangle(triangle, o.triangle) && stamps == o.stamps &&
-         colors == o.colors;
+         colors == o.colors && samples == o.samples;
 }
 
 std::ostream& operator<<(std::ostream& os, const ShadedStampBatch& b) {
   os << "ShadedStampBatch{" << b.kind;
   if (b.triangle) os << " prim " << b.triangle->primitive_id;
-  return os << " " << b.stamps.size() << " stamps, " << b.colors.size() << " colours}";
+  os << " " << b.stamps.size() << " stamps, " << b.colors.size() << " colours";
+  if (!b.samples.empty()) os << ", " << b.samples.size() << " sample masks";
+  return os << "}";
+}
+
+std::ostream& operator<<(std::ostream& os, const ControlToken& t) {
+  return os << "ControlToken{" << t.kind << "}";
 }
 
 }  // namespace gpusim

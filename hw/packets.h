@@ -120,6 +120,7 @@ enum class LineRule : uint8_t {
   none,          // a triangle or a point
   diamond_exit,  // coverage edges, like a triangle (a parallelogram)
   bresenham,     // the rasterizer's line walker
+  rectangle,     // multisampled (section 14): four coverage edges
 };
 
 // Triangle setup's result, for every primitive kind. Two sets of equations:
@@ -137,7 +138,9 @@ enum class LineRule : uint8_t {
 //   `edge`). A diamond-exit line: the two sides of its band (section 8b's
 //   integer form), the box bounding its first and last column (row). A point:
 //   none, the box is the square. A Bresenham line: none; the walker uses
-//   `ia`, `ib`, `width` and the end flags instead.
+//   `ia`, `ib`, `width` and the end flags instead. Multisampled (section
+//   14): a line's rectangle and a point's square are four edges each, and
+//   the box holds every pixel with a sample inside the primitive's box.
 //
 // Widths (hw/fixed_point.h): line equations have |a|, |b| < 2^25 (a delta)
 // and |c| < 2^51 (L2 plus two products < 2^49), so |E| < 2^52 at any pixel
@@ -151,9 +154,10 @@ struct RasterPrimitive {
   std::array<Subpixel, 3> x{}, y{};
   EdgeValue area2 = 0;  // > 0
   std::array<EdgeEquation, 3> edge;
-  // A triangle's three edges are the most any kind needs: a diamond-exit
-  // line's ends are its box's sides, a point is its box.
-  static constexpr unsigned kMaxCoverageEdges = 3;
+  // A multisampled line's rectangle is the most any kind needs; a
+  // triangle has three, a diamond-exit line two (its ends are its box's
+  // sides), a single-sampled point none (it is its box).
+  static constexpr unsigned kMaxCoverageEdges = 4;
   std::array<EdgeEquation, kMaxCoverageEdges> coverage{};
   uint8_t coverage_count = 3;
   int32_t x0 = 0, y0 = 0, x1 = -1,
@@ -205,15 +209,16 @@ struct StampBatch {
   PacketKind kind = PacketKind::work;
   std::shared_ptr<const RasterPrimitive> triangle;
   std::vector<Stamp> stamps;
-  // Per covered pixel (stamp order, then bit order), the depth value the
-  // depth test computed, for stages after it; empty before the depth test.
-  std::vector<float> depth;
+  // Multisampling (docs/pipeline-spec.md, section 14): per covered pixel
+  // (stamp order, then bit order), its covered samples, bit s for sample s;
+  // empty with one sample per pixel, where a covered pixel is its sample.
+  std::vector<uint16_t> samples;
   bool operator==(const StampBatch& o) const;
   friend void swap(StampBatch& a, StampBatch& b) noexcept {
     std::swap(a.kind, b.kind);
     a.triangle.swap(b.triangle);
     a.stamps.swap(b.stamps);
-    a.depth.swap(b.depth);
+    a.samples.swap(b.samples);
   }
 };
 std::ostream& operator<<(std::ostream& os, const StampBatch& b);
@@ -228,15 +233,26 @@ struct ShadedStampBatch {
   std::shared_ptr<const RasterPrimitive> triangle;
   std::vector<Stamp> stamps;
   std::vector<glm::vec4> colors;
+  std::vector<uint16_t> samples;  // as StampBatch: the samples each colour goes to
   bool operator==(const ShadedStampBatch& o) const;
   friend void swap(ShadedStampBatch& a, ShadedStampBatch& b) noexcept {
     std::swap(a.kind, b.kind);
     a.triangle.swap(b.triangle);
     a.stamps.swap(b.stamps);
     a.colors.swap(b.colors);
+    a.samples.swap(b.samples);
   }
 };
 std::ostream& operator<<(std::ostream& os, const ShadedStampBatch& b);
+
+// ROP -> resolve, per unit (multisampled or supersampled frames only): the
+// control tokens the ROP retired, so the resolve starts once every unit has
+// flushed its tiles.
+struct ControlToken {
+  PacketKind kind = PacketKind::end_of_frame;
+  bool operator==(const ControlToken& o) const { return kind == o.kind; }
+};
+std::ostream& operator<<(std::ostream& os, const ControlToken& t);
 
 // Screen tiles: tile (tx, ty) covers pixels [tx * size, (tx + 1) * size) x
 // [ty * size, ...). Ownership interleaves diagonally so neighbouring tiles

@@ -106,6 +106,7 @@ class TraceProbes {
   virtual FifoProbe<SetupPacket>* fifo_probe(size_t fifo, ProbeTag<SetupPacket>) = 0;
   virtual FifoProbe<StampBatch>* fifo_probe(size_t fifo, ProbeTag<StampBatch>) = 0;
   virtual FifoProbe<ShadedStampBatch>* fifo_probe(size_t fifo, ProbeTag<ShadedStampBatch>) = 0;
+  virtual FifoProbe<ControlToken>* fifo_probe(size_t fifo, ProbeTag<ControlToken>) = 0;
   virtual FragmentProbe* fragment_probe() = 0;
 };
 

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "hw/pixel_formats.h"
+#include "hw/sample_pattern.h"
 
 namespace gpusim {
 namespace {
@@ -74,7 +75,7 @@ void DepthTest::run() {
   layout.base = m_frame.depth_address;
   layout.width = fb.width;
   layout.height = fb.height;
-  layout.bytes_per_pixel = depth_bytes_per_pixel(fb.depth_format);
+  layout.bytes_per_pixel = depth_bytes_per_pixel(fb.depth_format) * fb.samples;
   layout.tile_size = m_config.tile_size;
   layout.units = m_config.units;
   layout.unit = m_unit;
@@ -99,14 +100,19 @@ void DepthTest::run() {
     bool forward = true;
     switch (batch.kind) {
       case PacketKind::work:
-        cycles = m_cost.ii * std::max<uint64_t>(batch.stamps.size(), 1);
+        cycles = m_cost.ii * std::max<uint64_t>(batch.stamps.size(), 1) *
+                 m_config.sample_passes(fb.samples);
         test(batch, t);
         forward = !batch.stamps.empty();
         break;
       case PacketKind::clear: {
-        uint8_t value[4];
-        store_depth(value, layout.bytes_per_pixel, encode_depth(fb.depth_format, fb.clear_depth));
-        m_cache.clear(value);
+        std::vector<uint8_t> value(layout.bytes_per_pixel);  // every sample of a pixel
+        const unsigned bytes = depth_bytes_per_pixel(fb.depth_format);
+        for (unsigned s = 0; s < fb.samples; ++s) {
+          store_depth(value.data() + s * bytes, bytes,
+                      encode_depth(fb.depth_format, fb.clear_depth));
+        }
+        m_cache.clear(value.data());
         break;
       }
       case PacketKind::end_of_frame:
@@ -158,6 +164,13 @@ void DepthTest::test(StampBatch& batch, sc_core::sc_time& t) {
   // No stored value can change the outcome: no memory access.
   if (!st.depth_test || (st.depth_func == CompareFunc::always && !st.depth_write)) {
     m_fragments_passed += fragments;
+    uint64_t samples = fragments;
+    if (!batch.samples.empty()) {
+      samples = 0;
+      for (const uint16_t m : batch.samples)
+        samples += static_cast<uint64_t>(__builtin_popcount(m));
+    }
+    m_samples_passed += samples;
     m_stamps_passed += batch.stamps.size();
     if (probe) report_untested(depth_untested);
     return;
@@ -165,9 +178,24 @@ void DepthTest::test(StampBatch& batch, sc_core::sc_time& t) {
   if (st.depth_func == CompareFunc::never) {
     if (probe) report_untested(depth_failed);
     batch.stamps.clear();
+    batch.samples.clear();
     return;
   }
 
+  if (fb.samples > 1) {
+    switch (fb.depth_format) {
+      case DepthFormat::unorm16:
+        test_samples<DepthFormat::unorm16>(batch, t, st, probe);
+        break;
+      case DepthFormat::unorm24:
+        test_samples<DepthFormat::unorm24>(batch, t, st, probe);
+        break;
+      case DepthFormat::float32:
+        test_samples<DepthFormat::float32>(batch, t, st, probe);
+        break;
+    }
+    return;
+  }
   switch (fb.depth_format) {
     case DepthFormat::unorm16:
       test_format<DepthFormat::unorm16>(batch, t, st, probe);
@@ -303,9 +331,97 @@ void DepthTest::test_stamps(StampBatch& batch, sc_core::sc_time& t, const Render
     }
     if (dirty) m_cache.mark_dirty(entry);
     m_fragments_passed += passed;
+    m_samples_passed += passed;
     if (s.mask != 0) batch.stamps[kept++] = s;
   }
   batch.stamps.resize(kept);
+  m_stamps_passed += kept;
+}
+
+template <DepthFormat F>
+void DepthTest::test_samples(StampBatch& batch, sc_core::sc_time& t, const RenderState& st,
+                             FragmentProbe* probe) {
+  constexpr unsigned bytes = F == DepthFormat::unorm16 ? 2 : 4;  // per sample
+  (void)probe;  // unused in a build without trace hooks
+  const RasterPrimitive& tri = *batch.triangle;
+  const FramebufferDesc& fb = m_frame.framebuffer;
+  const unsigned samples = fb.samples;
+  const int w_mask = static_cast<int>(m_config.stamp[0] - 1);
+  const float z0 = tri.z[0];
+  const float area = static_cast<float>(tri.area2);
+  const float dz1 = tri.z[1] - tri.z[0], dz2 = tri.z[2] - tri.z[0];  // spec section 9
+  update_offsets(tri);
+  const EdgeValue *o1 = m_offset[0].data(), *o2 = m_offset[1].data();
+  // E1 and E2 from the pixel centre to each sample point.
+  std::array<EdgeValue, 16> s1{}, s2{};
+  for (unsigned s = 0; s < samples; ++s) {
+    const SampleOffset o = sample_offset(samples, s);
+    s1[s] = tri.edge[1].a * o.dx + tri.edge[1].b * o.dy;
+    s2[s] = tri.edge[2].a * o.dx + tri.edge[2].b * o.dy;
+  }
+  if (batch.samples.empty() && !batch.stamps.empty()) {
+    SC_REPORT_ERROR("gpusim/depth_test",
+                    (std::string(name()) + ": a multisampled batch without sample masks").c_str());
+  }
+
+  size_t kept = 0, in = 0, out = 0;  // stamps kept; sample masks read and kept
+  for (size_t n = 0; n < batch.stamps.size(); ++n) {
+    Stamp s = batch.stamps[n];
+    const unsigned entry = m_cache.lookup(s.x >> m_tile_shift, s.y >> m_tile_shift, t);
+    uint8_t* const origin = m_cache.pixel(entry, s.x, s.y);
+    bool dirty = false;
+    for (uint64_t bits = s.mask; bits != 0; bits &= bits - 1) {
+      const int idx = __builtin_ctzll(bits);
+      const uint32_t covered = batch.samples[in++];
+      uint8_t* const pixel = origin + m_pixel_offset[static_cast<size_t>(idx)];
+      const EdgeValue e1 = s.e[1] + o1[idx], e2 = s.e[2] + o2[idx];
+      uint32_t passed = 0;
+      float first_z = 0.0f;
+      DepthValue first_old = 0;
+      for (uint32_t m = covered; m != 0; m &= m - 1) {
+        const int k = __builtin_ctz(m);
+        const float f1 = static_cast<float>(e1 + s1[static_cast<size_t>(k)]);
+        const float f2 = static_cast<float>(e2 + s2[static_cast<size_t>(k)]);
+        float z = z0 + (f1 * dz1 + f2 * dz2) / area;
+        if (tri.has_depth_offset) z = z + tri.depth_offset;
+        const DepthValue fragment = encode_depth_as<F>(z);
+        uint8_t* stored = pixel + static_cast<size_t>(k) * bytes;
+        const DepthValue old = load_depth(stored, bytes);
+        if (m == covered) {
+          first_z = decode_depth(F, fragment);
+          first_old = old;
+        }
+        if (!depth_compare(st.depth_func, fragment, old)) continue;
+        passed |= 1u << k;
+        if (st.depth_write) {
+          store_depth(stored, bytes, fragment);
+          dirty = true;
+        }
+      }
+      if constexpr (kTraceHooks) {
+        if (probe) {
+          // One record per pixel: its first covered sample's depths.
+          constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+          probe->depth_tested(
+              m_unit,
+              DepthFragment{s.x + (idx & w_mask), s.y + (idx >> m_stamp_shift), tri.primitive_id,
+                            passed ? depth_passed : depth_failed, first_z,
+                            decode_depth(F, first_old), passed && st.depth_write ? first_z : kNaN});
+        }
+      }
+      if (passed == 0) {
+        s.mask &= ~(uint64_t{1} << idx);
+        continue;
+      }
+      batch.samples[out++] = static_cast<uint16_t>(passed);
+      ++m_fragments_passed;
+      m_samples_passed += static_cast<uint64_t>(__builtin_popcount(passed));
+    }
+    if (dirty) m_cache.mark_dirty(entry);
+    if (s.mask != 0) batch.stamps[kept++] = s;
+  }
+  batch.stamps.resize(kept);
+  batch.samples.resize(out);
   m_stamps_passed += kept;
 }
 

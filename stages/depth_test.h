@@ -21,8 +21,15 @@
 // encode_depth(clear_depth); cleared tiles reach memory when first evicted or
 // at end_of_frame.
 //
+// Multisampled frames (section 14): the buffer holds N depths per pixel, a
+// pixel's samples adjacent, so tiles are N times larger; each covered sample
+// (StampBatch::samples) is interpolated at its own point (E1, E2 plus the
+// sample's offset a * dx_s + b * dy_s), tested and stored, and a pixel goes
+// on with the samples that passed.
+//
 // Cost model, per token read at time t:
-//   work:  busy = ii * stamps (at least ii) + the memory stall: the misses of
+//   work:  busy = ii * stamps * ceil(N / samples_per_pass) (at least ii) +
+//          the memory stall: the misses of
 //          the batch are served one after another (a blocking cache), each
 //          request issued when the previous miss completed, starting at t;
 //          the stall is the completion of the last one, rounded up to whole
@@ -66,6 +73,7 @@ class DepthTest : public PipelineStage {
   }
 
   uint64_t fragments_passed() const { return m_fragments_passed; }
+  uint64_t samples_passed() const { return m_samples_passed; }
 
  private:
   void run();
@@ -81,6 +89,11 @@ class DepthTest : public PipelineStage {
   template <DepthFormat F, CompareFunc Func>
   void test_stamps(StampBatch& batch, sc_core::sc_time& t, const RenderState& st,
                    FragmentProbe* probe);
+  // Multisampled (spec section 14): per covered sample, z from E1 and E2 at
+  // the sample's point; a pixel survives with the samples that passed.
+  template <DepthFormat F>
+  void test_samples(StampBatch& batch, sc_core::sc_time& t, const RenderState& st,
+                    FragmentProbe* probe);
   // Fills m_offset for the triangle's edge steps (kept while they are unchanged).
   void update_offsets(const RasterPrimitive& tri);
 
@@ -105,6 +118,9 @@ class DepthTest : public PipelineStage {
   uint64_t& m_fragments_in = m_stats.counter("fragments_in", "fragments", "covered pixels tested");
   uint64_t& m_fragments_passed = m_stats.counter(
       "fragments_passed", "fragments", "pixels passing the depth test (all when it is off)");
+  uint64_t& m_samples_passed =
+      m_stats.counter("samples_passed", "samples",
+                      "covered samples passing the depth test (one per pixel unless multisampled)");
   uint64_t& m_memory_stall_cycles = m_stats.counter(
       "memory_stall_cycles", "cycles",
       "cycles of busy_cycles beyond ii per stamp or token: tile reads, or at end_of_frame "

@@ -50,17 +50,29 @@ Gpu::Gpu(sc_core::sc_module_name name, const GpuConfig& config, const FrameState
     t.connect("interpolator_to_rop", n, unit.interpolator.get(), &unit.interpolator->out, *unit.rop,
               unit.rop->in);
   }
+  if (frame.needs_resolve()) {
+    m_resolve = std::make_unique<Resolve>("resolve", config, frame);
+    for (unsigned u = 0; u < config.units; ++u) {
+      t.connect("rop_to_resolve", static_cast<int>(u), m_units[u].rop.get(), &m_units[u].rop->done,
+                *m_resolve, m_resolve->in[u]);
+    }
+  }
   // Memory clients are numbered in bind order: bind them in unit order
-  // whatever order the units were elaborated in.
+  // whatever order the units were elaborated in, the resolve last.
   for (const Unit& unit : m_units) {
     unit.depth->mem.bind(m_memory);
     unit.rop->mem.bind(m_memory);
     m_done_events |= unit.rop->frame_done_event();
   }
+  if (m_resolve) {
+    m_resolve->mem.bind(m_memory);
+    m_done_events |= m_resolve->frame_done_event();
+  }
   t.finish();
 }
 
 bool Gpu::frame_done() const {
+  if (m_resolve) return m_resolve->frame_done();
   for (const Unit& u : m_units) {
     if (!u.rop->frame_done()) return false;
   }
@@ -87,17 +99,21 @@ nlohmann::json Gpu::pipeline_counts() const {
   for (const auto& [key, value] : setup.items())
     counts[key] = counts.value(key, uint64_t{0}) + value.get<uint64_t>();
   uint64_t generated = 0, passed = 0, written = 0;
+  uint64_t samples_generated = 0, samples_passed = 0, samples_written = 0;
   for (const Unit& u : m_units) {
     generated += u.rasterizer->fragments();
     passed += u.depth->fragments_passed();
     written += u.rop->fragments_written();
+    samples_generated += u.rasterizer->samples();
+    samples_passed += u.depth->samples_passed();
+    samples_written += u.rop->samples_written();
   }
   counts["fragments_generated"] = generated;
   counts["fragments_passed_depth"] = passed;
   counts["fragments_written"] = written;
-  counts["samples_generated"] = generated;
-  counts["samples_passed_depth"] = passed;
-  counts["samples_written"] = written;
+  counts["samples_generated"] = samples_generated;
+  counts["samples_passed_depth"] = samples_passed;
+  counts["samples_written"] = samples_written;
   return counts;
 }
 

@@ -7,6 +7,7 @@
 //                                                 |            -> Interpolator -> Rop
 //                                                 +-> unit 1 ...
 //   VertexFetch, every DepthTest and Rop -> Memory
+//   multisampled or supersampled frames: every Rop -> Resolve -> Memory
 //
 // This file is instantiation and connections: the netlist they form
 // (topology()) is what statistics, traces, the testbench's checkers
@@ -28,6 +29,7 @@
 #include "stages/command_processor.h"
 #include "stages/depth_test.h"
 #include "stages/interpolator.h"
+#include "stages/resolve.h"
 #include "stages/rop.h"
 #include "stages/tile_distributor.h"
 #include "stages/tile_rasterizer.h"
@@ -55,9 +57,10 @@ class Gpu : public sc_core::sc_module {
   const Memory& memory() const { return m_memory; }
   const Topology& topology() const { return m_topology; }
 
-  // Every unit has flushed its tiles after end_of_frame.
+  // Every unit has flushed its tiles after end_of_frame (and the resolve
+  // has written the output image, when there is one).
   bool frame_done() const;
-  // Notified whenever a unit finishes its frame.
+  // Notified whenever a unit (or the resolve) finishes its frame.
   const sc_core::sc_event_or_list& unit_done_events() const { return m_done_events; }
   // Testbench instrumentation: primitive id of the last colour write per pixel.
   void set_last_writer(std::vector<int64_t>* per_pixel);
@@ -95,6 +98,7 @@ class Gpu : public sc_core::sc_module {
   TriangleSetup m_setup;
   TileDistributor m_distributor;
   std::vector<Unit> m_units;
+  std::unique_ptr<Resolve> m_resolve;  // only when the frame needs one
   Fifo<Command>* m_commands = nullptr;
   sc_core::sc_event_or_list m_done_events;
 };

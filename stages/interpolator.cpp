@@ -35,6 +35,7 @@ void Interpolator::run() {
     receive(in, batch);
     result.kind = batch.kind;
     result.stamps.clear();
+    result.samples.clear();
     // A work batch's colours are resized by shade(): the stale packet's
     // vector is only cut or extended, not cleared and refilled with zeros.
     if (batch.kind != PacketKind::work) result.colors.clear();
@@ -44,6 +45,7 @@ void Interpolator::run() {
       m_stamps += batch.stamps.size();
       shade(batch, result);
       result.stamps.swap(batch.stamps);
+      result.samples.swap(batch.samples);  // multisampled: where each colour goes
       m_fragments += result.colors.size();
     }
     result.triangle.swap(batch.triangle);

@@ -160,6 +160,7 @@ Rop::Rop(sc_core::sc_module_name name, const GpuConfig& config, const FrameState
                     "shaded batches and control tokens read",
                     "tokens retired (their writes done or posted)"),
       in("in"),
+      done("done"),
       mem("mem"),
       m_tile_shift(log2_side(config.tile_size)),
       m_stamp_shift(log2_side(config.stamp[0])),
@@ -175,11 +176,15 @@ void Rop::run() {
   layout.base = m_frame.color_address;
   layout.width = fb.width;
   layout.height = fb.height;
-  layout.bytes_per_pixel = color_bytes_per_pixel(fb.color_format);
+  layout.bytes_per_pixel = color_bytes_per_pixel(fb.color_format) * fb.samples;
   layout.tile_size = m_config.tile_size;
   layout.units = m_config.units;
   layout.unit = m_unit;
   m_cache.configure(layout);
+
+  const unsigned bytes = color_bytes_per_pixel(fb.color_format);  // per sample
+  // A stamp of N samples per pixel takes ceil(N / samples_per_pass) passes.
+  const uint64_t passes = m_config.sample_passes(fb.samples);
 
   // Read into one packet object: the FIFO recycles its buffers (hw/fifo.h).
   ShadedStampBatch batch;
@@ -190,16 +195,19 @@ void Rop::run() {
     uint64_t cycles = m_cost.ii;
     switch (batch.kind) {
       case PacketKind::work:
-        cycles = m_cost.ii * std::max<uint64_t>(batch.stamps.size(), 1);
+        cycles = m_cost.ii * std::max<uint64_t>(batch.stamps.size(), 1) * passes;
         blend(batch, t);
         break;
       case PacketKind::clear: {
-        uint8_t value[8];
+        std::vector<uint8_t> value(layout.bytes_per_pixel);  // every sample of a pixel
         const bool half = fb.color_format == ColorFormat::rgba16f;
-        for (int k = 0; k < 4; ++k) {
-          store_channel(value, half, k, encode_color(fb.color_format, fb.clear_color[k]));
+        for (unsigned s = 0; s < fb.samples; ++s) {
+          for (int k = 0; k < 4; ++k) {
+            store_channel(value.data() + s * bytes, half, k,
+                          encode_color(fb.color_format, fb.clear_color[k]));
+          }
         }
-        m_cache.clear(value);
+        m_cache.clear(value.data());
         break;
       }
       case PacketKind::end_of_frame:
@@ -212,7 +220,13 @@ void Rop::run() {
     if (batch.kind == PacketKind::end_of_frame) stall = stall > cycles ? stall - cycles : 0;
     m_memory_stall_cycles += stall;
     work(cycles + stall);
-    retire();
+    if (done.size() == 0) {
+      retire();
+    } else if (batch.kind != PacketKind::work) {
+      // To the resolve, readable once this token's writes are done.
+      done->write(ControlToken{batch.kind}, sc_core::sc_time_stamp());
+      ++m_tokens_out;
+    }
     if (batch.kind == PacketKind::end_of_frame) {
       ++m_frames;
       m_frame_done = true;
@@ -330,7 +344,8 @@ size_t Rop::for_each_fragment(const ShadedStampBatch& batch, sc_core::sc_time& t
   const unsigned stamp_w = m_config.stamp[0], stamp_h = m_config.stamp[1];
   const int tile = static_cast<int>(m_config.tile_size);
   const int w_mask = static_cast<int>(stamp_w - 1);
-  const size_t bpp = color_bytes_per_pixel(format);
+  const size_t sample_bytes = color_bytes_per_pixel(format);
+  const size_t bpp = sample_bytes * fb.samples;  // a pixel's samples are adjacent
   // Byte offset of stamp pixel p from the stamp origin's inside a tile:
   // rows of the tile are tile_size pixels apart (TileCache::pixel()).
   std::array<size_t, 64> offset;
@@ -343,6 +358,13 @@ size_t Rop::for_each_fragment(const ShadedStampBatch& batch, sc_core::sc_time& t
   std::vector<int64_t>* const last_writer = m_last_writer;
   const glm::vec4* const colors = batch.colors.data();
   const size_t n_colors = batch.colors.size();
+  // Multisampled: the samples each colour goes to (none: the pixel's one).
+  const uint16_t* const sample_masks = batch.samples.empty() ? nullptr : batch.samples.data();
+  if (sample_masks != nullptr && batch.samples.size() != n_colors) {
+    SC_REPORT_ERROR("gpusim/rop",
+                    (std::string(name()) + ": a sample mask per colour expected").c_str());
+  }
+  uint64_t samples = 0;
 
   size_t c = 0;  // index into batch.colors
   for (const Stamp& s : batch.stamps) {
@@ -365,8 +387,16 @@ size_t Rop::for_each_fragment(const ShadedStampBatch& batch, sc_core::sc_time& t
       }
       const int idx = __builtin_ctzll(bits);
       if (!inside) check_pixel(s.x + (idx & w_mask), s.y + (idx >> m_stamp_shift), fb);
-      uint8_t* const stored = origin + offset[static_cast<size_t>(idx)];
-      write(colors[c], stored);
+      uint8_t* stored = origin + offset[static_cast<size_t>(idx)];
+      if (sample_masks == nullptr) {
+        write(colors[c], stored);
+      } else {
+        const uint32_t covered = sample_masks[c];
+        for (uint32_t m = covered; m != 0; m &= m - 1)
+          write(colors[c], stored + static_cast<size_t>(__builtin_ctz(m)) * sample_bytes);
+        samples += static_cast<uint64_t>(__builtin_popcount(covered));
+        stored += static_cast<size_t>(__builtin_ctz(covered)) * sample_bytes;  // traced below
+      }
       if (last_writer) {
         const int x = s.x + (idx & w_mask), y = s.y + (idx >> m_stamp_shift);
         (*last_writer)[static_cast<size_t>(y) * fb.width + x] = tri.primitive_id;
@@ -382,6 +412,7 @@ size_t Rop::for_each_fragment(const ShadedStampBatch& batch, sc_core::sc_time& t
       }
     }
   }
+  m_samples_written += sample_masks == nullptr ? c : samples;
   return c;
 }
 

@@ -50,6 +50,9 @@ namespace gpusim {
 class Rop : public PipelineStage {
  public:
   FifoInPort<ShadedStampBatch> in;
+  // Bound only when a resolve follows (a multisampled or supersampled
+  // frame): the control tokens, passed on once retired.
+  sc_core::sc_port<FifoOutIf<ControlToken>, 1, sc_core::SC_ZERO_OR_MORE_BOUND> done;
   MemoryPort mem;
 
   Rop(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame,
@@ -69,14 +72,15 @@ class Rop : public PipelineStage {
   }
 
   uint64_t fragments_written() const { return m_fragments_written; }
+  uint64_t samples_written() const { return m_samples_written; }
 
  private:
   void run();
   void blend(const ShadedStampBatch& batch, sc_core::sc_time& t);
   void check_pixel(int x, int y, const FramebufferDesc& fb) const;
-  // Calls write(colour, stored bytes) for every covered pixel of the batch,
-  // in order, with the checks, cache lookups, last-writer record and trace
-  // around it; returns the number of colours consumed.
+  // Calls write(colour, stored bytes) for every covered sample of the
+  // batch, in order, with the checks, cache lookups, last-writer record and
+  // trace around it; returns the number of colours (pixels) consumed.
   template <typename Write>
   size_t for_each_fragment(const ShadedStampBatch& batch, sc_core::sc_time& t, FragmentProbe* probe,
                            Write&& write);
@@ -96,6 +100,8 @@ class Rop : public PipelineStage {
                       "pixels written: passed depth, at least one channel enabled");
   uint64_t& m_fragments_blended =
       m_stats.counter("fragments_blended", "fragments", "written with blending");
+  uint64_t& m_samples_written = m_stats.counter(
+      "samples_written", "samples", "samples written (the pixels' covered samples that passed)");
   uint64_t& m_memory_stall_cycles = m_stats.counter(
       "memory_stall_cycles", "cycles",
       "cycles of busy_cycles beyond ii per stamp or token: tile reads, or at end_of_frame "

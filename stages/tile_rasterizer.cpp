@@ -7,6 +7,7 @@
 #include <tuple>
 
 #include "hw/fixed_point.h"
+#include "hw/sample_pattern.h"
 
 namespace gpusim {
 namespace {
@@ -47,6 +48,15 @@ TileRasterizer::TileRasterizer(sc_core::sc_module_name name, const GpuConfig& co
 }
 
 void TileRasterizer::run() {
+  // The frame's registers are final once the simulation runs.
+  m_samples = m_frame.framebuffer.samples;
+  m_full_samples = static_cast<uint16_t>((1u << m_samples) - 1);
+  m_passes = m_config.sample_passes(m_samples);
+  for (unsigned i = 0; i < m_samples; ++i) {
+    const SampleOffset o = sample_offset(m_samples, i);
+    m_sample_dx[i] = o.dx;
+    m_sample_dy[i] = o.dy;
+  }
   for (;;) {
     SetupPacket p = receive(in);
     if (p.kind != PacketKind::work) {
@@ -65,7 +75,6 @@ void TileRasterizer::emit_batch(const std::shared_ptr<const RasterPrimitive>& tr
   m_pending_cycles = 0;
   m_batch.kind = PacketKind::work;
   m_batch.triangle = tri;
-  m_batch.depth.clear();
   // Moved in: m_batch comes back holding the slot's stale packet, whose
   // stamp buffer the next tile refills (hw/fifo.h).
   emit(out, std::move(m_batch));
@@ -89,10 +98,14 @@ void TileRasterizer::rasterize(const std::shared_ptr<const RasterPrimitive>& tri
     walk_line(tri);
     return;
   }
-  // The edge core has three edge units; a triangle uses them all, a diamond-exit
-  // line two (its band), a point none (its square is the box). One
+  // The edge core has four edge units; a multisampled line or point uses them
+  // all (its rectangle or square), a triangle three, a diamond-exit line two
+  // (its band), a single-sampled point none (its square is the box). One
   // instantiation per count keeps the triangle path's loops fixed at three.
   switch (t.coverage_count) {
+    case 4:
+      rasterize_edges<4>(tri);
+      break;
     case 3:
       rasterize_edges<3>(tri);
       break;
@@ -233,6 +246,7 @@ void TileRasterizer::walk_line(const std::shared_ptr<const RasterPrimitive>& tri
     // One batch per tile, tiles in minor order, stamps in rows bottom-up,
     // left to right; ii per stamp emitted.
     m_batch.stamps.clear();
+    m_batch.samples.clear();
     bool open = false;
     int current_tile = 0;
     for (const auto& [key, mask] : m_line_stamps) {
@@ -240,6 +254,7 @@ void TileRasterizer::walk_line(const std::shared_ptr<const RasterPrimitive>& tri
       if (open && tile_n != current_tile) {
         emit_batch(tri);
         m_batch.stamps.clear();  // the FIFO handed back a stale packet
+        m_batch.samples.clear();
       }
       open = true;
       current_tile = tile_n;
@@ -249,6 +264,7 @@ void TileRasterizer::walk_line(const std::shared_ptr<const RasterPrimitive>& tri
       ++m_stamps_emitted;
       ++m_line_stamps_emitted;
       m_fragments += static_cast<uint64_t>(__builtin_popcountll(mask));
+      m_samples_covered += static_cast<uint64_t>(__builtin_popcountll(mask));
     }
     if (open) emit_batch(tri);
   }
@@ -276,6 +292,19 @@ void TileRasterizer::rasterize_edges(const std::shared_ptr<const RasterPrimitive
     step_y[k] = b * sh;
     tile_reach_max[k] = std::max<EdgeValue>(e.a, 0) * reach + std::max<EdgeValue>(e.b, 0) * reach;
     tile_reach_min[k] = std::min<EdgeValue>(e.a, 0) * reach + std::min<EdgeValue>(e.b, 0) * reach;
+    if (m_samples > 1) {
+      // The tile test covers every sample point: the extremes of the
+      // samples' offsets widen each edge's range.
+      EdgeValue lo = 0, hi = 0;
+      for (unsigned s = 0; s < m_samples; ++s) {
+        const EdgeValue o = e.a * m_sample_dx[s] + e.b * m_sample_dy[s];
+        m_sample_offset[k][s] = o;
+        lo = s == 0 ? o : std::min(lo, o);
+        hi = s == 0 ? o : std::max(hi, o);
+      }
+      tile_reach_max[k] += hi;
+      tile_reach_min[k] += lo;
+    }
   }
 
   // Sizes are powers of two and coordinates non-negative: divisions are shifts.
@@ -311,6 +340,7 @@ void TileRasterizer::rasterize_edges(const std::shared_ptr<const RasterPrimitive
       for (int k = 0; k < N; ++k) e_row[k] = e_tile[k] + si0 * step_x[k] + sj0 * step_y[k];
 
       m_batch.stamps.clear();
+      m_batch.samples.clear();
       for (int sj = sj0; sj <= sj1; ++sj) {
         const int sy = oy + sj * sh;
         const int jlo = std::max(0, t.y0 - sy), jhi = std::min(sh - 1, t.y1 - sy);
@@ -328,13 +358,18 @@ void TileRasterizer::rasterize_edges(const std::shared_ptr<const RasterPrimitive
             for (int j = jlo; j <= jhi; ++j) box |= row << (j * sw);
           }
           uint64_t mask;
-          m_pending_cycles += ii;
+          m_pending_cycles += ii * m_passes;
           if (accept) {
             ++m_stamps_accepted;
             mask = box;
+            if (m_samples > 1) {
+              for (uint64_t bits = box; bits != 0; bits &= bits - 1)
+                m_batch.samples.push_back(m_full_samples);
+              m_samples_covered += static_cast<uint64_t>(__builtin_popcountll(box)) * m_samples;
+            }
           } else {
             ++m_stamps_evaluated;
-            mask = coverage<N>(t, e_here, box);
+            mask = m_samples > 1 ? sample_coverage<N>(t, e_here, box) : coverage<N>(t, e_here, box);
           }
           if (mask == 0) continue;
           if constexpr (N == 3) {
@@ -344,8 +379,11 @@ void TileRasterizer::rasterize_edges(const std::shared_ptr<const RasterPrimitive
           }
           ++m_stamps_emitted;
           // Full stamps need no count (popcount is a libgcc call on baseline x86-64).
-          m_fragments += mask == m_full_mask ? static_cast<uint64_t>(m_stamp_pixels)
-                                             : static_cast<uint64_t>(__builtin_popcountll(mask));
+          const uint64_t covered = mask == m_full_mask
+                                       ? static_cast<uint64_t>(m_stamp_pixels)
+                                       : static_cast<uint64_t>(__builtin_popcountll(mask));
+          m_fragments += covered;
+          if (m_samples == 1) m_samples_covered += covered;
         }
         for (int k = 0; k < N; ++k) e_row[k] += step_y[k];
       }
@@ -398,6 +436,30 @@ uint64_t TileRasterizer::coverage(const RasterPrimitive& t, const std::array<Edg
       for (int k = 0; k < N; ++k) in = in && m_offset[k][p] >= th[k];
       cover |= static_cast<uint64_t>(in) << p;
     }
+  }
+  return cover;
+}
+
+template <int N>
+uint64_t TileRasterizer::sample_coverage(const RasterPrimitive& t,
+                                         const std::array<EdgeValue, N>& e, uint64_t box) {
+  uint64_t cover = 0;
+  for (uint64_t bits = box; bits != 0; bits &= bits - 1) {
+    const int p = __builtin_ctzll(bits);
+    const EdgeValue i = p & (m_stamp_w - 1), j = p >> m_stamp_w_shift;
+    std::array<EdgeValue, N> at;  // E - bias at the pixel centre
+    for (int k = 0; k < N; ++k)
+      at[k] = e[k] + i * m_pixel_dx[k] + j * m_pixel_dy[k] - t.coverage[k].bias;
+    uint32_t samples = 0;
+    for (unsigned s = 0; s < m_samples; ++s) {
+      bool in = true;
+      for (int k = 0; k < N; ++k) in = in && at[k] + m_sample_offset[k][s] >= 0;
+      samples |= static_cast<uint32_t>(in) << s;
+    }
+    if (samples == 0) continue;
+    cover |= uint64_t{1} << p;
+    m_batch.samples.push_back(static_cast<uint16_t>(samples));
+    m_samples_covered += static_cast<uint64_t>(__builtin_popcount(samples));
   }
   return cover;
 }

@@ -116,6 +116,7 @@ class TileRasterizer : public PipelineStage {
   uint64_t tiles_visited() const { return m_tiles_visited; }
   uint64_t stamps_emitted() const { return m_stamps_emitted; }
   uint64_t fragments() const { return m_fragments; }
+  uint64_t samples() const { return m_samples_covered; }
 
  private:
   static constexpr int kMaxStampPixels = 64;
@@ -130,6 +131,11 @@ class TileRasterizer : public PipelineStage {
   // primitive, from the raw coverage edge values `e` at the stamp's origin.
   template <int N>
   uint64_t coverage(const RasterPrimitive& t, const std::array<EdgeValue, N>& e, uint64_t box);
+  // Multisampled: the same per sample; appends each covered pixel's sample
+  // mask to m_batch.samples.
+  template <int N>
+  uint64_t sample_coverage(const RasterPrimitive& t, const std::array<EdgeValue, N>& e,
+                           uint64_t box);
   // The Bresenham line walker.
   void walk_line(const std::shared_ptr<const RasterPrimitive>& tri);
   // The interpolation functions' values at stamp origin (sx, sy)'s centre.
@@ -153,6 +159,15 @@ class TileRasterizer : public PipelineStage {
   std::array<EdgeValue, RasterPrimitive::kMaxCoverageEdges> m_pixel_dx{}, m_pixel_dy{};
   std::array<std::array<EdgeValue, kMaxStampPixels>, RasterPrimitive::kMaxCoverageEdges> m_offset{};
   bool m_offset_valid = false;
+  // Multisampling (spec section 14): samples per pixel, their offsets from
+  // the pixel centre (read from the frame when the simulation starts), and
+  // per primitive each coverage edge's offset to each sample,
+  // a * dx_s + b * dy_s.
+  unsigned m_samples = 1;
+  uint16_t m_full_samples = 1;
+  std::array<Subpixel, 16> m_sample_dx{}, m_sample_dy{};
+  std::array<std::array<EdgeValue, 16>, RasterPrimitive::kMaxCoverageEdges> m_sample_offset{};
+  uint64_t m_passes = 1;          // ceil(samples / samples_per_pass)
   uint64_t m_pending_cycles = 0;  // walked but not yet waited
   StampBatch m_batch;             // the tile's stamps; buffers recycled through the FIFO
   // The line walker's stamps of one span: (minor tile, stamp y, stamp x) ->
@@ -185,6 +200,8 @@ class TileRasterizer : public PipelineStage {
   uint64_t& m_stamps_emitted =
       m_stats.counter("stamps_emitted", "stamps", "non-empty stamps written");
   uint64_t& m_fragments = m_stats.counter("fragments", "fragments", "covered pixels");
+  uint64_t& m_samples_covered = m_stats.counter(
+      "samples", "samples", "covered samples (one per covered pixel unless multisampled)");
 };
 
 }  // namespace gpusim

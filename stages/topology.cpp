@@ -1,6 +1,7 @@
 #include "stages/topology.h"
 
 #include <algorithm>
+#include <limits>
 #include <numeric>
 #include <stdexcept>
 
@@ -54,15 +55,23 @@ void Topology::finish() {
   // the FIFOs' endpoints and the stages' FIFO lists.
   std::vector<size_t> order(m_stages.size());
   std::iota(order.begin(), order.end(), size_t{0});
+  // A shared stage fed by the units (the resolve) comes after them.
+  const auto fed_by_units = [&](const StageNode& s) {
+    for (size_t f : s.inputs) {
+      const int w = m_fifos[f].writer;
+      if (w != kHost && m_stages[w].stage->unit() >= 0) return true;
+    }
+    return false;
+  };
   const auto key = [&](size_t i) {
-    return std::make_pair(m_stages[i].stage->unit(), m_stages[i].rank);
+    const StageNode& s = m_stages[i];
+    const bool back_end = s.stage->unit() < 0 && fed_by_units(s);
+    return std::make_pair(back_end ? std::numeric_limits<int>::max() : s.stage->unit(), s.rank);
   };
   std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return key(a) < key(b); });
   std::vector<int> new_index(m_stages.size());
   for (size_t i = 0; i < order.size(); ++i) new_index[order[i]] = static_cast<int>(i);
-  const auto fifo_key = [&](const FifoNode& f) {
-    return std::make_pair(m_stages[f.reader].stage->unit(), new_index[f.reader]);
-  };
+  const auto fifo_key = [&](const FifoNode& f) { return new_index[f.reader]; };
   std::vector<size_t> fifo_order(m_fifos.size());
   std::iota(fifo_order.begin(), fifo_order.end(), size_t{0});
   std::stable_sort(fifo_order.begin(), fifo_order.end(),
@@ -92,8 +101,15 @@ void Topology::finish() {
   m_fifos = std::move(fifos);
   m_owned = std::move(owned);
 
-  // The configuration and the netlist name the same stages and FIFOs.
+  // The configuration and the netlist name the same stages and FIFOs, but
+  // for the optional kinds a frame may leave out.
   const auto same = [](std::vector<std::string> a, std::vector<std::string> b) {
+    const auto& optional = GpuConfig::optional_kinds();
+    for (const std::string& k : optional) {
+      if (std::find(a.begin(), a.end(), k) == a.end()) {
+        b.erase(std::remove(b.begin(), b.end(), k), b.end());
+      }
+    }
     std::sort(a.begin(), a.end());
     std::sort(b.begin(), b.end());
     return a == b;

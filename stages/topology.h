@@ -13,7 +13,8 @@
 //
 // Order: stages are listed in pipeline order whatever order they were
 // registered in: front end first, then unit by unit, each by its distance
-// from the host along the FIFOs; a FIFO comes where its reader does.
+// from the host along the FIFOs, then a shared stage the units feed (the
+// resolve); a FIFO comes where its reader does.
 #pragma once
 
 #include <cstddef>
@@ -58,8 +59,9 @@ class Topology {
   // `in` to it; a null writer is the host. Stages are registered on first
   // use. Elaboration only; finish() when every FIFO is connected.
   template <typename T>
-  Fifo<T>& connect(const std::string& kind, int unit, PipelineStage* writer, FifoOutPort<T>* out,
-                   PipelineStage& reader, FifoInPort<T>& in) {
+  Fifo<T>& connect(const std::string& kind, int unit, PipelineStage* writer,
+                   sc_core::sc_port_b<FifoOutIf<T>>* out, PipelineStage& reader,
+                   FifoInPort<T>& in) {
     auto fifo = std::make_unique<Fifo<T>>(PipelineStage::instance_name(kind, unit).c_str(),
                                           m_config.fifo_depth_of(kind));
     Fifo<T>& f = *fifo;

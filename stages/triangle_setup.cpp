@@ -7,6 +7,7 @@
 
 #include "hw/fixed_point.h"
 #include "hw/pixel_formats.h"
+#include "hw/sample_pattern.h"
 
 namespace gpusim {
 namespace {
@@ -174,18 +175,47 @@ std::shared_ptr<RasterPrimitive> TriangleSetup::setup_triangle(const ClippedPrim
     t->depth_offset = polygon_offset(*t, st, m_frame.framebuffer.depth_format);
   }
 
-  // Pixels whose centres (256 i + 128) lie within the vertices' box, clamped
-  // to the framebuffer (spec section 8).
+  // Pixels whose centres (256 i + 128), or samples, lie within the
+  // vertices' box, clamped to the framebuffer (spec sections 8 and 14).
   const int64_t min_x = std::min({t->x[0], t->x[1], t->x[2]});
   const int64_t max_x = std::max({t->x[0], t->x[1], t->x[2]});
   const int64_t min_y = std::min({t->y[0], t->y[1], t->y[2]});
   const int64_t max_y = std::max({t->y[0], t->y[1], t->y[2]});
-  const FramebufferDesc& fb = m_frame.framebuffer;
-  t->x0 = std::max(0, -floor_div_subpixel(-(min_x - kSubpixelHalf)));
-  t->x1 = std::min(fb.width - 1, floor_div_subpixel(max_x - kSubpixelHalf));
-  t->y0 = std::max(0, -floor_div_subpixel(-(min_y - kSubpixelHalf)));
-  t->y1 = std::min(fb.height - 1, floor_div_subpixel(max_y - kSubpixelHalf));
+  set_sample_box(*t, min_x, max_x, min_y, max_y);
   return t;
+}
+
+void TriangleSetup::set_sample_box(RasterPrimitive& t, int64_t x0, int64_t x1, int64_t y0,
+                                   int64_t y1) const {
+  const FramebufferDesc& fb = m_frame.framebuffer;
+  // Pixel i has a sample at 256 i + 128 + d for each offset d of the pattern.
+  t.x0 = std::max(0, -floor_div_subpixel(-(x0 - kSubpixelHalf - m_reach_x1)));
+  t.x1 = std::min(fb.width - 1, floor_div_subpixel(x1 - kSubpixelHalf - m_reach_x0));
+  t.y0 = std::max(0, -floor_div_subpixel(-(y0 - kSubpixelHalf - m_reach_y1)));
+  t.y1 = std::min(fb.height - 1, floor_div_subpixel(y1 - kSubpixelHalf - m_reach_y0));
+}
+
+EdgeEquation TriangleSetup::edge_between(int64_t xa, int64_t ya, int64_t xb, int64_t yb) {
+  const EdgeValue dx = xb - xa, dy = yb - ya;
+  return EdgeEquation{-dy, dx, dy * xa - dx * ya, (dy < 0 || (dy == 0 && dx > 0)) ? 0 : 1};
+}
+
+void TriangleSetup::setup_line_rectangle(RasterPrimitive& t, float width) const {
+  // Half the width along the left normal (-dy, dx), in float, snapped:
+  // corners A - o, B - o, B + o, A + o, counter-clockwise.
+  const int64_t xa = t.x[0], ya = t.y[0], xb = t.x[1], yb = t.y[1];
+  const int64_t dx = xb - xa, dy = yb - ya;
+  const float half = (width * 128.0f) / std::sqrt(static_cast<float>(dx * dx + dy * dy));
+  const int64_t ox = round_half_away(static_cast<float>(-dy) * half);
+  const int64_t oy = round_half_away(static_cast<float>(dx) * half);
+  const std::array<int64_t, 4> cx{xa - ox, xb - ox, xb + ox, xa + ox};
+  const std::array<int64_t, 4> cy{ya - oy, yb - oy, yb + oy, ya + oy};
+  for (int k = 0; k < 4; ++k)
+    t.coverage[k] = edge_between(cx[k], cy[k], cx[(k + 1) % 4], cy[(k + 1) % 4]);
+  t.coverage_count = 4;
+  t.line_rule = LineRule::rectangle;
+  set_sample_box(t, std::min({cx[0], cx[1], cx[2], cx[3]}), std::max({cx[0], cx[1], cx[2], cx[3]}),
+                 std::min({cy[0], cy[1], cy[2], cy[3]}), std::max({cy[0], cy[1], cy[2], cy[3]}));
 }
 
 std::shared_ptr<RasterPrimitive> TriangleSetup::setup_line(const ClippedPrimitive& in) {
@@ -195,9 +225,10 @@ std::shared_ptr<RasterPrimitive> TriangleSetup::setup_line(const ClippedPrimitiv
   const Subpixel xb = snap_to_subpixel(in.v[1].x), yb = snap_to_subpixel(in.v[1].y);
   const EdgeValue dx = EdgeValue{xb} - xa, dy = EdgeValue{yb} - ya;
   const EdgeValue l2 = dx * dx + dy * dy;  // < 2^51
-  const bool bresenham = st.line_rasterization == LineRasterization::bresenham;
+  const bool rectangle = m_samples > 1;    // multisampled: every line (section 14)
+  const bool bresenham = !rectangle && st.line_rasterization == LineRasterization::bresenham;
   if (l2 == 0 && !bresenham) {
-    ++m_lines_degenerate;  // a diamond-exit line of zero length draws nothing
+    ++m_lines_degenerate;  // a diamond-exit or rectangle line of zero length draws nothing
     return nullptr;
   }
   ++m_lines_rasterized;
@@ -226,6 +257,10 @@ std::shared_ptr<RasterPrimitive> TriangleSetup::setup_line(const ClippedPrimitiv
     t->edge[1] = EdgeEquation{dx, dy, -(EdgeValue{xa} * dx) - EdgeValue{ya} * dy, 0};
     t->edge[0] = EdgeEquation{-dx, -dy, l2 + EdgeValue{xa} * dx + EdgeValue{ya} * dy, 0};
     t->area2 = l2;
+  }
+  if (rectangle) {
+    setup_line_rectangle(*t, st.line_width);
+    return t;
   }
   const int64_t w =
       std::clamp<int64_t>(round_half_away(st.line_width), 1, static_cast<int64_t>(kMaxLineWidth));
@@ -342,6 +377,19 @@ std::shared_ptr<RasterPrimitive> TriangleSetup::setup_point(const ClippedPrimiti
   const int64_t f = std::max<int64_t>(256, round_half_away(st.point_size * 256.0f));
   const int64_t x0 = round_half_away((v.x - 0.5f) * 256.0f) - f / 2;
   const int64_t y0 = round_half_away((v.y - 0.5f) * 256.0f) - f / 2;
+  if (m_samples > 1) {
+    // Multisampled (section 14): sample point P (pixel centre 256 i + 128
+    // plus its offset) is covered iff X0 <= P - 128 < X0 + F, likewise y: four
+    // edges, the upper sides not owning their boundary.
+    t->coverage[0] = EdgeEquation{1, 0, -(x0 + kSubpixelHalf), 0};
+    t->coverage[1] = EdgeEquation{-1, 0, x0 + kSubpixelHalf + f, 1};
+    t->coverage[2] = EdgeEquation{0, 1, -(y0 + kSubpixelHalf), 0};
+    t->coverage[3] = EdgeEquation{0, -1, y0 + kSubpixelHalf + f, 1};
+    t->coverage_count = 4;
+    set_sample_box(*t, x0 + kSubpixelHalf, x0 + kSubpixelHalf + f - 1, y0 + kSubpixelHalf,
+                   y0 + kSubpixelHalf + f - 1);
+    return t;
+  }
   t->coverage_count = 0;
   t->x0 = static_cast<int32_t>(std::max<int64_t>(0, ceil_div_subpixel(x0)));
   t->x1 = static_cast<int32_t>(std::min<int64_t>(fb.width - 1, floor_div_subpixel(x0 + f - 1)));
@@ -351,6 +399,15 @@ std::shared_ptr<RasterPrimitive> TriangleSetup::setup_point(const ClippedPrimiti
 }
 
 void TriangleSetup::run() {
+  // The frame's registers are final once the simulation runs.
+  m_samples = m_frame.framebuffer.samples;
+  for (unsigned i = 0; i < m_samples; ++i) {
+    const SampleOffset o = sample_offset(m_samples, i);
+    m_reach_x0 = std::min<int64_t>(m_reach_x0, o.dx);
+    m_reach_x1 = std::max<int64_t>(m_reach_x1, o.dx);
+    m_reach_y0 = std::min<int64_t>(m_reach_y0, o.dy);
+    m_reach_y1 = std::max<int64_t>(m_reach_y1, o.dy);
+  }
   for (;;) {
     const ClippedPrimitive tri = receive(in);
     work(m_cost.ii);

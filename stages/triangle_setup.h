@@ -28,6 +28,11 @@
 // is the pixel box itself, with no coverage edge; interpolation E0 = 1,
 // area2 = 1, so depth is the vertex's z exactly, and the interpolator gives
 // the flat varyings.
+// Multisampled frames (section 14): boxes hold every pixel with a sample
+// point inside the primitive's subpixel box (the pattern's reach from the
+// centre widens it); every line, whatever its rule, is a rectangle of four
+// coverage edges (the corners from the width in float, snapped half away
+// from zero), and a point's square is four axis-aligned edges.
 //
 // Cost model: every input token (primitive of any kind, or control token)
 // read at time t occupies the stage for ii(triangle_setup) cycles, whether or
@@ -76,6 +81,18 @@ class TriangleSetup : public PipelineStage {
   std::shared_ptr<RasterPrimitive> setup_triangle(const ClippedPrimitive& t);
   std::shared_ptr<RasterPrimitive> setup_line(const ClippedPrimitive& t);
   std::shared_ptr<RasterPrimitive> setup_point(const ClippedPrimitive& t);
+  // Multisampled (spec section 14): a line's rectangle, its four edges and box.
+  void setup_line_rectangle(RasterPrimitive& t, float width) const;
+  // The pixel box of the subpixel box [x0, x1] x [y0, y1] of sample points:
+  // every pixel with a sample inside, clamped to the framebuffer.
+  void set_sample_box(RasterPrimitive& t, int64_t x0, int64_t x1, int64_t y0, int64_t y1) const;
+  // Sets the edge from (xa, ya) to (xb, yb) with section 8's fill rule.
+  static EdgeEquation edge_between(int64_t xa, int64_t ya, int64_t xb, int64_t yb);
+
+  // The sample pattern's reach from the pixel centre (subpixels), read from
+  // the frame when the simulation starts.
+  unsigned m_samples = 1;
+  int64_t m_reach_x0 = 0, m_reach_x1 = 0, m_reach_y0 = 0, m_reach_y1 = 0;
 
   uint64_t& m_degenerate =
       m_stats.counter("triangles_degenerate", "triangles", "zero area after snapping, dropped");

@@ -208,11 +208,15 @@ bool check_against_golden(const Scene& scene, const GpuRunResult& gpu) {
           a.depth[p] == b.depth[p]) {
         continue;
       }
+      // The writers of its lower-left render-target pixel (supersampling).
+      const size_t k = scene.framebuffer.supersample;
+      const size_t q = k * static_cast<size_t>(y) * k * static_cast<size_t>(a.width) +
+                       k * static_cast<size_t>(x);
       std::printf("check: FAIL: first differing pixel x=%d y=%d\n", x, y);
       std::printf("  cycle model: %s, last written by primitive %lld\n",
-                  pixel_text(a, x, y).c_str(), static_cast<long long>(gpu.last_writer[p]));
+                  pixel_text(a, x, y).c_str(), static_cast<long long>(gpu.last_writer[q]));
       std::printf("  golden:      %s, last written by primitive %lld\n",
-                  pixel_text(b, x, y).c_str(), static_cast<long long>(ref.last_writer[p]));
+                  pixel_text(b, x, y).c_str(), static_cast<long long>(ref.last_writer[q]));
       ok = false;
       break;
     }

@@ -49,6 +49,7 @@ class ItemDescriber {
   // Stamp batches: the tile of the first stamp's origin; count = stamps.
   ItemInfo describe(const StampBatch& b) const;
   ItemInfo describe(const ShadedStampBatch& b) const;
+  ItemInfo describe(const ControlToken& t) const { return control(t.kind); }
 
  private:
   ItemInfo control(PacketKind kind) const;

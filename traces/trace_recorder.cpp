@@ -163,6 +163,9 @@ FifoProbe<StampBatch>* TraceRecorder::fifo_probe(size_t fifo, ProbeTag<StampBatc
 FifoProbe<ShadedStampBatch>* TraceRecorder::fifo_probe(size_t fifo, ProbeTag<ShadedStampBatch>) {
   return make_probe<ShadedStampBatch>(fifo);
 }
+FifoProbe<ControlToken>* TraceRecorder::fifo_probe(size_t fifo, ProbeTag<ControlToken>) {
+  return make_probe<ControlToken>(fifo);
+}
 
 // --- Events -------------------------------------------------------------------
 

@@ -45,6 +45,7 @@ class TraceRecorder : public TraceProbes, public FragmentProbe {
   FifoProbe<SetupPacket>* fifo_probe(size_t fifo, ProbeTag<SetupPacket>) override;
   FifoProbe<StampBatch>* fifo_probe(size_t fifo, ProbeTag<StampBatch>) override;
   FifoProbe<ShadedStampBatch>* fifo_probe(size_t fifo, ProbeTag<ShadedStampBatch>) override;
+  FifoProbe<ControlToken>* fifo_probe(size_t fifo, ProbeTag<ControlToken>) override;
   FragmentProbe* fragment_probe() override { return m_fragments_traced ? this : nullptr; }
 
   void depth_tested(unsigned unit, const DepthFragment& f) override;

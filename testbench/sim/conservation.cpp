@@ -266,14 +266,30 @@ const std::map<std::string, Rule>& rules() {
        }},
       {"rop",
        [](Context& c) {
-         // Retires every token; writes at most the pixels it received.
+         // Retires every token, or with a resolve after it passes the control
+         // tokens on; writes at most the pixels it received.
          const std::string ip = c.upstream();
-         c.l.equal(c.name, "tokens_out", c.get("tokens_out"), "tokens_in", c.get("tokens_in"));
+         if (c.stage.outputs.empty()) {
+           c.l.equal(c.name, "tokens_out", c.get("tokens_out"), "tokens_in", c.get("tokens_in"));
+         } else {
+           c.l.equal(c.name, "tokens_out", c.get("tokens_out"), "control tokens", c.control);
+         }
          c.l.equal(c.name, "stamps", c.get("stamps"), ip + ".stamps", c.l.stage(ip, "stamps"));
          c.l.equal(c.name, "fragments_in", c.get("fragments_in"), ip + ".fragments",
                    c.l.stage(ip, "fragments"));
          c.l.at_most(c.name, "fragments_written", c.get("fragments_written"), "fragments_in",
                      c.get("fragments_in"));
+         c.l.equal(c.name, "frames", c.get("frames"), "frames run", 1);
+         c.l.at_most(c.name, "samples_written", c.get("samples_written"), "fragments_written x 16",
+                     16 * c.get("fragments_written"));
+         c.l.at_most(c.name, "fragments_written", c.get("fragments_written"), "samples_written",
+                     c.get("samples_written"));
+       }},
+      {"resolve",
+       [](Context& c) {
+         // One token per unit per control token; forwards nothing.
+         c.l.equal(c.name, "tokens_in", c.get("tokens_in"), "control tokens x units",
+                   c.control * c.units);
          c.l.equal(c.name, "frames", c.get("frames"), "frames run", 1);
        }},
   };

@@ -119,32 +119,45 @@ void inject_faults(const Topology& netlist, const GpuRunOptions& options, const 
   }
 }
 
+// The frame written out: the resolve's output image, or the colour buffer
+// itself with one sample and no supersampling; the depth of sample 0 of each
+// output pixel's lower-left render-target pixel (docs/pipeline-spec.md,
+// section 14).
 Framebuffer read_framebuffer(Memory& memory, const FrameState& frame) {
-  const FramebufferDesc& d = frame.framebuffer;
-  Framebuffer fb(d.width, d.height, d.color_format, d.depth_format);
-  const size_t pixels = static_cast<size_t>(d.width) * d.height;
-  const uint8_t* c =
-      memory.data(frame.color_address, pixels * color_bytes_per_pixel(d.color_format));
-  const uint8_t* z =
-      memory.data(frame.depth_address, pixels * depth_bytes_per_pixel(d.depth_format));
-  for (size_t p = 0; p < pixels; ++p) {
-    for (int k = 0; k < 4; ++k) {
-      if (d.color_format == ColorFormat::rgba8) {
-        fb.color[p * 4 + k] = c[p * 4 + k];
-      } else {
-        uint16_t h;
-        std::memcpy(&h, c + p * 8 + k * 2, 2);
-        fb.color[p * 4 + k] = h;
+  const FramebufferDesc& d = frame.framebuffer;  // the render target
+  const int k = static_cast<int>(d.supersample);
+  const int width = d.width / k, height = d.height / k;
+  Framebuffer fb(width, height, d.color_format, d.depth_format);
+  const size_t pixels = static_cast<size_t>(width) * height;
+  const size_t target_samples = static_cast<size_t>(d.width) * d.height * d.samples;
+  const unsigned cb = color_bytes_per_pixel(d.color_format);
+  const unsigned zb = depth_bytes_per_pixel(d.depth_format);
+  const uint8_t* c = frame.needs_resolve() ? memory.data(frame.resolve_address, pixels * cb)
+                                           : memory.data(frame.color_address, pixels * cb);
+  const uint8_t* z = memory.data(frame.depth_address, target_samples * zb);
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      const size_t p = fb.pixel_index(x, y);
+      for (int ch = 0; ch < 4; ++ch) {
+        if (d.color_format == ColorFormat::rgba8) {
+          fb.color[p * 4 + ch] = c[p * 4 + ch];
+        } else {
+          uint16_t h;
+          std::memcpy(&h, c + p * 8 + ch * 2, 2);
+          fb.color[p * 4 + ch] = h;
+        }
       }
-    }
-    if (d.depth_format == DepthFormat::unorm16) {
-      uint16_t v;
-      std::memcpy(&v, z + p * 2, 2);
-      fb.depth[p] = v;
-    } else {
-      uint32_t v;
-      std::memcpy(&v, z + p * 4, 4);
-      fb.depth[p] = v;
+      const size_t sample0 = (static_cast<size_t>(k * y) * d.width + static_cast<size_t>(k * x)) *
+                             d.samples;  // sample 0 of render-target pixel (kx, ky)
+      if (d.depth_format == DepthFormat::unorm16) {
+        uint16_t v;
+        std::memcpy(&v, z + sample0 * 2, 2);
+        fb.depth[p] = v;
+      } else {
+        uint32_t v;
+        std::memcpy(&v, z + sample0 * 4, 4);
+        fb.depth[p] = v;
+      }
     }
   }
   return fb;
@@ -155,14 +168,26 @@ Framebuffer read_framebuffer(Memory& memory, const FrameState& frame) {
 LoadedFrame load_frame(const Scene& scene) {
   LoadedFrame out;
   FrameState& f = out.frame;
-  f.framebuffer = scene.framebuffer;
+  // The render target: supersampling makes it k times the output on each
+  // side, multisampling keeps N samples per pixel (docs/pipeline-spec.md,
+  // section 14).
+  const FramebufferDesc& out_fb = scene.framebuffer;
+  const unsigned k = out_fb.supersample;
+  f.framebuffer = out_fb;
+  f.framebuffer.width = out_fb.width * static_cast<int>(k);
+  f.framebuffer.height = out_fb.height * static_cast<int>(k);
   f.global_ambient = scene.global_ambient;
   f.lights = scene.lights;
-  const uint64_t pixels = static_cast<uint64_t>(scene.framebuffer.width) * scene.framebuffer.height;
+  const uint64_t samples =
+      static_cast<uint64_t>(f.framebuffer.width) * f.framebuffer.height * out_fb.samples;
   f.color_address = 0;
-  f.depth_address = align(pixels * color_bytes_per_pixel(scene.framebuffer.color_format));
-  out.memory.resize(f.depth_address +
-                    pixels * depth_bytes_per_pixel(scene.framebuffer.depth_format));
+  f.depth_address = align(samples * color_bytes_per_pixel(out_fb.color_format));
+  f.resolve_address = align(f.depth_address + samples * depth_bytes_per_pixel(out_fb.depth_format));
+  const uint64_t output_bytes = f.needs_resolve()
+                                    ? static_cast<uint64_t>(out_fb.width) * out_fb.height *
+                                          color_bytes_per_pixel(out_fb.color_format)
+                                    : 0;
+  out.memory.resize(f.resolve_address + output_bytes);
 
   int64_t next_primitive = 0;
   for (const Draw& d : scene.draws) {
@@ -174,6 +199,10 @@ LoadedFrame load_frame(const Scene& scene) {
     s.mvp = d.mvp;
     s.normal_matrix = d.normal_matrix;
     s.state = d.state;
+    // The driver draws a supersampled frame at k times the size: widths and
+    // sizes scale with it (the same float product as the golden model's).
+    s.state.line_width = s.state.line_width * static_cast<float>(k);
+    s.state.point_size = s.state.point_size * static_cast<float>(k);
     s.first_primitive_id = next_primitive;
     s.varyings = varying_layout_for(s);
     DrawBuffers& b = s.buffers;
@@ -215,8 +244,9 @@ GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOp
   std::vector<uint8_t>().swap(loaded.memory);
   GpuRunResult result;
   if (options.record_last_writer) {
-    result.last_writer.assign(
-        static_cast<size_t>(scene.framebuffer.width) * scene.framebuffer.height, -1);
+    result.last_writer.assign(static_cast<size_t>(loaded.frame.framebuffer.width) *
+                                  static_cast<size_t>(loaded.frame.framebuffer.height),
+                              -1);
     gpu.set_last_writer(&result.last_writer);
   }
   if (options.stall_probability > 0.0) {

@@ -50,16 +50,20 @@ TEST(GpuConfig, Defaults) {
   EXPECT_EQ(c.memory.bytes_per_cycle, 32u);
   EXPECT_EQ(c.vertex_cache_entries, 32u);
   EXPECT_EQ(c.tile_cache_entries, 16u);
+  EXPECT_EQ(c.samples_per_pass, 4u);
+  EXPECT_EQ(c.sample_passes(1), 1u);
+  EXPECT_EQ(c.sample_passes(4), 1u);
+  EXPECT_EQ(c.sample_passes(16), 4u);
   EXPECT_EQ(c.watchdog_cycles, 1000000u);
 
-  ASSERT_EQ(GpuConfig::stage_names().size(), 10u);
+  ASSERT_EQ(GpuConfig::stage_names().size(), 11u);
   EXPECT_EQ(GpuConfig::stage_names().front(), "command_processor");
-  EXPECT_EQ(GpuConfig::stage_names().back(), "rop");
-  ASSERT_EQ(GpuConfig::fifo_names().size(), 10u);
+  EXPECT_EQ(GpuConfig::stage_names().back(), "resolve");
+  ASSERT_EQ(GpuConfig::fifo_names().size(), 11u);
   EXPECT_EQ(GpuConfig::fifo_names().front(), "commands");
   EXPECT_EQ(GpuConfig::fifo_names()[6], "distributor_to_rasterizer");
   for (const auto& n : GpuConfig::fifo_names()) EXPECT_EQ(c.fifo_depth_of(n), 16u) << n;
-  EXPECT_EQ(c.stages.size(), 10u);
+  EXPECT_EQ(c.stages.size(), 11u);
   for (const auto& n : GpuConfig::stage_names()) EXPECT_GE(c.stage(n).ii, 1u) << n;
   EXPECT_EQ(c.stage("tile_rasterizer"), (StageCost{1, 2}));
   EXPECT_EQ(c.stage("vertex_shader"), (StageCost{4, 24}));
@@ -151,19 +155,19 @@ TEST(GpuConfig, UnknownKeysNameTheirPathAndTheAllowedKeys) {
   EXPECT_EQ(error_of(json{{"unitz", 4}}),
             "gpu.json: unitz: unknown key (allowed: clock_mhz, units, tile_size, stamp, "
             "fifo_depth, fifo_depths, stages, memory, vertex_cache_entries, tile_cache_entries, "
-            "watchdog_cycles)");
+            "samples_per_pass, watchdog_cycles)");
   // The old name of the tile rasterizer is refused with the list of stages.
   EXPECT_EQ(error_of(json::parse(R"({"stages": {"rasterizer": {"ii": 1}}})")),
             "gpu.json: stages.rasterizer: unknown key (allowed: command_processor, "
             "vertex_fetch, vertex_shader, clipper, triangle_setup, tile_distributor, "
-            "tile_rasterizer, depth_test, interpolator, rop)");
+            "tile_rasterizer, depth_test, interpolator, rop, resolve)");
   EXPECT_EQ(error_of(json::parse(R"({"stages": {"tile_rasterizer": {"iii": 1}}})")),
             "gpu.json: stages.tile_rasterizer.iii: unknown key (allowed: ii, latency)");
   EXPECT_EQ(error_of(json::parse(R"({"fifo_depths": {"fetch_to_shadr": 4}})")),
             "gpu.json: fifo_depths.fetch_to_shadr: unknown key (allowed: commands, "
             "command_to_fetch, fetch_to_shader, shader_to_clipper, clipper_to_setup, "
             "setup_to_distributor, distributor_to_rasterizer, rasterizer_to_depth, "
-            "depth_to_interpolator, interpolator_to_rop)");
+            "depth_to_interpolator, interpolator_to_rop, rop_to_resolve)");
   EXPECT_EQ(error_of(json::parse(R"({"memory": {"latancy": 4}})")),
             "gpu.json: memory.latancy: unknown key (allowed: latency, bytes_per_cycle)");
   // The host's command queue is configurable like every other FIFO.

@@ -238,7 +238,7 @@ void check_outputs(const Bench& b, const std::vector<ClippedPrimitive>& tokens,
       const Expect& x = ex[prim];
       ASSERT_EQ(x.fate, Fate::rasterized) << "prim " << prim;
       ASSERT_FALSE(batch.stamps.empty());
-      EXPECT_TRUE(batch.depth.empty());
+      EXPECT_TRUE(batch.samples.empty());
       const int tx = batch.stamps[0].x / ts, ty = batch.stamps[0].y / ts;
       EXPECT_EQ(tile_owner(tx, ty, c.units), u);
       // Walk order: triangles in input order, tiles bottom-up, left to right.

@@ -4,10 +4,12 @@
 // depend on the order in which the GPU elaborates its units.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <regex>
 #include <sstream>
 
+#include "hw/simulation_context.h"
 #include "stages/gpu.h"
 
 namespace gpusim {
@@ -58,7 +60,9 @@ std::string read(const std::string& path) {
 TEST(Topology, ConfigurationDocsAndNetlistNameTheSameThings) {
   GpuConfig config;
   config.units = 3;
-  const FrameState frame = small_frame();
+  // A multisampled frame elaborates every stage, the resolve included.
+  FrameState frame = small_frame();
+  frame.framebuffer.samples = 4;
   Gpu gpu("gpu", config, frame, 1 << 16);
   const Topology& t = gpu.topology();
   EXPECT_EQ(t.stage_kinds(), GpuConfig::stage_names());
@@ -92,6 +96,30 @@ TEST(Topology, ConfigurationDocsAndNetlistNameTheSameThings) {
     EXPECT_EQ(fifos[i][1], writer + " → " + reader) << kind;
     EXPECT_EQ(fifos[i][2], f->unit >= 0 ? "yes" : "no") << kind;
   }
+}
+
+TEST(Topology, ASingleSampleFrameLeavesOutExactlyTheOptionalKinds) {
+  GpuConfig config;
+  config.units = 2;
+  const FrameState frame = small_frame();
+  fresh_simulation_context();
+  Gpu gpu("gpu", config, frame, 1 << 16);
+  std::vector<std::string> kinds = gpu.topology().stage_kinds();
+  for (const std::string& f : gpu.topology().fifo_kinds()) kinds.push_back(f);
+  std::vector<std::string> all = GpuConfig::stage_names();
+  for (const std::string& f : GpuConfig::fifo_names()) all.push_back(f);
+  std::vector<std::string> missing;
+  for (const std::string& k : all) {
+    if (std::find(kinds.begin(), kinds.end(), k) == kinds.end()) missing.push_back(k);
+  }
+  EXPECT_EQ(missing, GpuConfig::optional_kinds());
+  // The resolve comes last in pipeline order when present.
+  FrameState aa = small_frame();
+  aa.framebuffer.supersample = 2;
+  fresh_simulation_context();
+  Gpu gpu_aa("gpu", config, aa, 1 << 16);
+  EXPECT_EQ(gpu_aa.topology().stages().back().stage->stage_kind(), "resolve");
+  EXPECT_EQ(gpu_aa.topology().fifos().back().kind, "rop_to_resolve");
 }
 
 TEST(Topology, NamesAreKindAndUnitAndStatsUseThem) {
@@ -177,8 +205,7 @@ TEST(Topology, UnitElaborationOrderChangesNothingListed) {
   EXPECT_EQ(clients, (std::vector<std::string>{"vertex_fetch", "depth_test_0", "rop_0",
                                                "depth_test_1", "rop_1", "depth_test_2", "rop_2"}));
   ASSERT_EQ(down.memory().num_clients(), clients.size());
-  for (unsigned c = 0; c < clients.size(); ++c)
-    EXPECT_EQ(down.memory().client_name(c), clients[c]);
+  for (unsigned c = 0; c < clients.size(); ++c) EXPECT_EQ(down.memory().client_name(c), clients[c]);
 }
 
 }  // namespace
