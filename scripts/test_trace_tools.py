@@ -23,6 +23,7 @@ import struct
 import subprocess
 import sys
 import tempfile
+import time
 
 import numpy as np
 
@@ -214,6 +215,162 @@ def check_gtkwave(tmp, trace):
     check(len(c_ours) == len(c_back), f"gtkwave: the same number of value changes ({len(c_ours)} against {len(c_back)})")
 
 
+def expected_vcd_order(manifest):
+    """signals.vcd's signals as docs/traces.md lays them out, derived from the
+    manifest's tables: per group (front end, unit 0, ...), in stage order,
+    each FIFO a stage reads, then the stage's three wires."""
+    order = []
+    for s in manifest["stages"]:
+        group = "front_end" if s["unit"] is None else f"unit_{s['unit']}"
+        for f in manifest["fifos"]:
+            if f["reader"] == s["name"]:
+                width = max(1, int(f["depth"]).bit_length())
+                order.append(f"gpu.{group}.{f['name']}[{width - 1}:0]")
+        order += [f"gpu.{group}.{s['name']}.{s['name']}_{w}" for w in ("busy", "stalled", "starved")]
+    return order
+
+
+def xwd_to_png(xwd, png):
+    """Xvfb's -fbdir framebuffer (an XWD image, 32-bit TrueColor) to a PNG;
+    returns the pixels (height, width, 3)."""
+    import OpenImageIO as oiio
+    with open(xwd, "rb") as f:
+        data = f.read()
+    h = struct.unpack(">25I", data[:100])
+    header, width, height, lsb_first, bpp, per_line, ncolors = h[0], h[4], h[5], h[7] == 0, h[11], h[12], h[19]
+    assert bpp == 32, f"{xwd}: {bpp} bits per pixel"
+    px = np.frombuffer(data, np.uint8, height * per_line, header + 12 * ncolors)
+    px = px.reshape(height, per_line)[:, :width * 4].reshape(height, width, 4)
+    rgb = np.ascontiguousarray(px[..., [2, 1, 0]] if lsb_first else px[..., [1, 2, 3]])
+    out = oiio.ImageOutput.create(png)
+    out.open(png, oiio.ImageSpec(width, height, 3, "uint8"))
+    out.write_image(rgb)
+    out.close()
+    return rgb
+
+
+GTKWAVE_TCL = r"""
+puts "FACS [gtkwave::getNumFacs]"
+puts "MAXTIME [gtkwave::getMaxTime] [gtkwave::getTimeDimension]"
+foreach s [gtkwave::getDisplayedSignals] { puts "SIGNAL $s [gtkwave::getTraceFlagsFromName $s]" }
+for {set i 0} {$i < [gtkwave::getTotalNumTraces]} {incr i} { puts "TRACE [gtkwave::getTraceNameFromIndex $i]" }
+gtkwave::setMarker @MARKER@
+puts "VALUE [gtkwave::getTraceValueAtMarkerFromName {@FIFO@}]"
+gtkwave::/Time/Zoom/Zoom_Full
+puts "DONE"
+"""
+
+
+def check_gtkwave_view(tmp, gpusim, scene, artifacts):
+    """Issue #16 item 9: GTKWave itself, under Xvfb, opens a 300 MHz trace's
+    signals.vcd with signals.gtkw. Its Tcl interface reports the time axis in
+    picoseconds ending at cycles x 3333, the displayed signals in the
+    manifest's pipeline order, grouped per unit, with names unique on their
+    own, FIFOs in decimal (TR_DEC) and a full-ish FIFO's value as decimal
+    text; the screenshot (kept in ARTIFACTS/gtkwave.png) shows waves."""
+    gtkwave, xvfb = shutil.which("gtkwave"), shutil.which("Xvfb")
+    if not (gtkwave and xvfb):
+        print(f"\n*** SKIPPED: GTKWave view check: {'gtkwave' if not gtkwave else 'Xvfb'} is not installed "
+              f"(scripts/setup installs gtkwave and xvfb) ***\n", file=sys.stderr)
+        return
+    sys.dont_write_bytecode = True
+    sys.path.insert(0, HERE)
+    import gpusim_trace as gt
+    config = os.path.join(tmp, "clock300.json")
+    with open(config, "w") as f:
+        json.dump({"clock_mhz": 300}, f)
+    trace = os.path.join(tmp, "trace300")
+    must([gpusim, "run", scene, "--config", config, "--out", os.path.join(tmp, "out300"), "--trace", trace])
+    manifest = json.load(open(os.path.join(trace, "manifest.json")))
+    cycles, period = manifest["cycles"], manifest["cycle_ps"]
+    check(period == 3333, f"300 MHz: cycle_ps {period}")
+    # The time at which some FIFO holds the most (10..16 reads differently in
+    # hex), from the raw VCD times (picoseconds).
+    raw = gt.read_vcd(os.path.join(trace, "signals.vcd"))
+    fifo, marker, level = None, 0, -1
+    for sig in raw.signals:
+        if sig.width > 1 and len(sig.values) and int(sig.values.max()) > level:
+            k = int(np.argmax(sig.values))
+            fifo, marker, level = sig, int(sig.times[k]), int(sig.values[k])
+    check(level >= 10, f"300 MHz: FIFO {fifo.name} holds {level} at #{marker}")
+    fifo_path = f"{fifo.path}[{fifo.width - 1}:0]"
+    script = os.path.join(tmp, "gtkwave_check.tcl")
+    with open(script, "w") as f:
+        f.write(GTKWAVE_TCL.replace("@MARKER@", str(marker)).replace("@FIFO@", fifo_path))
+
+    fbdir = os.path.join(tmp, "xvfb")
+    os.makedirs(fbdir, exist_ok=True)
+    rfd, wfd = os.pipe()
+    xv = subprocess.Popen([xvfb, "-displayfd", str(wfd), "-screen", "0", "1400x900x24", "-fbdir", fbdir,
+                           "-nolisten", "tcp"], pass_fds=(wfd,), stdout=subprocess.DEVNULL,
+                          stderr=subprocess.DEVNULL)
+    os.close(wfd)
+    gw = None
+    try:
+        display = b""
+        while not display.endswith(b"\n"):  # Xvfb writes "N\n" once it is ready
+            chunk = os.read(rfd, 16)
+            if not chunk:
+                break
+            display += chunk
+        display = display.decode().strip()
+        if not check(display.isdigit(), f"gtkwave: Xvfb started (display {display!r})"):
+            return
+        env = dict(os.environ, DISPLAY=":" + display)
+        gw = subprocess.Popen([gtkwave, "-S", script, "signals.vcd", "signals.gtkw"], cwd=trace, env=env,
+                              stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        lines = []
+        deadline = time.monotonic() + 60
+        for line in gw.stdout:
+            lines.append(line.rstrip("\n"))
+            if line.startswith("DONE") or time.monotonic() > deadline:
+                break
+        if not check(any(x.startswith("DONE") for x in lines), "gtkwave: ran the Tcl script"
+                     + ("" if lines else "") + f" ({' | '.join(lines[-5:])!r})"):
+            return
+        time.sleep(2)  # let it draw the zoomed-out waves
+        os.makedirs(artifacts, exist_ok=True)
+        shot = os.path.join(artifacts, "gtkwave.png")
+        px = xwd_to_png(os.path.join(fbdir, "Xvfb_screen0"), shot)
+    finally:
+        if gw:
+            gw.kill()
+            gw.wait()
+        xv.kill()
+        xv.wait()
+        os.close(rfd)
+
+    got = {k: [x.split(" ", 1)[1] for x in lines if x.startswith(k + " ")] for k in
+           ("FACS", "MAXTIME", "SIGNAL", "TRACE", "VALUE")}
+    want = expected_vcd_order(manifest)
+    check(got["FACS"] == [str(len(want))], f"gtkwave: {got['FACS']} facilities, {len(want)} expected")
+    check(got["MAXTIME"] == [f"{cycles * period} p"],
+          f"gtkwave: the time axis ends at {got['MAXTIME']} = {cycles} cycles x {period} ps")
+    shown = [x.rsplit(" ", 1) for x in got["SIGNAL"]]
+    check([n for n, _ in shown] == want,
+          f"gtkwave: displays the {len(want)} signals in pipeline order, grouped per unit "
+          f"(first differences: {[(a, b) for a, b in zip([n for n, _ in shown], want) if a != b][:2]})")
+    flags = {n: int(f) for n, f in shown}
+    TR_HEX, TR_DEC, TR_BIN = 0x2, 0x4, 0x8
+    check(all((flags[n] & TR_DEC and not flags[n] & TR_HEX) if n.endswith(":0]") else flags[n] & TR_BIN
+              for n in flags) and len(flags) == len(want),
+          "gtkwave: FIFO occupancies shown in decimal, stage wires in binary")
+    check(got["VALUE"] == [str(level)], f"gtkwave: {fifo_path} reads {got['VALUE']} at #{marker} "
+                                        f"(decimal {level}, not hex {level:x})")
+    groups = ["front end"] + [f"unit {u}" for u in range(manifest["units"])]
+    names = got["TRACE"]
+    check([n for n in names if n in groups] == [g for g in groups for _ in (0, 1)],
+          f"gtkwave: one group per unit, in order ({[n for n in names if n in groups][:4]}...)")
+    leaves = [n for n in names if n not in groups]
+    check(len(leaves) == len(want) and len(set(leaves)) == len(leaves),
+          f"gtkwave: the {len(leaves)} displayed names are unique on their own")
+    # The screenshot: GTKWave's window, not a blank screen, with its green
+    # waveforms (pure green pixels) across the wave pane.
+    green = (px[..., 1] > 200) & (px[..., 0] < 60) & (px[..., 2] < 60)
+    check(px.shape[:2] == (900, 1400) and float(px.std()) > 20 and int(green.sum()) > 5000,
+          f"gtkwave: screenshot {shot} shows waveforms ({int(green.sum())} green pixels)")
+
+
 def check_report(trace, out_html, summary):
     text = open(out_html, encoding="utf-8").read()
     imgs = dict(re.findall(r'<img id="([^"]+)"[^>]*? src="data:image/png;base64,([^"]+)"', text))
@@ -321,8 +478,11 @@ def main():
     ap.add_argument("--gpusim", default=os.path.join(REPO, "build", "gpusim"))
     ap.add_argument("--scene", default=SCENE)
     ap.add_argument("--keep", metavar="DIR", help="work in DIR and keep it (default: a temporary directory)")
+    ap.add_argument("--artifacts", metavar="DIR",
+                    help="where the GTKWave and Chromium screenshots go (default: test_artifacts next to gpusim)")
     args = ap.parse_args()
     gpusim = os.path.abspath(args.gpusim)
+    artifacts = os.path.abspath(args.artifacts or os.path.join(os.path.dirname(gpusim), "test_artifacts"))
     if not os.access(gpusim, os.X_OK):
         print(f"test_trace_tools: {gpusim}: no gpusim binary", file=sys.stderr)
         return 2
@@ -341,6 +501,7 @@ def main():
         check_tiles(trace, plots, manifest, stats)
         check_vcd_reader(trace, stats)
         check_gtkwave(tmp, trace)
+        check_gtkwave_view(tmp, gpusim, args.scene, artifacts)
 
         r = must([os.path.join(HERE, "trace_plots"), trace])
         check(all(os.path.isfile(os.path.join(trace, "plots", p)) for p in PLOTS), "trace_plots: default DIR/plots")
