@@ -296,29 +296,25 @@ class Signal:
         i = np.searchsorted(self.times, t, side="right") - 1
         return None if i < 0 else int(self.values[i])
 
-    def integrate(self, edges):
-        """The integral of the signal over each [edges[k], edges[k+1]).
-
-        Before the first change the value is unknown and counts as 0; x and z
-        count as 0. Returns float64 array of len(edges) - 1.
-        """
-        edges = np.asarray(edges, dtype=np.int64)
+    def cumulative(self, x):
+        """The integral of the signal from its first change to each time in `x`
+        (any order). Before the first change the value is unknown and counts
+        as 0; x and z count as 0. Returns a float64 array shaped as `x`."""
+        x = np.asarray(x, dtype=np.int64)
         t = self.times
         v = np.where(self.values < 0, 0, self.values).astype(np.float64)
         if len(t) == 0:
-            return np.zeros(len(edges) - 1)
+            return np.zeros(x.shape)
         # Cumulative integral at each change time.
-        seg = np.diff(t).astype(np.float64) * v[:-1]
-        cum = np.concatenate(([0.0], np.cumsum(seg)))
+        cum = np.concatenate(([0.0], np.cumsum(np.diff(t).astype(np.float64) * v[:-1])))
+        k = np.searchsorted(t, x, side="right") - 1
+        kk = np.clip(k, 0, None)
+        return np.where(k < 0, 0.0, cum[kk] + v[kk] * (x - t[kk]))
 
-        def at(x):
-            k = np.searchsorted(t, x, side="right") - 1
-            kk = np.clip(k, 0, None)
-            out = cum[kk] + v[kk] * (x - t[kk])
-            return np.where(k < 0, 0.0, out)
-
-        f = at(edges)
-        return np.diff(f)
+    def integrate(self, edges):
+        """The integral of the signal over each [edges[k], edges[k+1]) (see
+        cumulative). Returns float64 array of len(edges) - 1."""
+        return np.diff(self.cumulative(edges))
 
     def minmax(self, edges):
         """Per bin [edges[k], edges[k+1]): (min, max) of the values held."""

@@ -149,6 +149,87 @@ def check_tiles(trace, plots, manifest, stats):
                                      f"fragments_in ({gen})")
 
 
+def raw_vcd_wires(path, cycle_ps):
+    """signals.vcd read here, independently of the scripts' reader: {(scope,
+    name): [(cycle, value), ...]}, times divided by the period in $timescale
+    units (docs/traces.md)."""
+    units = {"fs": 1, "ps": 10**3, "ns": 10**6, "us": 10**9, "ms": 10**12, "s": 10**15}
+    with open(path) as f:
+        text = f.read()
+    head, body = text.split("$enddefinitions $end", 1)
+    ts = re.search(r"\$timescale\s+(\d+)\s*(\w+)\s+\$end", head)
+    per_cycle = cycle_ps * 1000 // (int(ts.group(1)) * units[ts.group(2)])
+    ids, scope = {}, []
+    for tok in re.findall(r"\$(scope|upscope|var)([^$]*)\$end", head):
+        words = tok[1].split()
+        if tok[0] == "scope":
+            scope.append(words[1])
+        elif tok[0] == "upscope":
+            scope.pop()
+        else:
+            ids[words[2]] = (".".join(scope), words[3])
+    wires, t = {key: [] for key in ids.values()}, 0
+    for tok in body.split():
+        if tok[0] == "#":
+            t = int(tok[1:]) // per_cycle
+        elif tok[0] in "01" and tok[1:] in ids:
+            wires[ids[tok[1:]]].append((t, int(tok[0])))
+    return wires
+
+
+def time_at_one(changes, a, b):
+    """Cycles in [a, b) a 1-bit wire given as [(cycle, value)] holds 1."""
+    total = 0
+    for k, (t, v) in enumerate(changes):
+        end = changes[k + 1][0] if k + 1 < len(changes) else b
+        if v == 1:
+            total += max(0, min(end, b) - max(t, a))
+    return total
+
+
+def check_tile_split(trace, plots, manifest, stats):
+    """Issue #16 item 9: tiles_cycles splits each tile's cycles into work,
+    waiting on memory and stalled. Recomputed here from the raw files: an
+    item's stalled cycles are its stage's `stalled` wire over [cycle_in,
+    cycle_out); a depth test's or ROP's wait on memory is its busy cycles
+    beyond ii x stamps (ii from the configuration), which over every item
+    (clear and end_of_frame tokens included, ii each) must be the stages'
+    memory_stall_cycles in stats.json."""
+    tiles = json.load(open(os.path.join(plots, "tiles.json")))
+    fb = manifest["framebuffer"]
+    nx, ny = fb["tiles_x"], fb["tiles_y"]
+    wires = raw_vcd_wires(os.path.join(trace, "signals.vcd"), manifest["cycle_ps"])
+    stages = manifest["stages"]
+    ii = {k: v["ii"] for k, v in manifest["config"]["stages"].items()}
+    stalled = np.zeros((ny, nx), dtype=np.int64)
+    memory = np.zeros((ny, nx), dtype=np.int64)
+    waited = {}
+    for r in read_raw(os.path.join(trace, "transactions.bin"), b"GPUSIMTX", TX_FMT):
+        s = stages[r[5]]
+        if s["unit"] is None:
+            continue
+        scope = f"gpu.unit_{s['unit']}.{s['name']}"
+        busy = time_at_one(wires[(scope, s["name"] + "_busy")], r[0], r[1])
+        stall = time_at_one(wires[(scope, s["name"] + "_stalled")], r[0], r[1])
+        wait = 0
+        if s["kind"] in ("depth_test", "rop"):
+            wait = max(0, busy - ii[s["kind"]] * (max(r[10], 1) if r[6] == 0 else 1))
+            waited[s["name"]] = waited.get(s["name"], 0) + wait
+        if r[8] >= 0 and r[9] >= 0:
+            stalled[r[9], r[8]] += stall
+            memory[r[9], r[8]] += wait if r[6] == 0 else 0
+    check(np.array_equal(np.array(tiles["stalled_cycles"]), stalled),
+          f"tiles_cycles: stalled cycles per tile equal signals.vcd's over each item (total {int(stalled.sum())})")
+    check(np.array_equal(np.array(tiles["memory_wait_cycles"]), memory),
+          f"tiles_cycles: memory wait per tile equals busy beyond ii x stamps (total {int(memory.sum())})")
+    st = stats["timing"]["stages"]
+    want = {k: int(v["memory_stall_cycles"]) for k, v in st.items() if "memory_stall_cycles" in v}
+    check(waited == want and sum(want.values()) > 0,
+          f"tiles_cycles: busy beyond ii x stamps over every item is stats.json's memory_stall_cycles per stage "
+          f"({sum(waited.values())} vs {sum(want.values())})")
+    check(bool((np.array(tiles["cycles"]) >= stalled + memory).all()), "tiles_cycles: work = cycles - memory - stalled >= 0")
+
+
 def check_vcd_reader(trace, stats):
     """The plots' VCD reader: each stage's busy / stalled / starved time equals stats.json's."""
     sys.dont_write_bytecode = True
@@ -394,9 +475,70 @@ def check_report(trace, out_html, summary):
     lines = [ln.strip() for ln in summary.splitlines() if "bottleneck" in ln.lower()]
     if check(bool(lines), "summary: has a bottleneck line"):
         check(html.escape(lines[0]) in text, f"report: holds the summary's bottleneck line: {lines[0]!r}")
-    check(text.count("<pre>") >= 1 and html.escape(summary.strip().splitlines()[0]) in text,
-          "report: holds the summary text")
+    # The page names the scene relative to the repository (item 10 below).
+    first = summary.strip().splitlines()[0].replace(SCENE, os.path.relpath(SCENE, REPO))
+    check(text.count('<pre class="summary">') == 1 and html.escape(first) in text,
+          f"report: holds the summary text ({first!r})")
     check("shared_edges.json" in text, "report: names the scene")
+    # Issue #16 item 10: the scene was given to gpusim run as an absolute
+    # path inside the checkout; the page shows it relative to the repository.
+    check(REPO not in text and "testbench/scenes/shared_edges.json" in text,
+          f"report: no absolute path of the checkout ({REPO}); the scene shown relative to it")
+
+
+# Appended to a copy of the report: measures, after layout, every element
+# whose text must be readable in full, into an attribute --dump-dom shows.
+CLIP_PROBE = """<script>
+const rows = [];
+for (const el of document.querySelectorAll("pre.summary, div.bottleneck, table.kv td, figcaption")) {
+  rows.push(`${el.tagName.toLowerCase()}.${el.className}|${el.scrollWidth}|${el.clientWidth}`);
+}
+document.body.setAttribute("data-widths", rows.join(";"));
+</script>"""
+
+
+def chromium_widths(chromium, tmp, text, name, extra_css=""):
+    """[(element, scrollWidth, clientWidth)] of the page `text` laid out by
+    headless Chromium in an 1100-pixel-wide window."""
+    probe = os.path.join(tmp, name)
+    with open(probe, "w", encoding="utf-8") as f:
+        f.write(text.replace("</body>", f"<style>{extra_css}</style>{CLIP_PROBE}</body>"))
+    r = run([chromium, "--headless", "--no-sandbox", "--disable-gpu", "--window-size=1100,1150",
+             "--virtual-time-budget=3000", "--dump-dom", "file://" + probe])
+    m = re.search(r'data-widths="([^"]*)"', r.stdout)
+    if not m:
+        return None
+    return [(e, int(a), int(b)) for e, a, b in (x.split("|") for x in html.unescape(m.group(1)).split(";") if x)]
+
+
+def check_report_in_chromium(tmp, out_html, artifacts):
+    """Issue #16 item 9: the report in a real browser. Headless Chromium lays
+    the page out 1100 pixels wide; no summary line, bottleneck line, key
+    figure or caption is wider than its box (scrollWidth <= clientWidth),
+    while the same probe on the page with the summary's old `white-space:
+    pre` does find the clipped summary (the check can fail). The screenshot
+    goes to ARTIFACTS/report.png."""
+    chromium = shutil.which("chromium") or shutil.which("chromium-browser")
+    if not chromium:
+        print("\n*** SKIPPED: report in Chromium: chromium is not installed (scripts/setup installs it) ***\n",
+              file=sys.stderr)
+        return
+    text = open(out_html, encoding="utf-8").read()
+    widths = chromium_widths(chromium, tmp, text, "probe.html")
+    if not check(bool(widths), "chromium: laid the report out and ran the probe"):
+        return
+    check(any(e.startswith("pre.summary") for e, _, _ in widths), "chromium: the report has the summary box")
+    clipped = [(e, a, b) for e, a, b in widths if a > b]
+    check(not clipped, f"chromium: none of {len(widths)} text boxes is clipped at 1100 px {clipped[:3]}")
+    old = chromium_widths(chromium, tmp, text, "probe_nowrap.html", "pre.summary { white-space: pre; }") or []
+    check(any(e.startswith("pre.summary") and a > b for e, a, b in old),
+          "chromium: the probe finds the summary clipped when its lines do not wrap (as before)")
+    os.makedirs(artifacts, exist_ok=True)
+    shot = os.path.join(artifacts, "report.png")
+    run([chromium, "--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars", "--window-size=1100,1150",
+         f"--screenshot={shot}", "file://" + os.path.abspath(out_html)])
+    if check(os.path.isfile(shot), f"chromium: screenshot {shot}"):
+        png_ok(shot, "chromium: report screenshot", min_w=1100, min_h=1150)
 
 
 def check_rop_only_overdraw(tmp, gpusim, scene):
@@ -499,6 +641,7 @@ def main():
         check(len(r.stdout.split()) == len(PLOTS), "trace_plots: prints the PNGs it wrote")
         check_plots(trace, plots, manifest, "unfiltered")
         check_tiles(trace, plots, manifest, stats)
+        check_tile_split(trace, plots, manifest, stats)
         check_vcd_reader(trace, stats)
         check_gtkwave(tmp, trace)
         check_gtkwave_view(tmp, gpusim, args.scene, artifacts)
@@ -510,6 +653,7 @@ def main():
         out_html = os.path.join(tmp, "report.html")
         must([os.path.join(HERE, "report"), trace, "--out", out_html, "--gpusim", gpusim])
         check_report(trace, out_html, summary)
+        check_report_in_chromium(tmp, out_html, artifacts)
         must([os.path.join(HERE, "report"), trace, "--gpusim", gpusim])
         check(os.path.isfile(os.path.join(trace, "report.html")), "report: default DIR/report.html")
 
