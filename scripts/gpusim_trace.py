@@ -12,6 +12,7 @@ Needs Debian's python3 (/usr/bin/python3) with numpy.
 
 import json
 import os
+import re
 import sys
 
 import numpy as np
@@ -261,7 +262,7 @@ class Trace:
 
     def vcd(self):
         if self._vcd is None:
-            self._vcd = read_vcd(self.path("signals.vcd"))
+            self._vcd = read_vcd(self.path("signals.vcd"), int(self.manifest.get("cycle_ps") or 0))
         return self._vcd
 
 
@@ -295,29 +296,25 @@ class Signal:
         i = np.searchsorted(self.times, t, side="right") - 1
         return None if i < 0 else int(self.values[i])
 
-    def integrate(self, edges):
-        """The integral of the signal over each [edges[k], edges[k+1]).
-
-        Before the first change the value is unknown and counts as 0; x and z
-        count as 0. Returns float64 array of len(edges) - 1.
-        """
-        edges = np.asarray(edges, dtype=np.int64)
+    def cumulative(self, x):
+        """The integral of the signal from its first change to each time in `x`
+        (any order). Before the first change the value is unknown and counts
+        as 0; x and z count as 0. Returns a float64 array shaped as `x`."""
+        x = np.asarray(x, dtype=np.int64)
         t = self.times
         v = np.where(self.values < 0, 0, self.values).astype(np.float64)
         if len(t) == 0:
-            return np.zeros(len(edges) - 1)
+            return np.zeros(x.shape)
         # Cumulative integral at each change time.
-        seg = np.diff(t).astype(np.float64) * v[:-1]
-        cum = np.concatenate(([0.0], np.cumsum(seg)))
+        cum = np.concatenate(([0.0], np.cumsum(np.diff(t).astype(np.float64) * v[:-1])))
+        k = np.searchsorted(t, x, side="right") - 1
+        kk = np.clip(k, 0, None)
+        return np.where(k < 0, 0.0, cum[kk] + v[kk] * (x - t[kk]))
 
-        def at(x):
-            k = np.searchsorted(t, x, side="right") - 1
-            kk = np.clip(k, 0, None)
-            out = cum[kk] + v[kk] * (x - t[kk])
-            return np.where(k < 0, 0.0, out)
-
-        f = at(edges)
-        return np.diff(f)
+    def integrate(self, edges):
+        """The integral of the signal over each [edges[k], edges[k+1]) (see
+        cumulative). Returns float64 array of len(edges) - 1."""
+        return np.diff(self.cumulative(edges))
 
     def minmax(self, edges):
         """Per bin [edges[k], edges[k+1]): (min, max) of the values held."""
@@ -358,12 +355,21 @@ class Vcd:
         return None
 
     def stage_state(self, stage, state):
-        """Stage `stage`'s 1-bit wire `state` (busy, stalled, starved) in scope gpu.<stage>, or None."""
+        """Stage `stage`'s 1-bit wire `state` (busy, stalled, starved), or None: `<stage>_<state>`
+        in a scope named as the stage (gpu.unit_0.rop_0.rop_0_busy), or, in traces written before
+        units were grouped, `<state>` in gpu.<stage>."""
+        for s in self.signals:
+            if s.scope and s.scope[-1] == stage and s.name == f"{stage}_{state}":
+                return s
         return self.find("gpu", stage, state)
 
     def fifo(self, name):
-        """FIFO `name`'s occupancy: in scope gpu.fifos (as gpusim writes it), or a top-level fifos."""
-        return self.find("gpu", "fifos", name) or self.find("fifos", name)
+        """FIFO `name`'s occupancy: the vector named as the FIFO in its group's scope
+        (gpu.unit_0.rasterizer_to_depth_0), or in gpu.fifos (traces written before)."""
+        for s in self.signals:
+            if s.name == name and len(s.scope) == 2 and s.scope[0] == "gpu":
+                return s
+        return None
 
     def scopes(self):
         """Scope paths in declaration order (without duplicates)."""
@@ -387,12 +393,33 @@ def _vcd_header_tokens(f, path):
     raise TraceError(f"{path}: not a VCD file (no $enddefinitions)")
 
 
-def read_vcd(path):
+_TIME_UNITS_FS = {"fs": 1, "ps": 10**3, "ns": 10**6, "us": 10**9, "ms": 10**12, "s": 10**15}
+
+
+def vcd_units_per_cycle(vcd, cycle_ps, path="signals.vcd"):
+    """VCD time units per clock cycle of `cycle_ps` picoseconds: the period
+    over the $timescale, which must divide it; 1 for traces written before
+    signals.vcd was in simulated time (their $comment says so)."""
+    if any("one time unit is one clock cycle" in c for c in vcd.comments):
+        return 1
+    m = re.fullmatch(r"(1|10|100) ?(fs|ps|ns|us|ms|s)", vcd.timescale or "")
+    if not m:
+        raise TraceError(f"{path}: $timescale {vcd.timescale!r} is not a time unit")
+    unit = int(m.group(1)) * _TIME_UNITS_FS[m.group(2)]
+    if cycle_ps * 1000 % unit:
+        raise TraceError(f"{path}: the clock period, {cycle_ps} ps, is not a whole number of "
+                         f"$timescale units ({vcd.timescale})")
+    return cycle_ps * 1000 // unit
+
+
+def read_vcd(path, cycle_ps=0):
     """Parses an IEEE 1364 VCD file (the subset gpusim writes, and a bit more).
 
     Scalars 0/1/x/z and vectors bNNN; reals are skipped. The header is read
-    as tokens, the value changes line by line into compact arrays. Returns a
-    Vcd.
+    as tokens, the value changes line by line into compact arrays. Times are
+    the file's, or with `cycle_ps` (the clock period, picoseconds) clock
+    cycles (vcd_units_per_cycle; a time stamp off a cycle boundary is an
+    error). Returns a Vcd.
     """
     from array import array
     try:
@@ -448,6 +475,7 @@ def read_vcd(path):
                 vcd.comments.append(" ".join(until_end()))
             elif tok.startswith("$"):
                 until_end()  # $date, $version, ...
+        per_cycle = vcd_units_per_cycle(vcd, cycle_ps, path) if cycle_ps else 1
         # Value changes.
         times = {c: array("q") for c in by_code}
         values = {c: array("q") for c in by_code}
@@ -469,9 +497,12 @@ def read_vcd(path):
                 c = tok[0]
                 if c == "#":
                     try:
-                        t = int(tok[1:])
+                        t, off = divmod(int(tok[1:]), per_cycle)
                     except ValueError:
                         raise TraceError(f"{path}: bad time stamp {tok!r}")
+                    if off:
+                        raise TraceError(f"{path}: time stamp {tok} is not on a clock cycle boundary "
+                                         f"({per_cycle} time units per cycle)")
                     k += 1
                 elif c in scalar:
                     code = tok[1:]

@@ -23,6 +23,7 @@ import struct
 import subprocess
 import sys
 import tempfile
+import time
 
 import numpy as np
 
@@ -148,6 +149,87 @@ def check_tiles(trace, plots, manifest, stats):
                                      f"fragments_in ({gen})")
 
 
+def raw_vcd_wires(path, cycle_ps):
+    """signals.vcd read here, independently of the scripts' reader: {(scope,
+    name): [(cycle, value), ...]}, times divided by the period in $timescale
+    units (docs/traces.md)."""
+    units = {"fs": 1, "ps": 10**3, "ns": 10**6, "us": 10**9, "ms": 10**12, "s": 10**15}
+    with open(path) as f:
+        text = f.read()
+    head, body = text.split("$enddefinitions $end", 1)
+    ts = re.search(r"\$timescale\s+(\d+)\s*(\w+)\s+\$end", head)
+    per_cycle = cycle_ps * 1000 // (int(ts.group(1)) * units[ts.group(2)])
+    ids, scope = {}, []
+    for tok in re.findall(r"\$(scope|upscope|var)([^$]*)\$end", head):
+        words = tok[1].split()
+        if tok[0] == "scope":
+            scope.append(words[1])
+        elif tok[0] == "upscope":
+            scope.pop()
+        else:
+            ids[words[2]] = (".".join(scope), words[3])
+    wires, t = {key: [] for key in ids.values()}, 0
+    for tok in body.split():
+        if tok[0] == "#":
+            t = int(tok[1:]) // per_cycle
+        elif tok[0] in "01" and tok[1:] in ids:
+            wires[ids[tok[1:]]].append((t, int(tok[0])))
+    return wires
+
+
+def time_at_one(changes, a, b):
+    """Cycles in [a, b) a 1-bit wire given as [(cycle, value)] holds 1."""
+    total = 0
+    for k, (t, v) in enumerate(changes):
+        end = changes[k + 1][0] if k + 1 < len(changes) else b
+        if v == 1:
+            total += max(0, min(end, b) - max(t, a))
+    return total
+
+
+def check_tile_split(trace, plots, manifest, stats):
+    """Issue #16 item 9: tiles_cycles splits each tile's cycles into work,
+    waiting on memory and stalled. Recomputed here from the raw files: an
+    item's stalled cycles are its stage's `stalled` wire over [cycle_in,
+    cycle_out); a depth test's or ROP's wait on memory is its busy cycles
+    beyond ii x stamps (ii from the configuration), which over every item
+    (clear and end_of_frame tokens included, ii each) must be the stages'
+    memory_stall_cycles in stats.json."""
+    tiles = json.load(open(os.path.join(plots, "tiles.json")))
+    fb = manifest["framebuffer"]
+    nx, ny = fb["tiles_x"], fb["tiles_y"]
+    wires = raw_vcd_wires(os.path.join(trace, "signals.vcd"), manifest["cycle_ps"])
+    stages = manifest["stages"]
+    ii = {k: v["ii"] for k, v in manifest["config"]["stages"].items()}
+    stalled = np.zeros((ny, nx), dtype=np.int64)
+    memory = np.zeros((ny, nx), dtype=np.int64)
+    waited = {}
+    for r in read_raw(os.path.join(trace, "transactions.bin"), b"GPUSIMTX", TX_FMT):
+        s = stages[r[5]]
+        if s["unit"] is None:
+            continue
+        scope = f"gpu.unit_{s['unit']}.{s['name']}"
+        busy = time_at_one(wires[(scope, s["name"] + "_busy")], r[0], r[1])
+        stall = time_at_one(wires[(scope, s["name"] + "_stalled")], r[0], r[1])
+        wait = 0
+        if s["kind"] in ("depth_test", "rop"):
+            wait = max(0, busy - ii[s["kind"]] * (max(r[10], 1) if r[6] == 0 else 1))
+            waited[s["name"]] = waited.get(s["name"], 0) + wait
+        if r[8] >= 0 and r[9] >= 0:
+            stalled[r[9], r[8]] += stall
+            memory[r[9], r[8]] += wait if r[6] == 0 else 0
+    check(np.array_equal(np.array(tiles["stalled_cycles"]), stalled),
+          f"tiles_cycles: stalled cycles per tile equal signals.vcd's over each item (total {int(stalled.sum())})")
+    check(np.array_equal(np.array(tiles["memory_wait_cycles"]), memory),
+          f"tiles_cycles: memory wait per tile equals busy beyond ii x stamps (total {int(memory.sum())})")
+    st = stats["timing"]["stages"]
+    want = {k: int(v["memory_stall_cycles"]) for k, v in st.items() if "memory_stall_cycles" in v}
+    check(waited == want and sum(want.values()) > 0,
+          f"tiles_cycles: busy beyond ii x stamps over every item is stats.json's memory_stall_cycles per stage "
+          f"({sum(waited.values())} vs {sum(want.values())})")
+    check(bool((np.array(tiles["cycles"]) >= stalled + memory).all()), "tiles_cycles: work = cycles - memory - stalled >= 0")
+
+
 def check_vcd_reader(trace, stats):
     """The plots' VCD reader: each stage's busy / stalled / starved time equals stats.json's."""
     sys.dont_write_bytecode = True
@@ -214,6 +296,162 @@ def check_gtkwave(tmp, trace):
     check(len(c_ours) == len(c_back), f"gtkwave: the same number of value changes ({len(c_ours)} against {len(c_back)})")
 
 
+def expected_vcd_order(manifest):
+    """signals.vcd's signals as docs/traces.md lays them out, derived from the
+    manifest's tables: per group (front end, unit 0, ...), in stage order,
+    each FIFO a stage reads, then the stage's three wires."""
+    order = []
+    for s in manifest["stages"]:
+        group = "front_end" if s["unit"] is None else f"unit_{s['unit']}"
+        for f in manifest["fifos"]:
+            if f["reader"] == s["name"]:
+                width = max(1, int(f["depth"]).bit_length())
+                order.append(f"gpu.{group}.{f['name']}[{width - 1}:0]")
+        order += [f"gpu.{group}.{s['name']}.{s['name']}_{w}" for w in ("busy", "stalled", "starved")]
+    return order
+
+
+def xwd_to_png(xwd, png):
+    """Xvfb's -fbdir framebuffer (an XWD image, 32-bit TrueColor) to a PNG;
+    returns the pixels (height, width, 3)."""
+    import OpenImageIO as oiio
+    with open(xwd, "rb") as f:
+        data = f.read()
+    h = struct.unpack(">25I", data[:100])
+    header, width, height, lsb_first, bpp, per_line, ncolors = h[0], h[4], h[5], h[7] == 0, h[11], h[12], h[19]
+    assert bpp == 32, f"{xwd}: {bpp} bits per pixel"
+    px = np.frombuffer(data, np.uint8, height * per_line, header + 12 * ncolors)
+    px = px.reshape(height, per_line)[:, :width * 4].reshape(height, width, 4)
+    rgb = np.ascontiguousarray(px[..., [2, 1, 0]] if lsb_first else px[..., [1, 2, 3]])
+    out = oiio.ImageOutput.create(png)
+    out.open(png, oiio.ImageSpec(width, height, 3, "uint8"))
+    out.write_image(rgb)
+    out.close()
+    return rgb
+
+
+GTKWAVE_TCL = r"""
+puts "FACS [gtkwave::getNumFacs]"
+puts "MAXTIME [gtkwave::getMaxTime] [gtkwave::getTimeDimension]"
+foreach s [gtkwave::getDisplayedSignals] { puts "SIGNAL $s [gtkwave::getTraceFlagsFromName $s]" }
+for {set i 0} {$i < [gtkwave::getTotalNumTraces]} {incr i} { puts "TRACE [gtkwave::getTraceNameFromIndex $i]" }
+gtkwave::setMarker @MARKER@
+puts "VALUE [gtkwave::getTraceValueAtMarkerFromName {@FIFO@}]"
+gtkwave::/Time/Zoom/Zoom_Full
+puts "DONE"
+"""
+
+
+def check_gtkwave_view(tmp, gpusim, scene, artifacts):
+    """Issue #16 item 9: GTKWave itself, under Xvfb, opens a 300 MHz trace's
+    signals.vcd with signals.gtkw. Its Tcl interface reports the time axis in
+    picoseconds ending at cycles x 3333, the displayed signals in the
+    manifest's pipeline order, grouped per unit, with names unique on their
+    own, FIFOs in decimal (TR_DEC) and a full-ish FIFO's value as decimal
+    text; the screenshot (kept in ARTIFACTS/gtkwave.png) shows waves."""
+    gtkwave, xvfb = shutil.which("gtkwave"), shutil.which("Xvfb")
+    if not (gtkwave and xvfb):
+        print(f"\n*** SKIPPED: GTKWave view check: {'gtkwave' if not gtkwave else 'Xvfb'} is not installed "
+              f"(scripts/setup installs gtkwave and xvfb) ***\n", file=sys.stderr)
+        return
+    sys.dont_write_bytecode = True
+    sys.path.insert(0, HERE)
+    import gpusim_trace as gt
+    config = os.path.join(tmp, "clock300.json")
+    with open(config, "w") as f:
+        json.dump({"clock_mhz": 300}, f)
+    trace = os.path.join(tmp, "trace300")
+    must([gpusim, "run", scene, "--config", config, "--out", os.path.join(tmp, "out300"), "--trace", trace])
+    manifest = json.load(open(os.path.join(trace, "manifest.json")))
+    cycles, period = manifest["cycles"], manifest["cycle_ps"]
+    check(period == 3333, f"300 MHz: cycle_ps {period}")
+    # The time at which some FIFO holds the most (10..16 reads differently in
+    # hex), from the raw VCD times (picoseconds).
+    raw = gt.read_vcd(os.path.join(trace, "signals.vcd"))
+    fifo, marker, level = None, 0, -1
+    for sig in raw.signals:
+        if sig.width > 1 and len(sig.values) and int(sig.values.max()) > level:
+            k = int(np.argmax(sig.values))
+            fifo, marker, level = sig, int(sig.times[k]), int(sig.values[k])
+    check(level >= 10, f"300 MHz: FIFO {fifo.name} holds {level} at #{marker}")
+    fifo_path = f"{fifo.path}[{fifo.width - 1}:0]"
+    script = os.path.join(tmp, "gtkwave_check.tcl")
+    with open(script, "w") as f:
+        f.write(GTKWAVE_TCL.replace("@MARKER@", str(marker)).replace("@FIFO@", fifo_path))
+
+    fbdir = os.path.join(tmp, "xvfb")
+    os.makedirs(fbdir, exist_ok=True)
+    rfd, wfd = os.pipe()
+    xv = subprocess.Popen([xvfb, "-displayfd", str(wfd), "-screen", "0", "1400x900x24", "-fbdir", fbdir,
+                           "-nolisten", "tcp"], pass_fds=(wfd,), stdout=subprocess.DEVNULL,
+                          stderr=subprocess.DEVNULL)
+    os.close(wfd)
+    gw = None
+    try:
+        display = b""
+        while not display.endswith(b"\n"):  # Xvfb writes "N\n" once it is ready
+            chunk = os.read(rfd, 16)
+            if not chunk:
+                break
+            display += chunk
+        display = display.decode().strip()
+        if not check(display.isdigit(), f"gtkwave: Xvfb started (display {display!r})"):
+            return
+        env = dict(os.environ, DISPLAY=":" + display)
+        gw = subprocess.Popen([gtkwave, "-S", script, "signals.vcd", "signals.gtkw"], cwd=trace, env=env,
+                              stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        lines = []
+        deadline = time.monotonic() + 60
+        for line in gw.stdout:
+            lines.append(line.rstrip("\n"))
+            if line.startswith("DONE") or time.monotonic() > deadline:
+                break
+        if not check(any(x.startswith("DONE") for x in lines), "gtkwave: ran the Tcl script"
+                     + ("" if lines else "") + f" ({' | '.join(lines[-5:])!r})"):
+            return
+        time.sleep(2)  # let it draw the zoomed-out waves
+        os.makedirs(artifacts, exist_ok=True)
+        shot = os.path.join(artifacts, "gtkwave.png")
+        px = xwd_to_png(os.path.join(fbdir, "Xvfb_screen0"), shot)
+    finally:
+        if gw:
+            gw.kill()
+            gw.wait()
+        xv.kill()
+        xv.wait()
+        os.close(rfd)
+
+    got = {k: [x.split(" ", 1)[1] for x in lines if x.startswith(k + " ")] for k in
+           ("FACS", "MAXTIME", "SIGNAL", "TRACE", "VALUE")}
+    want = expected_vcd_order(manifest)
+    check(got["FACS"] == [str(len(want))], f"gtkwave: {got['FACS']} facilities, {len(want)} expected")
+    check(got["MAXTIME"] == [f"{cycles * period} p"],
+          f"gtkwave: the time axis ends at {got['MAXTIME']} = {cycles} cycles x {period} ps")
+    shown = [x.rsplit(" ", 1) for x in got["SIGNAL"]]
+    check([n for n, _ in shown] == want,
+          f"gtkwave: displays the {len(want)} signals in pipeline order, grouped per unit "
+          f"(first differences: {[(a, b) for a, b in zip([n for n, _ in shown], want) if a != b][:2]})")
+    flags = {n: int(f) for n, f in shown}
+    TR_HEX, TR_DEC, TR_BIN = 0x2, 0x4, 0x8
+    check(all((flags[n] & TR_DEC and not flags[n] & TR_HEX) if n.endswith(":0]") else flags[n] & TR_BIN
+              for n in flags) and len(flags) == len(want),
+          "gtkwave: FIFO occupancies shown in decimal, stage wires in binary")
+    check(got["VALUE"] == [str(level)], f"gtkwave: {fifo_path} reads {got['VALUE']} at #{marker} "
+                                        f"(decimal {level}, not hex {level:x})")
+    groups = ["front end"] + [f"unit {u}" for u in range(manifest["units"])]
+    names = got["TRACE"]
+    check([n for n in names if n in groups] == [g for g in groups for _ in (0, 1)],
+          f"gtkwave: one group per unit, in order ({[n for n in names if n in groups][:4]}...)")
+    leaves = [n for n in names if n not in groups]
+    check(len(leaves) == len(want) and len(set(leaves)) == len(leaves),
+          f"gtkwave: the {len(leaves)} displayed names are unique on their own")
+    # The screenshot: GTKWave's window, not a blank screen, with its green
+    # waveforms (pure green pixels) across the wave pane.
+    green = (px[..., 1] > 200) & (px[..., 0] < 60) & (px[..., 2] < 60)
+    check(px.shape[:2] == (900, 1400) and float(px.std()) > 20 and int(green.sum()) > 5000,
+          f"gtkwave: screenshot {shot} shows waveforms ({int(green.sum())} green pixels)")
+
+
 def check_report(trace, out_html, summary):
     text = open(out_html, encoding="utf-8").read()
     imgs = dict(re.findall(r'<img id="([^"]+)"[^>]*? src="data:image/png;base64,([^"]+)"', text))
@@ -237,9 +475,70 @@ def check_report(trace, out_html, summary):
     lines = [ln.strip() for ln in summary.splitlines() if "bottleneck" in ln.lower()]
     if check(bool(lines), "summary: has a bottleneck line"):
         check(html.escape(lines[0]) in text, f"report: holds the summary's bottleneck line: {lines[0]!r}")
-    check(text.count("<pre>") >= 1 and html.escape(summary.strip().splitlines()[0]) in text,
-          "report: holds the summary text")
+    # The page names the scene relative to the repository (item 10 below).
+    first = summary.strip().splitlines()[0].replace(SCENE, os.path.relpath(SCENE, REPO))
+    check(text.count('<pre class="summary">') == 1 and html.escape(first) in text,
+          f"report: holds the summary text ({first!r})")
     check("shared_edges.json" in text, "report: names the scene")
+    # Issue #16 item 10: the scene was given to gpusim run as an absolute
+    # path inside the checkout; the page shows it relative to the repository.
+    check(REPO not in text and "testbench/scenes/shared_edges.json" in text,
+          f"report: no absolute path of the checkout ({REPO}); the scene shown relative to it")
+
+
+# Appended to a copy of the report: measures, after layout, every element
+# whose text must be readable in full, into an attribute --dump-dom shows.
+CLIP_PROBE = """<script>
+const rows = [];
+for (const el of document.querySelectorAll("pre.summary, div.bottleneck, table.kv td, figcaption")) {
+  rows.push(`${el.tagName.toLowerCase()}.${el.className}|${el.scrollWidth}|${el.clientWidth}`);
+}
+document.body.setAttribute("data-widths", rows.join(";"));
+</script>"""
+
+
+def chromium_widths(chromium, tmp, text, name, extra_css=""):
+    """[(element, scrollWidth, clientWidth)] of the page `text` laid out by
+    headless Chromium in an 1100-pixel-wide window."""
+    probe = os.path.join(tmp, name)
+    with open(probe, "w", encoding="utf-8") as f:
+        f.write(text.replace("</body>", f"<style>{extra_css}</style>{CLIP_PROBE}</body>"))
+    r = run([chromium, "--headless", "--no-sandbox", "--disable-gpu", "--window-size=1100,1150",
+             "--virtual-time-budget=3000", "--dump-dom", "file://" + probe])
+    m = re.search(r'data-widths="([^"]*)"', r.stdout)
+    if not m:
+        return None
+    return [(e, int(a), int(b)) for e, a, b in (x.split("|") for x in html.unescape(m.group(1)).split(";") if x)]
+
+
+def check_report_in_chromium(tmp, out_html, artifacts):
+    """Issue #16 item 9: the report in a real browser. Headless Chromium lays
+    the page out 1100 pixels wide; no summary line, bottleneck line, key
+    figure or caption is wider than its box (scrollWidth <= clientWidth),
+    while the same probe on the page with the summary's old `white-space:
+    pre` does find the clipped summary (the check can fail). The screenshot
+    goes to ARTIFACTS/report.png."""
+    chromium = shutil.which("chromium") or shutil.which("chromium-browser")
+    if not chromium:
+        print("\n*** SKIPPED: report in Chromium: chromium is not installed (scripts/setup installs it) ***\n",
+              file=sys.stderr)
+        return
+    text = open(out_html, encoding="utf-8").read()
+    widths = chromium_widths(chromium, tmp, text, "probe.html")
+    if not check(bool(widths), "chromium: laid the report out and ran the probe"):
+        return
+    check(any(e.startswith("pre.summary") for e, _, _ in widths), "chromium: the report has the summary box")
+    clipped = [(e, a, b) for e, a, b in widths if a > b]
+    check(not clipped, f"chromium: none of {len(widths)} text boxes is clipped at 1100 px {clipped[:3]}")
+    old = chromium_widths(chromium, tmp, text, "probe_nowrap.html", "pre.summary { white-space: pre; }") or []
+    check(any(e.startswith("pre.summary") and a > b for e, a, b in old),
+          "chromium: the probe finds the summary clipped when its lines do not wrap (as before)")
+    os.makedirs(artifacts, exist_ok=True)
+    shot = os.path.join(artifacts, "report.png")
+    run([chromium, "--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars", "--window-size=1100,1150",
+         f"--screenshot={shot}", "file://" + os.path.abspath(out_html)])
+    if check(os.path.isfile(shot), f"chromium: screenshot {shot}"):
+        png_ok(shot, "chromium: report screenshot", min_w=1100, min_h=1150)
 
 
 def check_rop_only_overdraw(tmp, gpusim, scene):
@@ -321,8 +620,11 @@ def main():
     ap.add_argument("--gpusim", default=os.path.join(REPO, "build", "gpusim"))
     ap.add_argument("--scene", default=SCENE)
     ap.add_argument("--keep", metavar="DIR", help="work in DIR and keep it (default: a temporary directory)")
+    ap.add_argument("--artifacts", metavar="DIR",
+                    help="where the GTKWave and Chromium screenshots go (default: test_artifacts next to gpusim)")
     args = ap.parse_args()
     gpusim = os.path.abspath(args.gpusim)
+    artifacts = os.path.abspath(args.artifacts or os.path.join(os.path.dirname(gpusim), "test_artifacts"))
     if not os.access(gpusim, os.X_OK):
         print(f"test_trace_tools: {gpusim}: no gpusim binary", file=sys.stderr)
         return 2
@@ -339,8 +641,10 @@ def main():
         check(len(r.stdout.split()) == len(PLOTS), "trace_plots: prints the PNGs it wrote")
         check_plots(trace, plots, manifest, "unfiltered")
         check_tiles(trace, plots, manifest, stats)
+        check_tile_split(trace, plots, manifest, stats)
         check_vcd_reader(trace, stats)
         check_gtkwave(tmp, trace)
+        check_gtkwave_view(tmp, gpusim, args.scene, artifacts)
 
         r = must([os.path.join(HERE, "trace_plots"), trace])
         check(all(os.path.isfile(os.path.join(trace, "plots", p)) for p in PLOTS), "trace_plots: default DIR/plots")
@@ -349,6 +653,7 @@ def main():
         out_html = os.path.join(tmp, "report.html")
         must([os.path.join(HERE, "report"), trace, "--out", out_html, "--gpusim", gpusim])
         check_report(trace, out_html, summary)
+        check_report_in_chromium(tmp, out_html, artifacts)
         must([os.path.join(HERE, "report"), trace, "--gpusim", gpusim])
         check(os.path.isfile(os.path.join(trace, "report.html")), "report: default DIR/report.html")
 

@@ -292,7 +292,7 @@ int run_cycle_model(const RunArgs& args) {
               args.out_dir.c_str(), args.out_dir.c_str());
   if (!args.trace_dir.empty()) {
     std::printf(
-        "  trace: %s (manifest.json, signals.vcd, timeline.json, transactions.bin, "
+        "  trace: %s (manifest.json, signals.vcd, signals.gtkw, timeline.json, transactions.bin, "
         "fragments.bin)\n",
         args.trace_dir.c_str());
   }
@@ -561,10 +561,11 @@ int main_with_errors(int argc, char** argv) {
       "--check", run.check,
       "Also render with the golden model and compare bit for bit (exit 1 on a difference)");
   run_cmd->add_option("--memory-limit", run.memory_mib, memory_help);
-  CLI::Option* trace_option = run_cmd->add_option(
-      "--trace", run.trace_dir,
-      "Record a trace into this directory (docs/traces.md): manifest.json, signals.vcd, "
-      "timeline.json, transactions.bin, fragments.bin, frame.exr, stats.json");
+  CLI::Option* trace_option =
+      run_cmd->add_option("--trace", run.trace_dir,
+                          "Record a trace into this directory (docs/traces.md): manifest.json, "
+                          "signals.vcd, signals.gtkw, "
+                          "timeline.json, transactions.bin, fragments.bin, frame.exr, stats.json");
   run_cmd
       ->add_option("--trace-stages", run.trace_stages,
                    "Trace only these stages: comma-separated names or kinds (depth_test_2, rop)")

@@ -40,18 +40,13 @@ class Line {
     m_n = static_cast<size_t>(std::to_chars(m_buf + m_n, m_buf + kMax, v).ptr - m_buf);
     return *this;
   }
-  // cycles × cycle_ps / 10^6: microseconds as exact decimal text.
-  Line& us(uint64_t cycles, uint64_t cycle_ps) {
-    const unsigned __int128 ps = static_cast<unsigned __int128>(cycles) * cycle_ps;
-    *this << static_cast<uint64_t>(ps / 1000000);
-    uint64_t frac = static_cast<uint64_t>(ps % 1000000);
-    if (frac == 0) return *this;
-    char digits[6];
-    for (int k = 5; k >= 0; --k, frac /= 10) digits[k] = static_cast<char>('0' + frac % 10);
-    int len = 6;
-    while (digits[len - 1] == '0') --len;
-    append(".", 1);
-    return append(digits, static_cast<size_t>(len));
+  // `ns` nanoseconds as microseconds with three decimals ("12.345", "2.000").
+  Line& us(uint64_t ns) {
+    *this << ns / 1000;
+    const char digits[4] = {'.', static_cast<char>('0' + ns / 100 % 10),
+                            static_cast<char>('0' + ns / 10 % 10),
+                            static_cast<char>('0' + ns % 10)};
+    return append(digits, 4);
   }
   const char* data() const { return m_buf; }
   size_t size() const { return m_n; }
@@ -70,9 +65,14 @@ class Line {
 
 }  // namespace
 
+uint64_t TimelineWriter::nanoseconds(uint64_t cycles, uint64_t cycle_ps) {
+  const unsigned __int128 ps = static_cast<unsigned __int128>(cycles) * cycle_ps;
+  return static_cast<uint64_t>((ps + 500) / 1000);
+}
+
 std::string TimelineWriter::microseconds(uint64_t cycles, uint64_t cycle_ps) {
   Line l;
-  l.us(cycles, cycle_ps);
+  l.us(nanoseconds(cycles, cycle_ps));
   return std::string(l.data(), l.size());
 }
 
@@ -111,8 +111,11 @@ void TimelineWriter::complete(int pid, int tid, const std::string& name, const c
   // Names are ours (stage names, numbers): nothing to escape.
   Line l;
   l << "{\"ph\": \"X\", \"name\": \"" << name << "\", \"cat\": \"" << category << "\", \"ts\": ";
-  l.us(cycle_in, m_cycle_ps) << ", \"dur\": ";
-  l.us(cycle_out - cycle_in, m_cycle_ps)
+  // Both ends rounded once, the duration their difference: slices that
+  // touch in cycles touch in the text, and none overlaps its successor.
+  const uint64_t ns_in = nanoseconds(cycle_in, m_cycle_ps);
+  l.us(ns_in) << ", \"dur\": ";
+  l.us(nanoseconds(cycle_out, m_cycle_ps) - ns_in)
       << ", \"pid\": " << pid << ", \"tid\": " << tid << ", \"args\": {\"cycle_in\": " << cycle_in
       << ", \"cycle_out\": " << cycle_out;
   if (!args_json.empty()) l << ", " << args_json;
@@ -124,8 +127,8 @@ void TimelineWriter::counter(int pid, int tid, const std::string& name, uint64_t
                              uint64_t value) {
   Line l;
   l << "{\"ph\": \"C\", \"name\": \"" << name << "\", \"ts\": ";
-  l.us(cycle, m_cycle_ps) << ", \"pid\": " << pid << ", \"tid\": " << tid
-                          << ", \"args\": {\"occupancy\": " << value << "}}";
+  l.us(nanoseconds(cycle, m_cycle_ps)) << ", \"pid\": " << pid << ", \"tid\": " << tid
+                                       << ", \"args\": {\"occupancy\": " << value << "}}";
   event(l.data(), l.size());
 }
 

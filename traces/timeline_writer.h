@@ -1,7 +1,10 @@
 // timeline.json (docs/traces.md): the JSON object form of the Chrome / Perfetto
-// Trace Event Format, streamed event by event. Times are cycles converted to
-// microseconds exactly (decimal text, no floating point), so the same run
-// gives the same bytes.
+// Trace Event Format, streamed event by event. Times are microseconds with
+// three decimals: each cycle boundary is rounded once to the nearest
+// nanosecond (integer arithmetic, halves up) and a slice's `dur` is the
+// difference of its rounded ends, so viewers that round `ts` and `dur` to
+// nanoseconds see exactly these values and consecutive slices never overlap.
+// The same run gives the same bytes.
 #pragma once
 
 #include <cstdint>
@@ -27,7 +30,9 @@ class TimelineWriter {
   void finish();
   uint64_t events() const { return m_events; }
 
-  // cycle × cycle_ps / 10^6 as exact decimal text ("12.345").
+  // cycles × cycle_ps picoseconds rounded to the nearest nanosecond.
+  static uint64_t nanoseconds(uint64_t cycles, uint64_t cycle_ps);
+  // That time in microseconds as written ("12.345", "2.000").
   static std::string microseconds(uint64_t cycles, uint64_t cycle_ps);
 
  private:

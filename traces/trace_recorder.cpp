@@ -94,11 +94,6 @@ TraceRecorder::TraceRecorder(const NetlistTables& tables, const GpuConfig& confi
     if (t.unit >= 0 && t.kind == "depth_test") m_depth_stage[t.unit] = static_cast<int>(i);
     if (t.unit >= 0 && t.kind == "rop") m_rop_stage[t.unit] = static_cast<int>(i);
     if (s.kept && (t.kind == "depth_test" || t.kind == "rop")) m_fragments_traced = true;
-    if (!s.kept) continue;
-    // Every stage is starved until it takes its first item.
-    s.signal = m_vcd.add("gpu." + t.name, "busy", 1, 0);
-    m_vcd.add("gpu." + t.name, "stalled", 1, 0);
-    m_vcd.add("gpu." + t.name, "starved", 1, 1);
   }
   m_fifos.resize(tables.fifos.size());
   for (size_t i = 0; i < tables.fifos.size(); ++i) {
@@ -109,10 +104,81 @@ TraceRecorder::TraceRecorder(const NetlistTables& tables, const GpuConfig& confi
     f.pid = t.unit < 0 ? 0 : 1 + t.unit;
     f.tid = t.reader;
     f.counter_name = "fifo " + t.name;
-    if (f.kept) f.signal = m_vcd.add("gpu.fifos", t.name, width_for(t.depth), 0);
   }
+  declare_signals();
   m_vcd.begin();
+  write_save_file(paths.gtkw);
   write_metadata();
+}
+
+void TraceRecorder::declare_signals() {
+  // Pipeline order: each FIFO just before its reader (after its writer when
+  // it has none), each stage after its inputs; stage and FIFO indices
+  // already run front end first, then unit by unit.
+  struct Slot {
+    size_t key;
+    bool stage;
+    size_t index;
+  };
+  std::vector<Slot> order;
+  for (size_t i = 0; i < m_stages.size(); ++i) {
+    if (m_stages[i].kept) order.push_back({2 * i + 1, true, i});
+  }
+  for (size_t i = 0; i < m_fifos.size(); ++i) {
+    const NetlistTables::Fifo& t = m_tables.fifos[i];
+    if (!m_fifos[i].kept) continue;
+    const size_t key = t.reader >= 0 ? 2 * static_cast<size_t>(t.reader)
+                                     : 2 * static_cast<size_t>(std::max(t.writer, 0)) + 1;
+    order.push_back({key, false, i});
+  }
+  std::stable_sort(order.begin(), order.end(),
+                   [](const Slot& a, const Slot& b) { return a.key < b.key; });
+  const auto group = [](int unit) {
+    return unit < 0 ? std::string("gpu.front_end") : "gpu.unit_" + std::to_string(unit);
+  };
+  for (const Slot& slot : order) {
+    if (slot.stage) {
+      const NetlistTables::Stage& t = m_tables.stages[slot.index];
+      const std::string scope = group(t.unit) + "." + t.name;
+      // Every stage is starved until it takes its first item.
+      Stage& s = m_stages[slot.index];
+      s.signal = m_vcd.add(scope, t.name + "_busy", 1, 0);
+      m_vcd.add(scope, t.name + "_stalled", 1, 0);
+      m_vcd.add(scope, t.name + "_starved", 1, 1);
+      m_shown.push_back({t.unit, s.signal, 3});
+    } else {
+      const NetlistTables::Fifo& t = m_tables.fifos[slot.index];
+      Fifo& f = m_fifos[slot.index];
+      f.signal = m_vcd.add(group(t.unit), t.name, width_for(t.depth), 0);
+      m_shown.push_back({t.unit, f.signal, 1});
+    }
+  }
+}
+
+void TraceRecorder::write_save_file(const std::string& path) {
+  // GTKWave's save file format: "[key] value" settings, then the displayed
+  // traces in order, each after an "@flags" line (hexadecimal TR_* bits:
+  // 0x8 binary, 0x4 decimal, 0x20 right-justified, 0x200 a blank/comment
+  // line, 0x800000 / 0x1000000 the start / end of a group named by the "-"
+  // line that follows).
+  std::string g =
+      "[*] gpusim trace (docs/traces.md): stage states and FIFO occupancies in pipeline order\n"
+      "[dumpfile] \"signals.vcd\"\n[savefile] \"signals.gtkw\"\n[timestart] 0\n"
+      "[size] 1400 900\n[pos] -1 -1\n[treeopen] gpu.\n[sst_width] 260\n"
+      "[signals_width] 320\n[sst_expanded] 1\n[sst_vpaned_height] 250\n";
+  for (size_t k = 0; k < m_shown.size(); ++k) {
+    const int unit = m_shown[k].unit;
+    const std::string label = unit < 0 ? "front end" : "unit " + std::to_string(unit);
+    if (k == 0 || m_shown[k - 1].unit != unit) g += "@800200\n-" + label + "\n";
+    for (size_t i = 0; i < m_shown[k].count; ++i) {
+      const size_t signal = m_shown[k].signal + i;
+      g += (m_vcd.width(signal) == 1 ? "@28\n" : "@24\n") + m_vcd.path(signal) + "\n";
+    }
+    if (k + 1 == m_shown.size() || m_shown[k + 1].unit != unit) g += "@1000200\n-" + label + "\n";
+  }
+  BufferedFile file(path);
+  file.write(g);
+  file.close();
 }
 
 TraceRecorder::~TraceRecorder() = default;

@@ -1,7 +1,8 @@
 // The trace recorder (docs/traces.md): attached to the GPU through its probes
 // (hw/trace_probe.h), it follows every stage's state (busy, stalled,
 // starved) and the item it works on from the FIFO events alone, and streams
-// signals.vcd, timeline.json, transactions.bin and fragments.bin; finish()
+// signals.vcd (with signals.gtkw, a GTKWave save file showing it), timeline.json,
+// transactions.bin and fragments.bin; finish()
 // writes manifest.json.
 //
 // Memory is bounded: per stage the open item, per FIFO its occupancy, and
@@ -30,7 +31,7 @@ class TraceRecorder : public TraceProbes, public FragmentProbe {
  public:
   // Where each file goes (temporary names; the caller renames them).
   struct Paths {
-    std::string manifest, vcd, timeline, transactions, fragments;
+    std::string manifest, vcd, gtkw, timeline, transactions, fragments;
   };
   // `filter` must already have been checked against `tables`
   // (TraceFilter::stages_kept). config and frame must outlive the recorder.
@@ -109,6 +110,10 @@ class TraceRecorder : public TraceProbes, public FragmentProbe {
   // Whether a fragment of `prim` at `stage` passes the filters; if so, sets
   // r.cycle and r.prim.
   bool fragment_kept(int stage, int64_t prim, FragmentRecord& r) const;
+  // The VCD's scopes and signals, grouped by unit, in pipeline order.
+  void declare_signals();
+  // A GTKWave save file listing the signals as declared, grouped.
+  void write_save_file(const std::string& path);
   void write_metadata();
   void write_manifest(uint64_t cycles);
 
@@ -125,6 +130,11 @@ class TraceRecorder : public TraceProbes, public FragmentProbe {
   std::vector<Stage> m_stages;
   std::vector<Fifo> m_fifos;
   std::vector<size_t> m_dirty_fifos;
+  struct Shown {
+    int unit;              // -1: the front end
+    size_t signal, count;  // consecutive VCD signals
+  };
+  std::vector<Shown> m_shown;                   // in declaration order
   std::vector<int> m_depth_stage, m_rop_stage;  // per unit: stage index
   bool m_fragments_traced = false;
   bool m_counters_started = false;

@@ -91,24 +91,32 @@ const TraceSummary::Stage* TraceSummary::stage(const std::string& name) const {
 }
 
 void TraceSummary::read_signals(const TraceReader& reader) {
-  const VcdReader vcd(reader.path("signals.vcd"));
-  // Signals by (innermost scope, name): stage scopes are named as the stage,
-  // FIFO occupancies live in a scope "fifos".
+  const VcdReader vcd(reader.path("signals.vcd"), m_manifest.cycle_ps);
+  // Signals by (innermost scope, name): a stage's wires are in a scope named
+  // as the stage, "<stage>_busy" (traces written before units were grouped:
+  // plain "busy"); a FIFO's occupancy is named as the FIFO, in its unit's
+  // scope (before: in a scope "fifos").
   std::map<std::pair<std::string, std::string>, size_t> by_name;
+  std::map<std::string, size_t> by_leaf;
   for (size_t i = 0; i < vcd.signals().size(); ++i) {
     const VcdSignal& s = vcd.signals()[i];
     const size_t dot = s.scope.rfind('.');
     by_name[{dot == std::string::npos ? s.scope : s.scope.substr(dot + 1), s.name}] = i;
+    by_leaf[s.name] = i;
   }
+  const auto wire = [&](const std::string& stage, const std::string& state) {
+    const auto it = by_name.find({stage, stage + "_" + state});
+    return it != by_name.end() ? it : by_name.find({stage, state});
+  };
   const std::vector<VcdReader::Histogram> h = vcd.histograms(m_start, m_end);
   const auto time_at = [&](size_t signal, uint64_t value) {
     const auto it = h[signal].find(value);
     return it == h[signal].end() ? uint64_t{0} : it->second;
   };
   for (const TraceStage& ts : m_manifest.stages) {
-    const auto busy = by_name.find({ts.name, "busy"});
-    const auto stalled = by_name.find({ts.name, "stalled"});
-    const auto starved = by_name.find({ts.name, "starved"});
+    const auto busy = wire(ts.name, "busy");
+    const auto stalled = wire(ts.name, "stalled");
+    const auto starved = wire(ts.name, "starved");
     if (busy == by_name.end() || stalled == by_name.end() || starved == by_name.end()) continue;
     Stage s;
     s.name = ts.name;
@@ -124,8 +132,8 @@ void TraceSummary::read_signals(const TraceReader& reader) {
                      reader.path("manifest.json"));
   }
   for (const TraceFifo& tf : m_manifest.fifos) {
-    const auto it = by_name.find({"fifos", tf.name});
-    if (it == by_name.end()) continue;
+    const auto it = by_leaf.find(tf.name);
+    if (it == by_leaf.end()) continue;
     Fifo f;
     f.name = tf.name;
     f.depth = tf.depth;

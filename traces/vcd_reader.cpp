@@ -102,18 +102,44 @@ uint64_t parse_bits(const Tokens& t, const std::string& digits) {
   return unknown ? VcdReader::kUnknown : v;
 }
 
+// A $timescale ("1 ns", "100ps") in femtoseconds; 0 when not one.
+uint64_t timescale_fs(const std::string& text) {
+  static const char* const units[] = {"fs", "ps", "ns", "us", "ms", "s"};
+  size_t n = 0;
+  while (n < text.size() && text[n] >= '0' && text[n] <= '9') ++n;
+  const std::string m = text.substr(0, n);
+  std::string unit = text.substr(n);
+  if (!unit.empty() && unit[0] == ' ') unit.erase(0, 1);
+  if (m != "1" && m != "10" && m != "100") return 0;
+  uint64_t fs = std::stoull(m);
+  for (const char* u : units) {
+    if (unit == u) return fs;
+    fs *= 1000;
+  }
+  return 0;
+}
+
 }  // namespace
 
-VcdReader::VcdReader(const std::string& path) : m_path(path) {
+VcdReader::VcdReader(const std::string& path, uint64_t cycle_ps) : m_path(path) {
   Tokens t(path, 0, 1);
   std::vector<std::string> scopes;
   std::string tok;
-  bool any = false;
+  bool any = false, cycles_already = false;
   while (t.next(tok)) {
     any = true;
     if (tok == "$enddefinitions") {
       t.skip_to_end("$enddefinitions");
       if (!scopes.empty()) t.fail("$enddefinitions inside scope " + scopes.back());
+      if (cycle_ps != 0 && !cycles_already) {
+        const uint64_t unit = timescale_fs(m_timescale);
+        if (unit == 0) t.fail("$timescale \"" + m_timescale + "\" is not a time unit");
+        if (cycle_ps * 1000 % unit != 0) {
+          t.fail("the clock period, " + std::to_string(cycle_ps) +
+                 " ps, is not a whole number of $timescale units (" + m_timescale + ")");
+        }
+        m_per_time = cycle_ps * 1000 / unit;
+      }
       m_body_offset = t.offset();
       m_body_line = t.line();
       return;
@@ -149,8 +175,12 @@ VcdReader::VcdReader(const std::string& path) : m_path(path) {
     } else if (tok == "$timescale") {
       std::string part;
       while (t.next(part) && part != "$end") m_timescale += (m_timescale.empty() ? "" : " ") + part;
+    } else if (tok == "$comment") {
+      std::string text, part;
+      while (t.next(part) && part != "$end") text += (text.empty() ? "" : " ") + part;
+      if (text.find("one time unit is one clock cycle") != std::string::npos) cycles_already = true;
     } else if (tok[0] == '$') {
-      t.skip_to_end(tok.c_str());  // $date, $version, $comment
+      t.skip_to_end(tok.c_str());  // $date, $version
     } else {
       t.fail("unexpected \"" + tok + "\" in the header");
     }
@@ -179,9 +209,13 @@ void VcdReader::for_each_change(const std::function<void(uint64_t, size_t, uint6
     const char c = tok[0];
     if (c == '#') {
       const uint64_t next = parse_time(t, tok);
-      if (next < time)
-        t.fail("time goes backwards: #" + std::to_string(next) + " after #" + std::to_string(time));
-      time = next;
+      if (next < time * m_per_time)
+        t.fail("time goes backwards: " + tok + " after #" + std::to_string(time * m_per_time));
+      if (next % m_per_time != 0) {
+        t.fail("time " + tok + " is not on a clock cycle boundary (" + std::to_string(m_per_time) +
+               " time units per cycle)");
+      }
+      time = next / m_per_time;
     } else if (c == '0' || c == '1' || c == 'x' || c == 'X' || c == 'z' || c == 'Z') {
       if (tok.size() < 2) t.fail("scalar change \"" + tok + "\" without an identifier");
       emit(tok.substr(1), c == '0' ? 0 : c == '1' ? 1 : kUnknown);

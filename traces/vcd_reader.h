@@ -28,17 +28,25 @@ struct VcdSignal {
 class VcdReader {
  public:
   static constexpr uint64_t kUnknown = ~uint64_t{0};
-  // Time spent at each value, in VCD time units.
+  // Time spent at each value (file time units, or cycles: see the constructor).
   using Histogram = std::map<uint64_t, uint64_t>;
 
   // Parses the header up to $enddefinitions; InputError (one line naming the
-  // file and line) when it is not a VCD.
-  explicit VcdReader(const std::string& path);
+  // file and line) when it is not a VCD. Times are the file's time units,
+  // or with `cycle_ps` (the clock period in picoseconds) clock cycles: the
+  // file's times divided by the period in `$timescale` units, which must be
+  // whole, as every time stamp must be on a cycle boundary (InputError
+  // otherwise). A file whose `$comment` says "one time unit is one clock
+  // cycle" (traces written before signals.vcd was in simulated time) is read
+  // as cycles already.
+  explicit VcdReader(const std::string& path, uint64_t cycle_ps = 0);
 
   const std::string& path() const { return m_path; }
   const std::vector<VcdSignal>& signals() const { return m_signals; }
   // "1 ns", as declared.
   const std::string& timescale() const { return m_timescale; }
+  // File time units per reported time unit (1 without cycle_ps).
+  uint64_t units_per_time() const { return m_per_time; }
   // The signal named `name` directly inside scope `scope` (dotted path).
   std::optional<size_t> find(const std::string& scope, const std::string& name) const;
 
@@ -58,6 +66,7 @@ class VcdReader {
   std::vector<VcdSignal> m_signals;
   // Identifier code -> signals (a code may name several aliases).
   std::unordered_map<std::string, std::vector<size_t>> m_ids;
+  uint64_t m_per_time = 1;
   uint64_t m_body_offset = 0;  // file offset just after $enddefinitions $end
   uint64_t m_body_line = 1;
 };

@@ -13,22 +13,35 @@ std::string identifier(size_t n) {
   return id;
 }
 
+// A vector's bit range, "[4:0]"; empty for one bit.
+std::string range(unsigned width) {
+  return width > 1 ? "[" + std::to_string(width - 1) + ":0]" : "";
+}
+
 }  // namespace
 
 VcdWriter::VcdWriter(const std::string& path, uint64_t cycle_ps, uint64_t start, uint64_t end)
-    : m_file(path), m_cycle_ps(cycle_ps), m_start(start), m_end(end) {}
+    : m_file(path),
+      m_cycle_ps(cycle_ps),
+      m_start(start),
+      m_end(end),
+      m_timescale(timescale_for(cycle_ps)) {}
 
-std::string VcdWriter::timescale_for(uint64_t cycle_ps) {
-  static const char* const units[] = {"fs", "ps", "ns", "us", "ms", "s"};
-  uint64_t fs = cycle_ps * 1000;
+VcdWriter::Timescale VcdWriter::timescale_for(uint64_t cycle_ps) {
+  // Coarsest first: 100 s, 10 s, 1 s, 100 ms, ... 1 fs (which divides any
+  // period of whole picoseconds).
+  static const char* const units[] = {"s", "ms", "us", "ns", "ps", "fs"};
+  const uint64_t period_fs = cycle_ps * 1000;
+  uint64_t unit_fs = 1000000000000000;  // 1 s
   for (const char* unit : units) {
-    for (uint64_t m : {1, 10, 100}) {
-      if (fs == m) return std::to_string(m) + " " + unit;
+    for (const uint64_t m : {100, 10, 1}) {
+      if (period_fs != 0 && period_fs % (m * unit_fs) == 0) {
+        return {std::to_string(m) + " " + unit, period_fs / (m * unit_fs)};
+      }
     }
-    if (fs % 1000 != 0) return "";
-    fs /= 1000;
+    unit_fs /= 1000;
   }
-  return "";
+  return {"1 fs", period_fs == 0 ? 1 : period_fs};
 }
 
 size_t VcdWriter::add(const std::string& scope, const std::string& name, unsigned width,
@@ -43,15 +56,17 @@ size_t VcdWriter::add(const std::string& scope, const std::string& name, unsigne
   return m_signals.size() - 1;
 }
 
+std::string VcdWriter::path(size_t signal) const {
+  const Signal& s = m_signals[signal];
+  return s.scope + "." + s.name + range(s.width);
+}
+
 void VcdWriter::begin() {
   std::string h = "$version gpusim $end\n";
-  const std::string ts = timescale_for(m_cycle_ps);
-  if (ts.empty()) {
-    h += "$comment one time unit is one clock cycle of " + std::to_string(m_cycle_ps) +
-         " ps $end\n$timescale 1 ps $end\n";
-  } else {
-    h += "$comment one time unit is one clock cycle $end\n$timescale " + ts + " $end\n";
-  }
+  h += "$comment simulated time; one clock cycle is " + std::to_string(m_cycle_ps) + " ps, " +
+       std::to_string(m_timescale.per_cycle) + " time unit" +
+       (m_timescale.per_cycle == 1 ? "" : "s") + " $end\n$timescale " + m_timescale.text +
+       " $end\n";
   // Scopes are dotted paths; open and close them as consecutive signals'
   // paths differ.
   std::vector<std::string> open;
@@ -68,7 +83,7 @@ void VcdWriter::begin() {
     for (size_t k = common; k < path.size(); ++k) h += "$scope module " + path[k] + " $end\n";
     open = path;
     h += "$var wire " + std::to_string(s.width) + " " + s.id + " " + s.name +
-         (s.width > 1 ? " [" + std::to_string(s.width - 1) + ":0]" : "") + " $end\n";
+         (s.width > 1 ? " " + range(s.width) : "") + " $end\n";
   }
   for (size_t k = open.size(); k > 0; --k) h += "$upscope $end\n";
   h += "$enddefinitions $end\n";
@@ -95,7 +110,7 @@ void VcdWriter::emit(const Signal& s, uint64_t value) {
 
 void VcdWriter::stamp(uint64_t cycle) {
   if (m_stamped && cycle == m_last_stamp) return;
-  out("#" + std::to_string(cycle) + "\n");
+  out("#" + std::to_string(cycle * m_timescale.per_cycle) + "\n");
   m_stamped = true;
   m_last_stamp = cycle;
 }

@@ -1,8 +1,10 @@
-// signals.vcd (docs/traces.md): IEEE 1364 value change dump whose time unit
-// is one cycle. Signals are declared up front in scopes; values are set as
-// events arrive and written once per cycle, the value a signal holds at the
-// end of that cycle's deltas, so a stage that passes through several states
-// within one cycle shows its final one. Streamed through a buffer.
+// signals.vcd (docs/traces.md): IEEE 1364 value change dump in simulated
+// time: `$timescale` is the coarsest 1, 10 or 100 fs/ps/ns/us/ms/s that
+// divides the clock period, and cycle c is written at time c × period / unit,
+// an integer (the period is whole picoseconds, SystemC's resolution). Signals are declared up front
+// in scopes; values are set as events arrive and written once per cycle, the value a signal holds
+// at the end of that cycle's deltas, so a stage that passes through several states within one cycle
+// shows its final one. Streamed through a buffer.
 #pragma once
 
 #include <cstdint>
@@ -16,7 +18,7 @@ namespace gpusim {
 class VcdWriter {
  public:
   // Changes are written for cycles in [start, end); values at `start` go to
-  // $dumpvars. cycle_ps: the clock period in picoseconds, for $timescale.
+  // $dumpvars. cycle_ps: the clock period in picoseconds.
   VcdWriter(const std::string& path, uint64_t cycle_ps, uint64_t start, uint64_t end);
   // Declaration, before begin(): a signal of `width` bits in scope `scope`
   // (scopes as "gpu.triangle_setup"; consecutive signals of one scope share
@@ -39,12 +41,20 @@ class VcdWriter {
   // The run ended at `cycle`: a last time stamp (bounded by the window's end)
   // so viewers and readers see how long the last values lasted; closes.
   void finish(uint64_t cycle);
+  // A declared signal's width, and its path as GTKWave names it:
+  // "gpu.unit_0.rasterizer_to_depth_0[4:0]".
+  unsigned width(size_t signal) const { return m_signals[signal].width; }
+  std::string path(size_t signal) const;
   // Value changes written, $dumpvars entries included.
   uint64_t changes() const { return m_changes; }
 
-  // The $timescale text for a clock period ("1 ns"), empty when the period
-  // is not exactly 1, 10 or 100 of a unit.
-  static std::string timescale_for(uint64_t cycle_ps);
+  // The time unit for a clock period: its $timescale text ("1 ns", "100 ps")
+  // and how many of it make one cycle.
+  struct Timescale {
+    std::string text;
+    uint64_t per_cycle = 1;
+  };
+  static Timescale timescale_for(uint64_t cycle_ps);
 
  private:
   struct Signal {
@@ -55,13 +65,14 @@ class VcdWriter {
   };
   void emit(const Signal& s, uint64_t value);
   void dumpvars(bool use_written);
-  void stamp(uint64_t cycle);  // "#cycle", once per cycle
+  void stamp(uint64_t cycle);  // "#time" of the cycle, once per cycle
   void out(const char* s, size_t n) { m_file.write(s, n); }
   void out(const std::string& s) { m_file.write(s); }
 
   BufferedFile m_file;
   bool m_closed = false;
   uint64_t m_cycle_ps, m_start, m_end;
+  Timescale m_timescale;
   std::vector<Signal> m_signals;
   std::vector<size_t> m_dirty;
   bool m_dumped = false;

@@ -270,6 +270,7 @@ GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOp
     TraceRecorder::Paths paths;
     paths.manifest = files.add(dir + "/manifest.json");
     paths.vcd = files.add(dir + "/signals.vcd");
+    paths.gtkw = files.add(dir + "/signals.gtkw");
     paths.timeline = files.add(dir + "/timeline.json");
     paths.transactions = files.add(dir + "/transactions.bin");
     paths.fragments = files.add(dir + "/fragments.bin");

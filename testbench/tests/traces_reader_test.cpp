@@ -417,5 +417,37 @@ TEST(VcdReader, ScopesVariablesChangesAndHistograms) {
   std::remove(path.c_str());
 }
 
+TEST(VcdReader, ReadsSimulatedTimeAsCycles) {
+  const std::string path = ::testing::TempDir() + "/gpusim_vcd_cycles_" + std::to_string(getpid());
+  const std::string header =
+      "$timescale 1 ps $end\n$scope module gpu $end\n$var wire 1 ! b $end\n$upscope $end\n"
+      "$enddefinitions $end\n";
+  std::ofstream(path) << header + "#0\n$dumpvars\n0!\n$end\n#6666\n1!\n#16665\n";
+  const auto b_changes = [&](uint64_t cycle_ps) { return VcdReader(path, cycle_ps).changes()[0]; };
+  const std::vector<std::pair<uint64_t, uint64_t>> ps = {{0, 0}, {6666, 1}};
+  const std::vector<std::pair<uint64_t, uint64_t>> cycles = {{0, 0}, {2, 1}};
+  EXPECT_EQ(b_changes(0), ps);
+  EXPECT_EQ(b_changes(3333), cycles);  // 300 MHz
+  EXPECT_EQ(VcdReader(path, 3333).histograms(0, 5)[0].at(1), 3u);
+  // Off a cycle boundary, or a period the time unit does not divide.
+  std::ofstream(path) << header + "#0\n0!\n#5000\n1!\n";
+  try {
+    VcdReader(path, 3333).changes();
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("#5000 is not on a clock cycle boundary"),
+              std::string::npos)
+        << e.what();
+  }
+  std::ofstream(path) << "$timescale 1 ns $end\n$enddefinitions $end\n";
+  EXPECT_THROW(VcdReader(path, 3333), InputError);
+  EXPECT_EQ(VcdReader(path, 2000).units_per_time(), 2u);
+  // Traces written before: times are cycles, whatever the timescale says.
+  std::ofstream(path) << "$comment one time unit is one clock cycle of 3333 ps $end\n"
+                         "$timescale 1 ps $end\n$enddefinitions $end\n";
+  EXPECT_EQ(VcdReader(path, 3333).units_per_time(), 1u);
+  std::remove(path.c_str());
+}
+
 }  // namespace
 }  // namespace gpusim

@@ -20,6 +20,7 @@
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <regex>
 #include <set>
 #include <sstream>
 #include <string>
@@ -145,6 +146,7 @@ struct Vcd {
     unsigned width = 1;
   };
   std::map<std::string, Var> vars;  // by identifier
+  std::vector<std::string> order;   // "scope.name" in declaration order
   // Per time stamp, the values of every variable after that time's changes.
   std::vector<std::pair<uint64_t, std::map<std::string, uint64_t>>> steps;
   bool dumpvars = false;
@@ -167,6 +169,7 @@ Vcd parse_vcd(const fs::path& path) {
       std::string s;
       for (const std::string& p : scope) s += (s.empty() ? "" : ".") + p;
       v.vars[words.at(2)] = {s, words.at(3), static_cast<unsigned>(std::stoul(words.at(1)))};
+      v.order.push_back(s + "." + words.at(3));
     } else if (tok == "$timescale") {
       v.timescale = words.at(0) + " " + words.at(1);
     }
@@ -230,12 +233,13 @@ TEST_F(TraceRecord, VcdStatesIntegrateToTheStageCounters) {
   std::map<std::string, std::map<std::string, std::string>> stage_ids;
   std::map<std::string, std::string> fifo_ids;
   for (const auto& [id, var] : vcd.vars) {
-    if (var.scope == "gpu.fifos") {
+    if (var.width > 1) {
       fifo_ids[var.name] = id;
     } else {
-      ASSERT_EQ(var.scope.rfind("gpu.", 0), 0u) << var.scope;
-      stage_ids[var.scope.substr(4)][var.name] = id;
-      EXPECT_EQ(var.width, 1u);
+      // gpu.<front_end|unit_u>.<stage>, wires <stage>_busy, _stalled, _starved.
+      const std::string stage = var.scope.substr(var.scope.rfind('.') + 1);
+      ASSERT_EQ(var.name.rfind(stage + "_", 0), 0u) << var.scope << " " << var.name;
+      stage_ids[stage][var.name.substr(stage.size() + 1)] = id;
     }
   }
   const nlohmann::json& stages = r.timing["stages"];
@@ -267,6 +271,37 @@ TEST_F(TraceRecord, VcdStatesIntegrateToTheStageCounters) {
     EXPECT_EQ(static_cast<double>(wires.at("stalled")), s["stalled_cycles"].get<double>());
     EXPECT_EQ(static_cast<double>(wires.at("starved")), s["starved_cycles"].get<double>());
   }
+  // Grouped in pipeline order: the front end, then unit by unit, each FIFO
+  // just before the stage reading it.
+  std::vector<std::string> want = {"gpu.front_end.commands"};
+  const auto stage = [&](const std::string& group, const std::string& name) {
+    for (const char* w : {"busy", "stalled", "starved"}) {
+      want.push_back("gpu." + group + "." + name + "." + name + "_" + w);
+    }
+  };
+  stage("front_end", "command_processor");
+  for (const auto& [fifo, next] : std::vector<std::pair<std::string, std::string>>{
+           {"command_to_fetch", "vertex_fetch"},
+           {"fetch_to_shader", "vertex_shader"},
+           {"shader_to_clipper", "clipper"},
+           {"clipper_to_setup", "triangle_setup"},
+           {"setup_to_distributor", "tile_distributor"}}) {
+    want.push_back("gpu.front_end." + fifo);
+    stage("front_end", next);
+  }
+  for (int u = 0; u < 4; ++u) {
+    const std::string g = "unit_" + std::to_string(u), n = "_" + std::to_string(u);
+    for (const auto& [fifo, next] : std::vector<std::pair<std::string, std::string>>{
+             {"distributor_to_rasterizer", "tile_rasterizer"},
+             {"rasterizer_to_depth", "depth_test"},
+             {"depth_to_interpolator", "interpolator"},
+             {"interpolator_to_rop", "rop"}}) {
+      want.push_back("gpu." + g + "." + fifo + n);
+      stage(g, next + n);
+    }
+  }
+  EXPECT_EQ(vcd.order, want);
+
   // Something happened: the setup stage worked, and some FIFO filled up.
   EXPECT_GT(integral["triangle_setup"]["busy"], 0u);
   EXPECT_EQ(manifest(dir_)["records"]["vcd_changes"].get<uint64_t>() > 0, true);
@@ -306,6 +341,48 @@ TEST_F(TraceRecord, TimelineIsTraceEventJson) {
   EXPECT_GT(by_phase["C"], 0u);
   EXPECT_EQ(by_phase["M"], 5u + 2u * 22u);  // 5 processes; per stage a name and a sort index
   EXPECT_EQ(t["traceEvents"].size(), m["records"]["timeline_events"].get<uint64_t>());
+}
+
+// Issue #16 item 9: at 300 MHz (a 3333 ps period) the VCD's times are
+// picoseconds, whole cycles of 3333, and the timeline's slices, each end
+// rounded once to a nanosecond, never overlap the next on their thread.
+TEST_F(TraceRecord, At300MHzVcdTimesAreRealAndSlicesDoNotOverlap) {
+  GpuConfig config;
+  config.clock_mhz = 300.0;
+  const GpuRunResult r = traced_run(scene_path("default"), dir_, {}, config);
+  EXPECT_EQ(manifest(dir_)["cycle_ps"].get<uint64_t>(), 3333u);
+  const Vcd vcd = parse_vcd(dir_ / "signals.vcd");
+  EXPECT_EQ(vcd.timescale, "1 ps");
+  ASSERT_GE(vcd.steps.size(), 2u);
+  for (const auto& step : vcd.steps) ASSERT_EQ(step.first % 3333, 0u) << step.first;
+  EXPECT_EQ(vcd.steps.back().first / 3333, r.cycles);
+
+  // "ts": A.BCD and "dur": A.BCD as integers of nanoseconds, from the text.
+  const std::regex x(
+      R"re("ph": "X", .*"ts": (\d+)\.(\d{3}), "dur": (\d+)\.(\d{3}), "pid": (\d+), "tid": (\d+), "args": \{"cycle_in": (\d+), "cycle_out": (\d+))re");
+  std::map<std::pair<int, int>, std::vector<std::pair<uint64_t, uint64_t>>> slices;
+  std::istringstream in(slurp(dir_ / "timeline.json"));
+  uint64_t n = 0, fractional = 0;
+  for (std::string line; std::getline(in, line);) {
+    std::smatch m;
+    if (!std::regex_search(line, m, x)) continue;
+    const uint64_t ts = std::stoull(m[1]) * 1000 + std::stoull(m[2]);
+    const uint64_t dur = std::stoull(m[3]) * 1000 + std::stoull(m[4]);
+    const uint64_t in_ps = std::stoull(m[7]) * 3333, out_ps = std::stoull(m[8]) * 3333;
+    ASSERT_EQ(ts, (in_ps + 500) / 1000) << line;  // rounded to the nearest ns
+    ASSERT_EQ(ts + dur, (out_ps + 500) / 1000) << line;
+    fractional += in_ps % 1000 != 0;
+    slices[{std::stoi(m[5]), std::stoi(m[6])}].push_back({ts, ts + dur});
+    ++n;
+  }
+  EXPECT_EQ(n, manifest(dir_)["records"]["transactions"].get<uint64_t>());
+  EXPECT_GT(fractional, n / 2);  // most boundaries did need rounding
+  for (const auto& [thread, list] : slices) {
+    for (size_t k = 0; k + 1 < list.size(); ++k) {
+      ASSERT_LE(list[k].second, list[k + 1].first)
+          << "thread " << thread.second << " slice " << k << " ends after the next begins";
+    }
+  }
 }
 
 TEST_F(TraceRecord, TransactionsCountEveryTokenOfEveryStage) {
@@ -515,8 +592,11 @@ TEST_F(TraceRecord, StagesKeepOnlyThose) {
   const Vcd vcd = parse_vcd(dir_ / "signals.vcd");
   std::set<std::string> scopes;
   for (const auto& [id, var] : vcd.vars) scopes.insert(var.scope);
-  EXPECT_EQ(scopes, (std::set<std::string>{"gpu.triangle_setup", "gpu.depth_test_1", "gpu.rop_0",
-                                           "gpu.rop_1", "gpu.rop_2", "gpu.rop_3", "gpu.fifos"}));
+  EXPECT_EQ(scopes,
+            (std::set<std::string>{"gpu.front_end", "gpu.front_end.triangle_setup", "gpu.unit_0",
+                                   "gpu.unit_0.rop_0", "gpu.unit_1", "gpu.unit_1.depth_test_1",
+                                   "gpu.unit_1.rop_1", "gpu.unit_2", "gpu.unit_2.rop_2",
+                                   "gpu.unit_3", "gpu.unit_3.rop_3"}));
 }
 
 TEST_F(TraceRecord, TracingChangesNoCycleAndNoPixel) {
@@ -535,8 +615,8 @@ TEST_F(TraceRecord, TwoRunsGiveTheSameBytes) {
   config.fifo_depth = 2;
   traced_run(scene_path("spider"), dir_ / "a", {}, config);
   traced_run(scene_path("spider"), dir_ / "b", {}, config);
-  for (const char* f :
-       {"manifest.json", "signals.vcd", "timeline.json", "transactions.bin", "fragments.bin"}) {
+  for (const char* f : {"manifest.json", "signals.vcd", "signals.gtkw", "timeline.json",
+                        "transactions.bin", "fragments.bin"}) {
     const std::string a = slurp(dir_ / "a" / f);
     EXPECT_FALSE(a.empty()) << f;
     EXPECT_TRUE(a == slurp(dir_ / "b" / f)) << f << " differs between two runs";

@@ -143,27 +143,80 @@ TEST(VcdWriter, WritesTheWindowWithItsStartValues) {
     EXPECT_EQ(w.changes(), 3u);  // two in $dumpvars, one at 12
   }
   EXPECT_EQ(slurp(path),
-            "$version gpusim $end\n$comment one time unit is one clock cycle $end\n"
-            "$timescale 1 ns $end\n$scope module gpu $end\n$scope module s $end\n"
+            "$version gpusim $end\n$comment simulated time; one clock cycle is 1000 ps, 1 time "
+            "unit $end\n$timescale 1 ns $end\n$scope module gpu $end\n$scope module s $end\n"
             "$var wire 1 ! busy $end\n$upscope $end\n$scope module fifos $end\n"
             "$var wire 3 \" f [2:0] $end\n$upscope $end\n$upscope $end\n$enddefinitions $end\n"
             "#10\n$dumpvars\n1!\nb0 \"\n$end\n#12\nb101 \"\n#30\n");
   fs::remove(path);
 }
 
-TEST(VcdWriter, TimescaleIsTheClockPeriodWhenItCanBe) {
-  EXPECT_EQ(VcdWriter::timescale_for(1000), "1 ns");
-  EXPECT_EQ(VcdWriter::timescale_for(10000), "10 ns");
-  EXPECT_EQ(VcdWriter::timescale_for(100), "100 ps");
-  EXPECT_EQ(VcdWriter::timescale_for(1000000), "1 us");
-  EXPECT_EQ(VcdWriter::timescale_for(2500), "");  // 400 MHz: declared as 1 ps, with a comment
+TEST(VcdWriter, TimescaleIsTheCoarsestUnitDividingThePeriod) {
+  const auto ts = [](uint64_t ps) {
+    const VcdWriter::Timescale t = VcdWriter::timescale_for(ps);
+    return t.text + " x" + std::to_string(t.per_cycle);
+  };
+  EXPECT_EQ(ts(1000), "1 ns x1");     // 1000 MHz
+  EXPECT_EQ(ts(10000), "10 ns x1");   // 100 MHz
+  EXPECT_EQ(ts(100), "100 ps x1");    // 10 GHz
+  EXPECT_EQ(ts(1000000), "1 us x1");  // 1 MHz
+  EXPECT_EQ(ts(2500), "100 ps x25");  // 400 MHz
+  EXPECT_EQ(ts(3333), "1 ps x3333");  // 300 MHz (SystemC's 1 ps resolution)
+  EXPECT_EQ(ts(20000), "10 ns x2");   // 50 MHz
+  EXPECT_EQ(ts(7000000), "1 us x7");
 }
 
-TEST(TimelineWriter, MicrosecondsAreExact) {
+TEST(VcdWriter, TimesAreCyclesTimesThePeriod) {
+  const fs::path path = fs::path(::testing::TempDir()) / ("vcd300_" + std::to_string(getpid()));
+  {
+    VcdWriter w(path.string(), 3333, 0, 100);
+    const size_t a = w.add("gpu.front_end.s", "s_busy", 1, 0);
+    w.begin();
+    w.end_cycle(0);
+    w.set(a, 1);
+    w.end_cycle(7);
+    w.finish(9);
+  }
+  EXPECT_EQ(
+      slurp(path),
+      "$version gpusim $end\n$comment simulated time; one clock cycle is 3333 ps, 3333 time "
+      "units $end\n$timescale 1 ps $end\n$scope module gpu $end\n$scope module front_end $end\n"
+      "$scope module s $end\n$var wire 1 ! s_busy $end\n$upscope $end\n$upscope $end\n"
+      "$upscope $end\n$enddefinitions $end\n#0\n$dumpvars\n0!\n$end\n#23331\n1!\n#29997\n");
+  fs::remove(path);
+}
+
+TEST(TimelineWriter, MicrosecondsAreNanosecondsRoundedOnce) {
   EXPECT_EQ(TimelineWriter::microseconds(12345, 1000), "12.345");
-  EXPECT_EQ(TimelineWriter::microseconds(2000, 1000), "2");
-  EXPECT_EQ(TimelineWriter::microseconds(1, 2500), "0.0025");
-  EXPECT_EQ(TimelineWriter::microseconds(0, 1000), "0");
+  EXPECT_EQ(TimelineWriter::microseconds(2000, 1000), "2.000");
+  EXPECT_EQ(TimelineWriter::microseconds(0, 1000), "0.000");
+  EXPECT_EQ(TimelineWriter::microseconds(1, 2500), "0.003");  // 2.5 ns: halves up
+  EXPECT_EQ(TimelineWriter::microseconds(3, 2500), "0.008");  // 7.5 ns
+  // 300 MHz (3333 ps): 96455 cycles = 321.484515 us -> 321.485.
+  EXPECT_EQ(TimelineWriter::microseconds(96455, 3333), "321.485");
+  EXPECT_EQ(TimelineWriter::nanoseconds(96455, 3333), 321485u);
+}
+
+TEST(TimelineWriter, DurationIsTheDifferenceOfTheRoundedEnds) {
+  const fs::path path = fs::path(::testing::TempDir()) / ("tl_" + std::to_string(getpid()));
+  {
+    TimelineWriter w(path.string(), 3333, "{}");
+    // Cycles 1..2: 3.333 ns to 6.666 ns -> ts 0.003, end 0.007, dur 0.004
+    // (rounding 3.333 ns on its own would give 0.003 and an end at 0.006).
+    w.complete(0, 0, "a", "work", 1, 2, "");
+    w.complete(0, 0, "b", "work", 2, 5, "");
+    w.counter(0, 0, "fifo f", 5, 3);
+    w.finish();
+  }
+  EXPECT_EQ(slurp(path),
+            "{\"displayTimeUnit\": \"ns\",\n\"otherData\": {},\n\"traceEvents\": [\n"
+            "{\"ph\": \"X\", \"name\": \"a\", \"cat\": \"work\", \"ts\": 0.003, \"dur\": 0.004, "
+            "\"pid\": 0, \"tid\": 0, \"args\": {\"cycle_in\": 1, \"cycle_out\": 2}},\n"
+            "{\"ph\": \"X\", \"name\": \"b\", \"cat\": \"work\", \"ts\": 0.007, \"dur\": 0.010, "
+            "\"pid\": 0, \"tid\": 0, \"args\": {\"cycle_in\": 2, \"cycle_out\": 5}},\n"
+            "{\"ph\": \"C\", \"name\": \"fifo f\", \"ts\": 0.017, \"pid\": 0, \"tid\": 0, "
+            "\"args\": {\"occupancy\": 3}}\n]}\n");
+  fs::remove(path);
 }
 
 }  // namespace
