@@ -86,16 +86,21 @@ nlohmann::json Gpu::pipeline_counts() const {
   const nlohmann::json setup = m_setup.pipeline_counts();
   for (const auto& [key, value] : setup.items())
     counts[key] = counts.value(key, uint64_t{0}) + value.get<uint64_t>();
-  uint64_t generated = 0, passed = 0, written = 0;
-  for (const Unit& u : m_units) {
-    generated += u.rasterizer->fragments();
-    passed += u.depth->fragments_passed();
-    written += u.rop->fragments_written();
-  }
-  counts["fragments_generated"] = generated;
-  counts["fragments_passed_depth"] = passed;
-  counts["fragments_written"] = written;
+  const FragmentCounts fragments = fragment_counts();
+  counts["fragments_generated"] = fragments.generated;
+  counts["fragments_passed_depth"] = fragments.passed_depth;
+  counts["fragments_written"] = fragments.written;
   return counts;
+}
+
+Gpu::FragmentCounts Gpu::fragment_counts() const {
+  FragmentCounts n;
+  for (const Unit& u : m_units) {
+    n.generated += u.rasterizer->fragments();
+    n.passed_depth += u.depth->fragments_passed();
+    n.written += u.rop->fragments_written();
+  }
+  return n;
 }
 
 nlohmann::json Gpu::stats_json(uint64_t cycles) const {
