@@ -99,8 +99,10 @@ class Host : public sc_core::sc_module {
       sc_core::wait(m_interval, m_stop);
       // Nothing moved and no transfer in flight: wait for an item rather
       // than time, so that a deadlock lets the kernel run out of events
-      // (docs/robustness.md).
-      if (progress_count(m_gpu) == moved && !transfers_in_flight(m_gpu, m_memory_latency)) {
+      // (docs/robustness.md). Not once the frame is done: nothing moves
+      // after it, and the final figures below would never be shown.
+      if (!done && progress_count(m_gpu) == moved &&
+          !transfers_in_flight(m_gpu, m_memory_latency)) {
         sc_core::wait(activity);
       }
       moved = progress_count(m_gpu);

@@ -7,7 +7,10 @@
 #include <regex>
 #include <sstream>
 #include <string>
+#include <utility>
 
+#include "testbench/scene/scene.h"
+#include "testbench/sim/gpu_run.h"
 #include "testbench/sim/progress.h"
 
 namespace gpusim {
@@ -109,6 +112,41 @@ TEST(Progress, ModeFromFlagsAndTerminal) {
   EXPECT_EQ(Progress::mode_for(true, false, false), M::lines);
   EXPECT_EQ(Progress::mode_for(true, false, true), M::terminal);
   EXPECT_EQ(Progress::mode_for(false, true, true), M::quiet);
+}
+
+// run_gpu's phases, and the simulation's final figures shown however long
+// the interval: the frame's cycles and fragments as the result gives them.
+// (The reporting thread once waited for an item to move after the frame was
+// done, and the final line never came when the frame ended in a write-back
+// longer than its 100k-cycle period: a slow bus here.)
+TEST(Progress, RunGpuShowsItsPhasesAndTheFinalFigures) {
+  GpuConfig slow_bus;
+  slow_bus.memory.bytes_per_cycle = 1;
+  for (const auto& [name, config] : {std::pair{"default", GpuConfig{}},
+                                     {"lines_points", GpuConfig{}},
+                                     {"quad_clipspace", slow_bus}}) {
+    SCOPED_TRACE(name);
+    const Scene scene = load_scene(std::string(GPUSIM_SOURCE_DIR) + "/testbench/scenes/" +
+                                   std::string(name) + ".json");
+    std::ostringstream out;
+    Progress p(Progress::Mode::lines, out, 1e6);
+    GpuRunOptions options;
+    options.progress = &p;
+    const GpuRunResult r = run_gpu(scene, config, options);
+    ASSERT_EQ(p.phases().size(), 3u);
+    EXPECT_EQ(p.phases()[0].first, "build");
+    EXPECT_EQ(p.phases()[1].first, "simulate");
+    EXPECT_EQ(p.phases()[2].first, "read back");
+    // Every primitive assembled, as the pipeline counters count them.
+    const uint64_t primitives = r.counts.value("triangles_in", uint64_t{0}) +
+                                r.counts.value("lines_in", uint64_t{0}) +
+                                r.counts.value("points_in", uint64_t{0});
+    const std::string final_state = "\nsimulate: " + std::to_string(primitives) + " of " +
+                                    std::to_string(primitives) + " primitives assembled, " +
+                                    std::to_string(r.cycles) + " cycles, " +
+                                    r.counts.at("fragments_generated").dump() + " fragments, ";
+    EXPECT_NE(out.str().find(final_state), std::string::npos) << final_state << "\n" << out.str();
+  }
 }
 
 }  // namespace
