@@ -102,14 +102,20 @@ int report_simulation_error(const std::string& scene_path, const SimulationError
   return kExitSimulation;
 }
 
-// frame.exr, frame.png and stats.json into dir, committed together.
-void write_frame_outputs(const std::string& dir, const Framebuffer& fb,
-                         const nlohmann::json& stats) {
+// frame.exr, frame.png and stats.json into dir, committed together, each
+// named on the progress display as it starts (a large frame's EXR and PNG
+// take seconds).
+void write_frame_outputs(const std::string& dir, const Framebuffer& fb, const nlohmann::json& stats,
+                         Progress& progress) {
   create_output_directory(dir);
   OutputFiles files;
-  write_frame_exr(fb, files.add(dir + "/frame.exr"));
-  write_frame_png(fb, files.add(dir + "/frame.png"));
-  write_text_file_atomically(files.add(dir + "/stats.json"), stats.dump(2) + "\n");
+  const auto add = [&](const std::string& name) {
+    progress.update("writing " + dir + "/" + name, true);
+    return files.add(dir + "/" + name);
+  };
+  write_frame_exr(fb, add("frame.exr"));
+  write_frame_png(fb, add("frame.png"));
+  write_text_file_atomically(add("stats.json"), stats.dump(2) + "\n");
   files.commit();
 }
 
@@ -199,7 +205,7 @@ int run_golden(const std::string& scene_path, const std::string& out_dir, uint64
       {"stats", result.stats.to_json()},
   };
   progress.begin("write", "frame.exr, frame.png, stats.json into " + out_dir);
-  write_frame_outputs(out_dir, result.framebuffer, stats);
+  write_frame_outputs(out_dir, result.framebuffer, stats, progress);
   progress.end();
 
   std::printf("golden: %s rendered in %.3f s\n", scene_path.c_str(), seconds);
@@ -308,8 +314,9 @@ int run_cycle_model(const RunArgs& args, const ProgressArgs& progress_args) {
   };
   progress.begin("write", "frame.exr, frame.png, stats.json into " + args.out_dir +
                               (args.trace_dir.empty() ? "" : ", the trace into " + args.trace_dir));
-  write_frame_outputs(args.out_dir, result.framebuffer, stats);
+  write_frame_outputs(args.out_dir, result.framebuffer, stats, progress);
   if (!args.trace_dir.empty()) {
+    progress.update("writing " + args.trace_dir + "/frame.exr and stats.json", true);
     write_frame_exr(result.framebuffer, trace_files.add(args.trace_dir + "/frame.exr"));
     write_text_file_atomically(trace_files.add(args.trace_dir + "/stats.json"),
                                stats.dump(2) + "\n");
