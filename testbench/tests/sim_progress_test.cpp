@@ -115,7 +115,8 @@ TEST(Progress, ModeFromFlagsAndTerminal) {
 }
 
 // run_gpu's phases, and the simulation's final figures shown however long
-// the interval: the frame's cycles and fragments as the result gives them.
+// the interval: the frame's cycles and fragments as the result gives them;
+// and the same frame and timing as without the display.
 // (The reporting thread once waited for an item to move after the frame was
 // done, and the final line never came when the frame ended in a write-back
 // longer than its 100k-cycle period: a slow bus here.)
@@ -146,6 +147,11 @@ TEST(Progress, RunGpuShowsItsPhasesAndTheFinalFigures) {
                                     std::to_string(r.cycles) + " cycles, " +
                                     r.counts.at("fragments_generated").dump() + " fragments, ";
     EXPECT_NE(out.str().find(final_state), std::string::npos) << final_state << "\n" << out.str();
+    // Its thread wakes through the write-back as well: no cycle moves.
+    const GpuRunResult plain = run_gpu(scene, config, GpuRunOptions{});
+    EXPECT_EQ(r.cycles, plain.cycles);
+    EXPECT_EQ(r.timing, plain.timing);
+    EXPECT_TRUE(r.framebuffer == plain.framebuffer);
   }
 }
 
