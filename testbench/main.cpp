@@ -110,7 +110,7 @@ void write_frame_outputs(const std::string& dir, const Framebuffer& fb, const nl
   create_output_directory(dir);
   OutputFiles files;
   const auto add = [&](const std::string& name) {
-    progress.update("writing " + dir + "/" + name, true);
+    progress.update("writing " + printable(dir) + "/" + name, true);
     return files.add(dir + "/" + name);
   };
   write_frame_exr(fb, add("frame.exr"));
@@ -171,10 +171,11 @@ Progress make_progress(const ProgressArgs& p) {
                   p.interval);
 }
 
-// The load phase: the scene, each mesh reported as its import starts.
+// The load phase: the scene, each mesh reported as its import starts
+// (names made printable, as in error messages: the line stays one line).
 Scene load_scene_shown(const std::string& path, Progress& progress) {
-  progress.begin("load", "reading " + path);
-  return load_scene(path, [&](const std::string& what) { progress.update(what, true); });
+  progress.begin("load", "reading " + printable(path));
+  return load_scene(path, [&](const std::string& what) { progress.update(printable(what), true); });
 }
 
 int run_golden(const std::string& scene_path, const std::string& out_dir, uint64_t memory_mib,
