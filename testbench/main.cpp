@@ -205,7 +205,7 @@ int run_golden(const std::string& scene_path, const std::string& out_dir, uint64
       {"settings", scene.resolved},
       {"stats", result.stats.to_json()},
   };
-  progress.begin("write", "frame.exr, frame.png, stats.json into " + out_dir);
+  progress.begin("write", "frame.exr, frame.png, stats.json into " + printable(out_dir));
   write_frame_outputs(out_dir, result.framebuffer, stats, progress);
   progress.end();
 
@@ -313,11 +313,12 @@ int run_cycle_model(const RunArgs& args, const ProgressArgs& progress_args) {
       {"model", "cycle"},          {"scene", args.scene},    {"settings", scene.resolved},
       {"config", to_json(config)}, {"stats", result.counts}, {"timing", result.timing},
   };
-  progress.begin("write", "frame.exr, frame.png, stats.json into " + args.out_dir +
-                              (args.trace_dir.empty() ? "" : ", the trace into " + args.trace_dir));
+  progress.begin(
+      "write", "frame.exr, frame.png, stats.json into " + printable(args.out_dir) +
+                   (args.trace_dir.empty() ? "" : ", the trace into " + printable(args.trace_dir)));
   write_frame_outputs(args.out_dir, result.framebuffer, stats, progress);
   if (!args.trace_dir.empty()) {
-    progress.update("writing " + args.trace_dir + "/frame.exr and stats.json", true);
+    progress.update("writing " + printable(args.trace_dir) + "/frame.exr and stats.json", true);
     write_frame_exr(result.framebuffer, trace_files.add(args.trace_dir + "/frame.exr"));
     write_text_file_atomically(trace_files.add(args.trace_dir + "/stats.json"),
                                stats.dump(2) + "\n");
