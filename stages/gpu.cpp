@@ -98,23 +98,27 @@ nlohmann::json Gpu::pipeline_counts() const {
   const nlohmann::json setup = m_setup.pipeline_counts();
   for (const auto& [key, value] : setup.items())
     counts[key] = counts.value(key, uint64_t{0}) + value.get<uint64_t>();
-  uint64_t generated = 0, passed = 0, written = 0;
-  uint64_t samples_generated = 0, samples_passed = 0, samples_written = 0;
-  for (const Unit& u : m_units) {
-    generated += u.rasterizer->fragments();
-    passed += u.depth->fragments_passed();
-    written += u.rop->fragments_written();
-    samples_generated += u.rasterizer->samples();
-    samples_passed += u.depth->samples_passed();
-    samples_written += u.rop->samples_written();
-  }
-  counts["fragments_generated"] = generated;
-  counts["fragments_passed_depth"] = passed;
-  counts["fragments_written"] = written;
-  counts["samples_generated"] = samples_generated;
-  counts["samples_passed_depth"] = samples_passed;
-  counts["samples_written"] = samples_written;
+  const FragmentCounts fragments = fragment_counts();
+  counts["fragments_generated"] = fragments.generated;
+  counts["fragments_passed_depth"] = fragments.passed_depth;
+  counts["fragments_written"] = fragments.written;
+  counts["samples_generated"] = fragments.samples_generated;
+  counts["samples_passed_depth"] = fragments.samples_passed_depth;
+  counts["samples_written"] = fragments.samples_written;
   return counts;
+}
+
+Gpu::FragmentCounts Gpu::fragment_counts() const {
+  FragmentCounts n;
+  for (const Unit& u : m_units) {
+    n.generated += u.rasterizer->fragments();
+    n.passed_depth += u.depth->fragments_passed();
+    n.written += u.rop->fragments_written();
+    n.samples_generated += u.rasterizer->samples();
+    n.samples_passed_depth += u.depth->samples_passed();
+    n.samples_written += u.rop->samples_written();
+  }
+  return n;
 }
 
 nlohmann::json Gpu::stats_json(uint64_t cycles) const {

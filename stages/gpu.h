@@ -71,6 +71,13 @@ class Gpu : public sc_core::sc_module {
 
   // Primitives the clipper has assembled so far (for progress lines).
   uint64_t primitives_assembled() const { return m_clipper.primitives_in(); }
+  // Fragments so far, summed over the units: rasterized, passing the depth
+  // test, written by the ROPs (pipeline_counts, progress lines).
+  struct FragmentCounts {
+    uint64_t generated = 0, passed_depth = 0, written = 0;
+    uint64_t samples_generated = 0, samples_passed_depth = 0, samples_written = 0;
+  };
+  FragmentCounts fragment_counts() const;
 
   // Everything stats.json reports about the run: per stage busy / stalled /
   // starved cycles and its own counters, per FIFO occupancy, per unit work,

@@ -31,6 +31,7 @@
 #include "testbench/scene/scene.h"
 #include "testbench/sim/gpu_run.h"
 #include "testbench/sim/memory_budget.h"
+#include "testbench/sim/progress.h"
 #include "traces/trace_follow.h"
 #include "traces/trace_reader.h"
 #include "traces/trace_summary.h"
@@ -102,14 +103,20 @@ int report_simulation_error(const std::string& scene_path, const SimulationError
   return kExitSimulation;
 }
 
-// frame.exr, frame.png and stats.json into dir, committed together.
-void write_frame_outputs(const std::string& dir, const Framebuffer& fb,
-                         const nlohmann::json& stats) {
+// frame.exr, frame.png and stats.json into dir, committed together, each
+// named on the progress display as it starts (a large frame's EXR and PNG
+// take seconds).
+void write_frame_outputs(const std::string& dir, const Framebuffer& fb, const nlohmann::json& stats,
+                         Progress& progress) {
   create_output_directory(dir);
   OutputFiles files;
-  write_frame_exr(fb, files.add(dir + "/frame.exr"));
-  write_frame_png(fb, files.add(dir + "/frame.png"));
-  write_text_file_atomically(files.add(dir + "/stats.json"), stats.dump(2) + "\n");
+  const auto add = [&](const std::string& name) {
+    progress.update("writing " + printable(dir) + "/" + name, true);
+    return files.add(dir + "/" + name);
+  };
+  write_frame_exr(fb, add("frame.exr"));
+  write_frame_png(fb, add("frame.png"));
+  write_text_file_atomically(add("stats.json"), stats.dump(2) + "\n");
   files.commit();
 }
 
@@ -140,10 +147,45 @@ void print_counts(const nlohmann::json& c) {
               u(n("fragments_written")));
 }
 
-int run_golden(const std::string& scene_path, const std::string& out_dir, uint64_t memory_mib) {
-  const Scene scene = load_scene(scene_path);
+// --progress, --quiet, --progress-interval (run and golden).
+struct ProgressArgs {
+  bool force = false, quiet = false;
+  double interval = 1.0;  // seconds between state lines off a terminal
+};
+
+void add_progress_options(CLI::App* cmd, ProgressArgs& p) {
+  CLI::Option* force = cmd->add_flag(
+      "--progress", p.force,
+      "Show progress on stderr even when it is not a terminal: a line per phase and the state "
+      "every --progress-interval seconds");
+  CLI::Option* quiet = cmd->add_flag("--quiet", p.quiet, "Show no progress, even on a terminal");
+  force->excludes(quiet);
+  cmd->add_option("--progress-interval", p.interval,
+                  "Seconds between progress lines when stderr is not a terminal")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+}
+
+// The progress display on stderr; its phases' wall times end the summary.
+Progress make_progress(const ProgressArgs& p) {
+  return Progress(Progress::mode_for(p.force, p.quiet, isatty(STDERR_FILENO)), std::cerr,
+                  p.interval);
+}
+
+// The load phase: the scene, each mesh reported as its import starts
+// (names made printable, as in error messages: the line stays one line).
+Scene load_scene_shown(const std::string& path, Progress& progress) {
+  progress.begin("load", "reading " + printable(path));
+  return load_scene(path, [&](const std::string& what) { progress.update(printable(what), true); });
+}
+
+int run_golden(const std::string& scene_path, const std::string& out_dir, uint64_t memory_mib,
+               const ProgressArgs& progress_args) {
+  Progress progress = make_progress(progress_args);
+  const Scene scene = load_scene_shown(scene_path, progress);
   check_scene_limits(scene);
   check_memory(estimate_golden_memory(scene), memory_limit(memory_mib), scene_path);
+  progress.begin("render", "rendering with the golden model");
   const auto start = std::chrono::steady_clock::now();
   const golden::Result result = golden::render(scene);
   const double seconds =
@@ -152,6 +194,7 @@ int run_golden(const std::string& scene_path, const std::string& out_dir, uint64
   if (!errors.empty()) {
     std::string report = "golden model: the counters do not balance:";
     for (const std::string& e : errors) report += "\n  " + e;
+    progress.interrupt();
     return report_simulation_error(scene_path,
                                    SimulationError(SimulationError::Kind::conservation, report));
   }
@@ -163,13 +206,16 @@ int run_golden(const std::string& scene_path, const std::string& out_dir, uint64
       {"settings", scene.resolved},
       {"stats", result.stats.to_json()},
   };
-  write_frame_outputs(out_dir, result.framebuffer, stats);
+  progress.begin("write", "frame.exr, frame.png, stats.json into " + printable(out_dir));
+  write_frame_outputs(out_dir, result.framebuffer, stats, progress);
+  progress.end();
 
   std::printf("golden: %s rendered in %.3f s\n", scene_path.c_str(), seconds);
   print_counts(result.stats.to_json());
   std::printf("  frame: %s/frame.exr (%dx%d), %s/frame.png, %s/stats.json\n", out_dir.c_str(),
               result.framebuffer.width, result.framebuffer.height, out_dir.c_str(),
               out_dir.c_str());
+  std::printf("  wall: %s\n", progress.wall_summary().c_str());
   return 0;
 }
 
@@ -196,8 +242,9 @@ std::string pixel_text(const Framebuffer& fb, int x, int y) {
 }
 
 // Compares the cycle model's frame and counters with the golden model's.
-bool check_against_golden(const Scene& scene, const GpuRunResult& gpu) {
-  const golden::Result ref = golden::render(scene);
+// k: the supersample factor, which maps an output pixel to its render-target
+// pixels (the last writers are recorded per render-target pixel).
+bool check_against_golden(const golden::Result& ref, const GpuRunResult& gpu, unsigned k) {
   const Framebuffer& a = gpu.framebuffer;
   const Framebuffer& b = ref.framebuffer;
   bool ok = true;
@@ -208,10 +255,9 @@ bool check_against_golden(const Scene& scene, const GpuRunResult& gpu) {
           a.depth[p] == b.depth[p]) {
         continue;
       }
-      // The writers of its lower-left render-target pixel (supersampling).
-      const size_t k = scene.framebuffer.supersample;
-      const size_t q = k * static_cast<size_t>(y) * k * static_cast<size_t>(a.width) +
-                       k * static_cast<size_t>(x);
+      // The writers of its lower-left render-target pixel.
+      const size_t q = size_t{k} * static_cast<size_t>(y) * k * static_cast<size_t>(a.width) +
+                       size_t{k} * static_cast<size_t>(x);
       std::printf("check: FAIL: first differing pixel x=%d y=%d\n", x, y);
       std::printf("  cycle model: %s, last written by primitive %lld\n",
                   pixel_text(a, x, y).c_str(), static_cast<long long>(gpu.last_writer[q]));
@@ -237,8 +283,9 @@ bool check_against_golden(const Scene& scene, const GpuRunResult& gpu) {
   return ok;
 }
 
-int run_cycle_model(const RunArgs& args) {
-  const Scene scene = load_scene(args.scene);
+int run_cycle_model(const RunArgs& args, const ProgressArgs& progress_args) {
+  Progress progress = make_progress(progress_args);
+  const Scene scene = load_scene_shown(args.scene, progress);
   GpuConfig config = args.config.empty() ? GpuConfig{} : load_gpu_config(args.config);
   if (args.units_given) {
     nlohmann::json j = to_json(config);
@@ -250,7 +297,7 @@ int run_cycle_model(const RunArgs& args) {
                args.scene);
   GpuRunOptions options;
   options.record_last_writer = args.check;
-  options.progress = isatty(STDERR_FILENO);
+  options.progress = &progress;
   // The trace's files, committed with its frame.exr and stats.json below; on
   // any failure they are removed and an earlier trace in the directory stays.
   OutputFiles trace_files;
@@ -264,6 +311,7 @@ int run_cycle_model(const RunArgs& args) {
   try {
     result = run_gpu(scene, config, options);
   } catch (const SimulationError& e) {
+    progress.interrupt();
     return report_simulation_error(args.scene, e);  // a hang, or counters that do not balance
   }
   // No wall-clock figures in stats.json: the same input gives the same bytes.
@@ -271,13 +319,24 @@ int run_cycle_model(const RunArgs& args) {
       {"model", "cycle"},          {"scene", args.scene},    {"settings", scene.resolved},
       {"config", to_json(config)}, {"stats", result.counts}, {"timing", result.timing},
   };
-  write_frame_outputs(args.out_dir, result.framebuffer, stats);
+  progress.begin(
+      "write", "frame.exr, frame.png, stats.json into " + printable(args.out_dir) +
+                   (args.trace_dir.empty() ? "" : ", the trace into " + printable(args.trace_dir)));
+  write_frame_outputs(args.out_dir, result.framebuffer, stats, progress);
   if (!args.trace_dir.empty()) {
+    progress.update("writing " + printable(args.trace_dir) + "/frame.exr and stats.json", true);
     write_frame_exr(result.framebuffer, trace_files.add(args.trace_dir + "/frame.exr"));
     write_text_file_atomically(trace_files.add(args.trace_dir + "/stats.json"),
                                stats.dump(2) + "\n");
     trace_files.commit();
   }
+  // The golden model's frame now, so that the summary can give its time.
+  std::optional<golden::Result> reference;
+  if (args.check) {
+    progress.begin("check", "rendering with the golden model");
+    reference = golden::render(scene);
+  }
+  progress.end();
 
   const double mhz = config.clock_mhz;
   std::printf(
@@ -296,7 +355,9 @@ int run_cycle_model(const RunArgs& args) {
         "fragments.bin)\n",
         args.trace_dir.c_str());
   }
-  if (args.check && !check_against_golden(scene, result)) return 1;
+  std::printf("  wall: %s\n", progress.wall_summary().c_str());
+  if (reference && !check_against_golden(*reference, result, scene.framebuffer.supersample))
+    return 1;
   return 0;
 }
 
@@ -548,6 +609,8 @@ int main_with_errors(int argc, char** argv) {
       "Refuse a scene needing more than this many MiB (default: the machine's physical "
       "memory or its control group's limit)";
   golden->add_option("--memory-limit", golden_memory_mib, memory_help);
+  ProgressArgs progress_args;
+  add_progress_options(golden, progress_args);
 
   RunArgs run;
   CLI::App* run_cmd = app.add_subcommand("run", "Simulate the cycle-modeled GPU on a scene");
@@ -561,6 +624,7 @@ int main_with_errors(int argc, char** argv) {
       "--check", run.check,
       "Also render with the golden model and compare bit for bit (exit 1 on a difference)");
   run_cmd->add_option("--memory-limit", run.memory_mib, memory_help);
+  add_progress_options(run_cmd, progress_args);
   CLI::Option* trace_option =
       run_cmd->add_option("--trace", run.trace_dir,
                           "Record a trace into this directory (docs/traces.md): manifest.json, "
@@ -671,10 +735,10 @@ int main_with_errors(int argc, char** argv) {
     return deepest_parsed(&app) == compare ? kExitCompareError : kExitError;
   }
 
-  if (golden->parsed()) return run_golden(scene_path, out_dir, golden_memory_mib);
+  if (golden->parsed()) return run_golden(scene_path, out_dir, golden_memory_mib, progress_args);
   if (run_cmd->parsed()) {
     run.units_given = units_option->count() > 0;
-    return run_cycle_model(run);
+    return run_cycle_model(run, progress_args);
   }
   if (compare->parsed()) return run_compare(cmp);
   if (trace_summary->parsed()) return run_trace_summary(trace_args);

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -47,8 +48,12 @@ struct Scene {
   nlohmann::json resolved;
 };
 
+// Told what the loader starts on that may take long (importing a mesh:
+// assimp can spend seconds on a large one), for progress lines.
+using SceneLoadStep = std::function<void(const std::string& what)>;
+
 // Load and validate a scene file; throws InputError.
-Scene load_scene(const std::string& path);
+Scene load_scene(const std::string& path, const SceneLoadStep& step = {});
 // The same for a scene file's contents: `path` names it in messages and mesh
 // paths resolve against its directory (the scene parser's fuzz target).
 Scene load_scene_from_string(const std::string& text, const std::string& path);

@@ -99,8 +99,8 @@ struct At {
 
 class SceneReader {
  public:
-  explicit SceneReader(std::string file)
-      : file_(std::move(file)), dir_(fs::path(file_).parent_path()) {}
+  explicit SceneReader(std::string file, SceneLoadStep step = {})
+      : file_(std::move(file)), dir_(fs::path(file_).parent_path()), step_(std::move(step)) {}
 
   // The file named at construction.
   Scene read();
@@ -175,6 +175,7 @@ class SceneReader {
 
   std::string file_;
   fs::path dir_;
+  SceneLoadStep step_;
   glm::mat4 view_{1.0f};
   glm::mat4 projection_{1.0f};
 };
@@ -767,6 +768,7 @@ void SceneReader::read_draw(const At& a, Scene& scene) const {
   if (file.is_relative()) file = dir_ / file;
 
   std::vector<ImportedMesh> meshes;
+  if (step_) step_("importing " + file.string() + " (" + mesh_at.path + ")");
   try {
     meshes = import_mesh(file.string());
   } catch (const MeshImportError& e) {
@@ -847,8 +849,8 @@ void SceneReader::finish_draw(Draw& d, const glm::mat4& model, const At& a, Scen
 
 }  // namespace
 
-Scene load_scene(const std::string& path) {
-  return SceneReader(path).read();
+Scene load_scene(const std::string& path, const SceneLoadStep& step) {
+  return SceneReader(path, step).read();
 }
 
 Scene load_scene_from_string(const std::string& text, const std::string& path) {

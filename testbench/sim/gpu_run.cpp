@@ -1,5 +1,6 @@
 #include "testbench/sim/gpu_run.h"
 
+#include <algorithm>
 #include <chrono>
 #include <climits>
 #include <cstdio>
@@ -13,6 +14,7 @@
 #include "stages/gpu.h"
 #include "testbench/io/output_file.h"
 #include "testbench/sim/conservation.h"
+#include "testbench/sim/progress.h"
 #include "testbench/sim/watchdog.h"
 #include "traces/trace_recorder.h"
 
@@ -38,15 +40,18 @@ uint64_t append(std::vector<uint8_t>& memory, const T* data, size_t count) {
 class Host : public sc_core::sc_module {
  public:
   SC_HAS_PROCESS(Host);
-  Host(sc_core::sc_module_name name, Gpu& gpu, size_t draws, uint64_t primitives, bool progress,
-       sc_core::sc_time cycle, bool withhold_end_of_frame = false)
+  // `progress`: where the simulate phase's state goes, or null for none.
+  Host(sc_core::sc_module_name name, Gpu& gpu, const GpuConfig& config, size_t draws,
+       uint64_t primitives, Progress* progress, bool withhold_end_of_frame = false)
       : sc_core::sc_module(name),
         m_gpu(gpu),
         m_draws(draws),
         m_primitives(primitives),
+        m_progress(progress),
         m_withhold_end_of_frame(withhold_end_of_frame),
-        m_cycle(cycle),
-        m_interval(cycle * 100000.0) {
+        m_cycle(config.cycle()),
+        m_interval(config.cycles(100000)),
+        m_memory_latency(config.cycles(config.memory.latency)) {
     SC_THREAD(stream);
     if (progress) SC_THREAD(report_progress);
   }
@@ -67,40 +72,53 @@ class Host : public sc_core::sc_module {
     m_stop.notify();
   }
 
-  // Wakes every 100k simulated cycles (a negligible cost) and redraws one
-  // line on the terminal, at most 5 times a second, once the run has taken a
-  // second.
+  // Wakes every 100k simulated cycles (a negligible cost) and hands the
+  // state to the progress display, which shows it as often as its mode
+  // allows. It wakes on simulated time only and only reads the GPU, so the
+  // host's clock never reaches the simulation (docs/robustness.md).
   void report_progress() {
     const auto start = std::chrono::steady_clock::now();
-    double last = 0.0;
-    bool shown = false;
     const sc_core::sc_event_or_list activity = activity_events(m_gpu.topology()) | m_stop;
     uint64_t moved = progress_count(m_gpu);
-    while (!done) {
-      sc_core::wait(m_interval, m_stop);
-      // Nothing moved: wait for an item rather than time, so that a deadlock
-      // lets the kernel run out of events (docs/robustness.md).
-      if (progress_count(m_gpu) == moved) sc_core::wait(activity);
-      moved = progress_count(m_gpu);
+    const auto state = [&] {
+      const uint64_t cycles = static_cast<uint64_t>(sc_core::sc_time_stamp() / m_cycle);
       const double wall =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      if (wall < 1.0 || wall - last < 0.2 || done) continue;
-      last = wall;
-      const double cycles = sc_core::sc_time_stamp() / m_cycle;
-      std::fprintf(stderr, "\r  %llu of %llu primitives assembled, %.3g cycles, %.3g cycles/s   ",
-                   static_cast<unsigned long long>(m_gpu.primitives_assembled()),
-                   static_cast<unsigned long long>(m_primitives), cycles, cycles / wall);
-      shown = true;
+      char buf[192];
+      std::snprintf(buf, sizeof buf,
+                    "%llu of %llu primitives assembled, %llu cycles, %llu fragments, %.3g "
+                    "cycles/s",
+                    static_cast<unsigned long long>(m_gpu.primitives_assembled()),
+                    static_cast<unsigned long long>(m_primitives),
+                    static_cast<unsigned long long>(cycles),
+                    static_cast<unsigned long long>(m_gpu.fragment_counts().generated),
+                    static_cast<double>(cycles) / std::max(wall, 1e-9));
+      return std::string(buf);
+    };
+    while (!done) {
+      sc_core::wait(m_interval, m_stop);
+      // Nothing moved and no transfer in flight: wait for an item rather
+      // than time, so that a deadlock lets the kernel run out of events
+      // (docs/robustness.md). Not once the frame is done: nothing moves
+      // after it, and the final figures below would never be shown.
+      if (!done && progress_count(m_gpu) == moved &&
+          !transfers_in_flight(m_gpu, m_memory_latency)) {
+        sc_core::wait(activity);
+      }
+      moved = progress_count(m_gpu);
+      if (!done) m_progress->update(state());
     }
-    if (shown) std::fprintf(stderr, "\n");
+    m_progress->update(state(), true);  // the frame's final figures
   }
 
   Gpu& m_gpu;
   size_t m_draws;
   uint64_t m_primitives;  // primitives of every kind assembled in the frame
+  Progress* m_progress;
   bool m_withhold_end_of_frame;
   sc_core::sc_time m_cycle;
   sc_core::sc_time m_interval;
+  sc_core::sc_time m_memory_latency;
   sc_core::sc_event m_stop;
 };
 
@@ -232,6 +250,12 @@ GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOp
     trace_filter =
         TraceFilter::parse(options.trace_stages, options.trace_window, options.trace_prims);
   }
+  Progress* progress = options.progress;
+  if (progress) {
+    progress->begin("build", "laying out the scene in GPU memory, elaborating " +
+                                 std::to_string(config.units) + " raster unit" +
+                                 (config.units == 1 ? "" : "s"));
+  }
   fresh_simulation_context();
   LoadedFrame loaded = load_frame(scene);
   Gpu gpu("gpu", config, loaded.frame, loaded.memory.size(), options.unit_order);
@@ -280,11 +304,17 @@ GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOp
   }
   uint64_t primitives = 0;
   for (const Draw& d : scene.draws) primitives += primitive_count(d.primitive, d.vertex_count());
-  Host host("host", gpu, scene.draws.size(), primitives, options.progress, config.cycle(),
+  Host host("host", gpu, config, scene.draws.size(), primitives,
+            progress && progress->shown() ? progress : nullptr,
             options.fault_withhold_end_of_frame);
   std::unique_ptr<Watchdog> watchdog;
   if (options.watchdog) watchdog = std::make_unique<Watchdog>("watchdog", gpu, config);
 
+  if (progress) {
+    progress->begin("simulate", std::to_string(primitives) + " primitives in " +
+                                    std::to_string(scene.draws.size()) + " draw" +
+                                    (scene.draws.size() == 1 ? "" : "s"));
+  }
   const auto start = std::chrono::steady_clock::now();
   try {
     sc_core::sc_start();
@@ -300,6 +330,7 @@ GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOp
   }
   result.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (progress) progress->begin("read back", "the frame and the counters, checking the ledger");
 
   if (watchdog && watchdog->fired()) {
     throw SimulationError(SimulationError::Kind::watchdog, watchdog->report());
@@ -338,6 +369,7 @@ GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOp
     throw SimulationError(SimulationError::Kind::conservation, report);
   }
   if (recorder) recorder->finish(result.cycles, sc_core::sc_time_stamp().value());
+  if (progress) progress->end();
   return result;
 }
 

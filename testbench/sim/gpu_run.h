@@ -26,6 +26,7 @@
 namespace gpusim {
 
 class OutputFiles;
+class Progress;
 
 // The scene as the GPU sees it: register state and an initial memory image.
 struct LoadedFrame {
@@ -36,8 +37,10 @@ LoadedFrame load_frame(const Scene& scene);
 
 struct GpuRunOptions {
   bool record_last_writer = false;  // per-pixel primitive id, for --check
-  bool progress = false;            // a progress line on stderr
-  bool watchdog = true;             // the hang detector (testbench/sim/watchdog.h)
+  // Phases (build, simulate, read back) timed and, when it is shown, the
+  // simulation's state reported (testbench/sim/progress.h); null: neither.
+  Progress* progress = nullptr;
+  bool watchdog = true;  // the hang detector (testbench/sim/watchdog.h)
   // Elaboration order of the raster units; no result may depend on it.
   Gpu::UnitOrder unit_order = Gpu::UnitOrder::ascending;
   // Random stalls at every FIFO boundary when stall_probability > 0.

@@ -25,6 +25,10 @@ uint64_t progress_count(const Gpu& gpu) {
   return n;
 }
 
+bool transfers_in_flight(const Gpu& gpu, sc_core::sc_time memory_latency) {
+  return gpu.memory().bus_free() + memory_latency > sc_core::sc_time_stamp();
+}
+
 sc_core::sc_event_or_list activity_events(const Topology& topology) {
   sc_core::sc_event_or_list events;
   for (const Topology::FifoNode& f : topology.fifos()) {
@@ -160,9 +164,8 @@ void Watchdog::run() {
     const NetlistSample current = sample(topology);
     const uint64_t count = progress_count(m_gpu);
     // Progress: an item moved, a memory request was made, or transfers are
-    // still in flight (a tile cache's write-back of a whole frame is issued
-    // at once and takes the bus for long after).
-    if (count != last || m_gpu.memory().bus_free() + memory_latency > now) {
+    // still in flight.
+    if (count != last || transfers_in_flight(m_gpu, memory_latency)) {
       last = count;
       last_progress = now;
       previous = current;

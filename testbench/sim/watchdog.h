@@ -30,6 +30,10 @@ namespace gpusim {
 
 // Items moved so far: written and read at every FIFO, memory requests.
 uint64_t progress_count(const Gpu& gpu);
+// Memory transfers still in flight: the bus reserved beyond now, or the last
+// transfer's latency not over. A tile cache's write-back of a whole frame is
+// issued at once and takes the bus for long after, with no item moving.
+bool transfers_in_flight(const Gpu& gpu, sc_core::sc_time memory_latency);
 // Notified whenever an item is written to or read from any FIFO.
 sc_core::sc_event_or_list activity_events(const Topology& topology);
 

@@ -11,8 +11,10 @@
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <regex>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "testbench/io/image_files.h"
 
@@ -432,6 +434,136 @@ TEST_F(Cli, SceneGeneratorsWriteOnlyWhereTold) {
   for (const char* name : {"tiny_triangles.json", "clipping.json", "lines_random.json"}) {
     EXPECT_EQ(slurp(dir_ / "gen" / name), slurp(fs::path(scenes) / name)) << name;
   }
+}
+
+// Progress on stderr (issue 16 item 2; docs/robustness.md, "Progress").
+// `gpusim ARGS`, its stdout in `out`, its stderr in the file DIR/err; that
+// file's contents.
+std::string run_split(const fs::path& dir, const std::string& args, CommandResult& r) {
+  const fs::path err = dir / "err";
+  r = shell("(" + kGpusim + " " + args + " 2>" + err.string() + ")");
+  return slurp(err);
+}
+
+std::vector<std::string> lines_of(const std::string& text) {
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+// Forced off a terminal with every state shown (--progress-interval 0): a
+// line as each phase starts and ends, in order, the mesh named as its import
+// starts, and the simulate phase's state moving: fragments still rising
+// after every primitive is assembled (the raster tail), its last line the
+// frame's figures as stats.json gives them. stdout's wall line names the
+// same phases.
+TEST_F(Cli, ProgressOffATerminalNamesPhasesAndShowsTheSimulationMoving) {
+  const std::string out = (dir_ / "out").string();
+  CommandResult r;
+  const std::string err = run_split(
+      dir_,
+      "run " + kScenes + "/default.json --units 1 --progress --progress-interval 0 --out " + out,
+      r);
+  ASSERT_EQ(r.status, 0) << r.out << err;
+  const std::vector<std::string> lines = lines_of(err);
+  std::vector<std::string> starts, ends;
+  for (const std::string& l : lines) {
+    const size_t colon = l.find(": ");
+    ASSERT_NE(colon, std::string::npos) << l;
+    if (l.size() > 4 && l.compare(l.size() - 4, 4, " ...") == 0)
+      starts.push_back(l.substr(0, colon));
+    if (l.find(": done in ") == colon) ends.push_back(l.substr(0, colon));
+  }
+  const std::vector<std::string> phases = {"load", "build", "simulate", "read back", "write"};
+  EXPECT_EQ(starts, phases) << err;
+  EXPECT_EQ(ends, phases) << err;
+  EXPECT_EQ(lines.front(), "load: reading " + kScenes + "/default.json ...");
+  EXPECT_EQ(lines.at(1),
+            "load: importing /usr/share/assimp/models/OBJ/WusonOBJ.obj (draws[1].mesh)");
+
+  const nlohmann::json stats = nlohmann::json::parse(slurp(dir_ / "out/stats.json"));
+  const std::regex state(
+      R"(simulate: (\d+) of (\d+) primitives assembled, (\d+) cycles, (\d+) fragments, .* cycles/s)");
+  std::vector<std::array<uint64_t, 4>> states;  // assembled, total, cycles, fragments
+  for (const std::string& l : lines) {
+    std::smatch m;
+    if (!std::regex_match(l, m, state)) continue;
+    states.push_back({std::stoull(m[1]), std::stoull(m[2]), std::stoull(m[3]), std::stoull(m[4])});
+  }
+  // One line per 100k cycles, then the final one.
+  const uint64_t cycles = stats.at("timing").at("cycles").get<uint64_t>();
+  ASSERT_EQ(states.size(), cycles / 100000 + 1) << err;
+  bool tail_moved = false;
+  for (size_t i = 0; i < states.size(); ++i) {
+    EXPECT_EQ(states[i][1], stats.at("stats").at("triangles_in").get<uint64_t>());
+    if (i + 1 < states.size()) EXPECT_EQ(states[i][2], (i + 1) * 100000);
+    if (i == 0) continue;
+    EXPECT_GE(states[i][0], states[i - 1][0]) << err;
+    EXPECT_GT(states[i][2], states[i - 1][2]) << err;
+    EXPECT_GT(states[i][3], states[i - 1][3]) << err;
+    tail_moved |= states[i - 1][0] == states[i - 1][1] && states[i][3] > states[i - 1][3];
+  }
+  EXPECT_TRUE(tail_moved) << "fragments did not rise after every primitive was assembled\n" << err;
+  EXPECT_EQ(states.back()[0], states.back()[1]);
+  EXPECT_EQ(states.back()[2], cycles);
+  EXPECT_EQ(states.back()[3], stats.at("stats").at("fragments_generated").get<uint64_t>());
+
+  const std::regex wall(
+      R"(\n  wall: load [0-9.]+ s, build [0-9.]+ s, simulate [0-9.]+ s, read back [0-9.]+ s, write [0-9.]+ s; total [0-9.]+ s\n)");
+  EXPECT_TRUE(std::regex_search(r.out, wall)) << r.out;
+}
+
+// --check adds a check phase; golden has load, render, write.
+TEST_F(Cli, ProgressPhasesOfCheckAndGolden) {
+  const std::string scene = kScenes + "/quad_clipspace.json";
+  CommandResult r;
+  std::string err =
+      run_split(dir_, "run " + scene + " --check --progress --out " + (dir_ / "a").string(), r);
+  ASSERT_EQ(r.status, 0) << r.out << err;
+  EXPECT_NE(err.find("\ncheck: rendering with the golden model ...\ncheck: done in "),
+            std::string::npos)
+      << err;
+  EXPECT_NE(r.out.find(", write "), std::string::npos) << r.out;
+  EXPECT_LT(r.out.find(", write "), r.out.find(", check ")) << r.out;
+  EXPECT_LT(r.out.find("  wall: "), r.out.find("check: bit-exact")) << r.out;
+  err = run_split(dir_, "golden " + scene + " --progress --out " + (dir_ / "b").string(), r);
+  ASSERT_EQ(r.status, 0) << r.out << err;
+  std::vector<std::string> starts;
+  for (const std::string& l : lines_of(err)) {
+    if (l.find(" ...") != std::string::npos) starts.push_back(l.substr(0, l.find(": ")));
+  }
+  EXPECT_EQ(starts, (std::vector<std::string>{"load", "render", "write"})) << err;
+  EXPECT_TRUE(std::regex_search(
+      r.out, std::regex(R"(\n  wall: load [0-9.]+ s, render [0-9.]+ s, write [0-9.]+ s; total)")))
+      << r.out;
+}
+
+// Off a terminal nothing unless asked; --quiet silences it even on a
+// terminal (script(1) runs gpusim on a pseudo-terminal); the two flags
+// conflict.
+TEST_F(Cli, ProgressQuietAndTheirConflict) {
+  const std::string args = kScenes + "/quad_clipspace.json --out " + (dir_ / "out").string();
+  CommandResult r;
+  for (const std::string cmd : {"run", "golden"}) {
+    EXPECT_EQ(run_split(dir_, cmd + " " + args, r), "") << cmd;
+    EXPECT_EQ(r.status, 0) << r.out;
+    EXPECT_EQ(run_split(dir_, cmd + " " + args + " --quiet", r), "") << cmd;
+    EXPECT_EQ(r.status, 0) << r.out;
+    const CommandResult both = run(cmd + " " + args + " --progress --quiet");
+    EXPECT_EQ(both.status, 2);
+    EXPECT_EQ(both.out,
+              "gpusim: " + cmd + ": --progress excludes --quiet; see gpusim " + cmd + " --help\n");
+  }
+  ASSERT_EQ(std::system("command -v script >/dev/null"), 0) << "script(1) is missing (bsdutils)";
+  const CommandResult terminal = shell("script -qec '" + kGpusim + " run " + args + "' /dev/null");
+  EXPECT_EQ(terminal.status, 0) << terminal.out;
+  EXPECT_NE(terminal.out.find("\rsimulate: "), std::string::npos) << terminal.out;
+  const CommandResult quiet =
+      shell("script -qec '" + kGpusim + " run " + args + " --quiet' /dev/null");
+  EXPECT_EQ(quiet.status, 0) << quiet.out;
+  EXPECT_EQ(quiet.out.find('\r' + std::string("load")), std::string::npos) << quiet.out;
+  EXPECT_EQ(quiet.out.rfind("run: ", 0), 0u) << quiet.out;
 }
 
 }  // namespace

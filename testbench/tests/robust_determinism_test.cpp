@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <utility>
 
 #include "testbench/golden/golden_model.h"
 #include "testbench/sim/gpu_run.h"
@@ -104,15 +105,29 @@ class SameStats : public ::testing::Test {
   fs::path dir_;
 };
 
-// stderr on a terminal turns on the progress line (testbench/main.cpp), a
-// thread waking every 100,000 cycles and on FIFO activity. script(1) (from
-// bsdutils, which scripts/setup installs) runs gpusim on a pseudo-terminal.
-TEST_F(SameStats, PipedOrOnATerminal) {
+// Progress (testbench/sim/progress.h) adds a thread waking every 100,000
+// cycles and on FIFO activity when it is shown: on a terminal (script(1),
+// from bsdutils, which scripts/setup installs, runs gpusim on a
+// pseudo-terminal), forced off one with every state printed, or not at all
+// (--quiet, or a pipe). One unit: three wakes in this frame. frame.exr and
+// stats.json must be the same bytes every way.
+TEST_F(SameStats, ProgressOnATerminalForcedOrQuiet) {
   ASSERT_EQ(std::system("command -v script >/dev/null"), 0)
       << "script(1) is missing: scripts/setup installs it (package bsdutils)";
-  const std::string piped = run("piped", "");
-  const std::string terminal = run("terminal", "", "script -qec");
-  EXPECT_TRUE(piped == terminal) << "stats.json differs between a pipe and a terminal";
+  const std::string args = "--units 1 --progress-interval 0";
+  const std::string quiet = run("quiet", args + " --quiet");
+  const std::string piped = run("piped", args);
+  const std::string forced = run("forced", args + " --progress");
+  const std::string terminal = run("terminal", args, "script -qec");
+  const std::string terminal_quiet = run("terminal_quiet", args + " --quiet", "script -qec");
+  for (const auto& [name, stats] : {std::pair{"piped", piped},
+                                    {"forced", forced},
+                                    {"terminal", terminal},
+                                    {"terminal_quiet", terminal_quiet}}) {
+    EXPECT_TRUE(stats == quiet) << "stats.json differs between --quiet and " << name;
+    EXPECT_TRUE(slurp(dir_ / name / "frame.exr") == slurp(dir_ / "quiet" / "frame.exr"))
+        << "frame.exr differs between --quiet and " << name;
+  }
 }
 
 TEST_F(SameStats, TracedOrNot) {

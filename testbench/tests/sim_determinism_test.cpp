@@ -6,8 +6,11 @@
 // cli_gpusim_test.
 #include <gtest/gtest.h>
 
+#include <sstream>
+
 #include "testbench/scene/scene.h"
 #include "testbench/sim/gpu_run.h"
+#include "testbench/sim/progress.h"
 
 namespace gpusim {
 namespace {
@@ -44,9 +47,13 @@ TEST_P(Determinism, StatsDoNotDependOnTestbenchProcessesOrElaborationOrder) {
     GpuConfig config;
     config.units = units;
     const nlohmann::json plain = run(s, config, {});
+    // The progress thread, waking every 100k cycles, showing every wake.
+    std::ostringstream lines;
+    Progress shown(Progress::Mode::lines, lines, 0.0);
     GpuRunOptions progress;
-    progress.progress = true;  // a process that wakes every 100k cycles
+    progress.progress = &shown;
     EXPECT_EQ(difference(run(s, config, progress), plain), "") << units << " units, progress line";
+    EXPECT_NE(lines.str().find("simulate: "), std::string::npos) << lines.str();
     GpuRunOptions no_watchdog;
     no_watchdog.watchdog = false;
     EXPECT_EQ(difference(run(s, config, no_watchdog), plain), "") << units << " units, no watchdog";
