@@ -95,6 +95,9 @@ nlohmann::json Gpu::pipeline_counts() const {
   counts["fragments_generated"] = generated;
   counts["fragments_passed_depth"] = passed;
   counts["fragments_written"] = written;
+  counts["samples_generated"] = generated;
+  counts["samples_passed_depth"] = passed;
+  counts["samples_written"] = written;
   return counts;
 }
 

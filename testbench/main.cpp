@@ -1,8 +1,9 @@
 // gpusim: the command line. Subcommands render a scene with a model, or compare
 // frames. Bad input ends in one line on stderr naming the file and the problem
-// and exit status 2; a simulation that hangs or whose counters do not balance
-// ends in a report and exit status 3 (docs/robustness.md); outputs are
-// written all together or not at all.
+// and exit status 2 (4 for compare, whose exit codes are idiff's); a
+// simulation that hangs or whose counters do not balance ends in a report and
+// exit status 3 (docs/robustness.md); outputs are written all together or not
+// at all.
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -295,40 +296,54 @@ int run_cycle_model(const RunArgs& args) {
   return 0;
 }
 
+// gpusim compare's exit codes are idiff's: 0 PASS, 1 WARNING, 2 FAILURE
+// (Verdict), 3 images of different sizes or channels, 4 an input that cannot
+// be read or a bad command line.
+constexpr int kExitCompareMismatch = 3;
+constexpr int kExitCompareError = 4;
+
 struct CompareArgs {
   std::string a, b;
-  bool exact = false;
-  float tolerance = 0.0f;
-  std::vector<std::string> channel_tolerances;  // "R=0.004"
+  CompareOptions options;
+  std::vector<std::string> channel_tolerances;  // "R=0.004", "RGBA=0.004"
   std::string diff_png;
 };
 
-int run_compare(const CompareArgs& args) {
-  CompareOptions options;
-  options.exact = args.exact;
-  options.default_tolerance = args.tolerance;
-  for (const std::string& spec : args.channel_tolerances) {
-    const size_t eq = spec.find('=');
-    float value = 0.0f;
-    size_t used = 0;
-    try {
-      if (eq != std::string::npos) value = std::stof(spec.substr(eq + 1), &used);
-    } catch (const std::exception&) {
-      used = 0;
+int run_compare(CompareArgs args) {
+  try {
+    for (const std::string& spec : args.channel_tolerances) {
+      args.options.channel_fail.push_back(parse_channel_threshold(spec));
     }
-    if (eq == std::string::npos || eq == 0 || used == 0 || used != spec.size() - eq - 1 ||
-        !(value >= 0.0f)) {
-      throw InputError("--channel-tolerance " + spec +
-                       ": expected CHANNEL=VALUE with VALUE >= 0, e.g. R=0.004");
+    const Image a = read_image(args.a);
+    const Image b = read_image(args.b);
+    args.options.common_channels = a.png || b.png;
+    const CompareResult result = compare_images(a, b, args.options, args.a, args.b);
+    // The heat-map first: an unwritable path is then the only line printed.
+    const double max =
+        args.diff_png.empty() ? 0.0 : write_diff_heatmap(a, b, args.diff_png, args.options);
+    print_compare_report(std::cout, result, args.a, args.b);
+    if (!args.diff_png.empty()) {
+      std::cout << "heat-map " << args.diff_png;
+      if (max > 0.0) {
+        std::cout << ": black = not failing; a failing pixel by its largest channel error e, "
+                     "linear: blue (e -> 0), red (e = "
+                  << max / 2.0 << "), yellow (e = " << max << " or infinite); legend bar below\n";
+      } else if (result.failing_pixels == 0) {
+        std::cout << ": black, no failing pixel\n";
+      } else {
+        std::cout << ": every failing pixel's error is infinite (yellow), the rest black\n";
+      }
     }
-    options.tolerance[spec.substr(0, eq)] = value;
+    return static_cast<int>(result.verdict);
+  } catch (const ImageMismatch& e) {
+    std::cout.flush();
+    std::cerr << "gpusim: " << printable(e.what()) << "\n";
+    return kExitCompareMismatch;
+  } catch (const InputError& e) {
+    std::cout.flush();
+    std::cerr << "gpusim: " << printable(e.what()) << "\n";
+    return kExitCompareError;
   }
-  const Image a = read_exr(args.a);
-  const Image b = read_exr(args.b);
-  const CompareResult result = compare_images(a, b, options, args.a, args.b);
-  if (!args.diff_png.empty()) write_diff_heatmap(a, b, args.diff_png, options);
-  print_compare_report(std::cout, result, args.a, args.b);
-  return result.pass() ? 0 : 1;
 }
 
 // `gpusim trace summary DIR [--json]` and `gpusim trace follow DIR --prim N |
@@ -562,19 +577,66 @@ int main_with_errors(int argc, char** argv) {
   CompareArgs cmp;
   CLI::App* compare = app.add_subcommand(
       "compare",
-      "Compare two EXR frames; exit 0 when equal within tolerance, 1 when not, 2 on error");
-  compare->add_option("a", cmp.a, "First EXR")->required();
-  compare->add_option("b", cmp.b, "Second EXR")->required();
-  CLI::Option* exact =
-      compare->add_flag("--exact", cmp.exact, "Require bit-identical values in every channel");
-  CLI::Option* tolerance =
-      compare->add_option("--tolerance", cmp.tolerance, "Largest |a - b| accepted in any channel")
+      "Compare two images (OpenEXR or 8-bit PNG) as idiff does; exit 0 PASS, 1 WARNING, "
+      "2 FAILURE, 3 different sizes or channels, 4 unreadable input or bad command line");
+  compare->add_option("a", cmp.a, "First image (EXR or PNG)")->required();
+  compare->add_option("b", cmp.b, "Second image (EXR or PNG)")->required();
+  CLI::Option* exact = compare->add_flag(
+      "--exact", cmp.options.exact,
+      "A pixel fails when any channel's bits differ (NaN equals NaN); replaces the thresholds");
+  CLI::Option* fail =
+      compare
+          ->add_option("--fail,--tolerance", cmp.options.fail,
+                       "Fail threshold: a pixel fails when any channel's |a - b| exceeds it")
+          ->check(CLI::NonNegativeNumber)
+          ->capture_default_str();
+  CLI::Option* channel_tolerance = compare->add_option(
+      "--channel-tolerance", cmp.channel_tolerances,
+      "Fail threshold of some channels, overriding --fail/--tolerance for them: CHANNEL=VALUE or "
+      "a group of R, G, B, A, Z (RGBA=0.004, RGB=0.01, Z=1e-6); repeatable, later wins");
+  CLI::Option* warn =
+      compare
+          ->add_option("--warn", cmp.options.warn,
+                       "Warn threshold of every channel (default: each channel's fail threshold)")
           ->check(CLI::NonNegativeNumber);
-  CLI::Option* channel_tolerance =
-      compare->add_option("--channel-tolerance", cmp.channel_tolerances,
-                          "Per-channel tolerance, CHANNEL=VALUE (repeatable), e.g. Z=1e-6");
-  compare->add_option("--diff", cmp.diff_png, "Write a heat-map PNG of the difference");
-  exact->excludes(tolerance)->excludes(channel_tolerance);
+  compare
+      ->add_option("--failpercent", cmp.options.fail_percent,
+                   "FAILURE only when more than this % of the pixels fail")
+      ->check(CLI::Range(0.0, 100.0))
+      ->capture_default_str();
+  compare
+      ->add_option("--warnpercent", cmp.options.warn_percent,
+                   "WARNING only when more than this % of the pixels warn")
+      ->check(CLI::Range(0.0, 100.0))
+      ->capture_default_str();
+  compare
+      ->add_option("--hardfail", cmp.options.hard_fail,
+                   "FAILURE when any channel's error exceeds this, whatever --failpercent")
+      ->check(CLI::NonNegativeNumber);
+  compare
+      ->add_option("--hardwarn", cmp.options.hard_warn,
+                   "WARNING when any channel's error exceeds this, whatever --warnpercent")
+      ->check(CLI::NonNegativeNumber);
+  compare->add_option(
+      "--diff", cmp.diff_png,
+      "Write a heat-map PNG of the failing pixels with a legend bar below (docs/validation.md)");
+  exact->excludes(fail)->excludes(channel_tolerance)->excludes(warn);
+  compare->footer(
+      "How the options combine (as OpenImageIO's idiff, thresholds absolute): each channel's fail "
+      "threshold is its --channel-tolerance if given (later ones win), else --fail (--tolerance "
+      "is the same option), default 1e-06, which accepts the depth differences of a few 1e-07 "
+      "between float32 or unorm24 depth computed two ways but not one unorm8 or half step in "
+      "colour. A channel's warn threshold is --warn if given, else its fail threshold (idiff "
+      "keeps its -warn at 1e-06). A pixel fails (warns) when any channel's |a - b| exceeds its "
+      "fail (warn) threshold; --exact makes a pixel fail and warn when any channel's bits differ "
+      "instead. The result is FAILURE (exit 2) when more than --failpercent % of the pixels fail "
+      "or any error exceeds --hardfail, else WARNING (exit 1) when more than --warnpercent % warn "
+      "or any error exceeds --hardwarn, else PASS (exit 0); so failing pixels within "
+      "--failpercent give WARNING unless --warnpercent allows them too. NaN against a number, "
+      "and +inf against -inf or a number, is an infinite error. A PNG (8-bit, value/255) against "
+      "an EXR compares the channels both have (R, G, B, and A if the PNG has alpha); two EXRs "
+      "must have the same channels (else exit 3). PSNR = 20 log10(1 / RMS error), for data in "
+      "[0, 1].");
 
   TraceArgs trace_args;
   CLI::App* trace = app.add_subcommand("trace", "Inspect a trace written by run --trace");
@@ -601,7 +663,7 @@ int main_with_errors(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     std::cerr << "gpusim: " << parse_error_message(app, e, argc, argv) << "\n";
-    return kExitError;
+    return deepest_parsed(&app) == compare ? kExitCompareError : kExitError;
   }
 
   if (golden->parsed()) return run_golden(scene_path, out_dir, golden_memory_mib);

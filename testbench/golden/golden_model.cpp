@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "hw/sample_pattern.h"
+
 namespace gpusim::golden {
 namespace {
 
@@ -192,22 +194,40 @@ class Renderer {
  public:
   explicit Renderer(const Scene& scene)
       : m_scene(scene),
-        m_fb(scene.framebuffer.width, scene.framebuffer.height, scene.framebuffer.color_format,
-             scene.framebuffer.depth_format),
+        m_k(scene.framebuffer.supersample),
+        m_samples(scene.framebuffer.samples),
+        m_fb(scene.framebuffer.width * static_cast<int>(m_k),
+             scene.framebuffer.height * static_cast<int>(m_k), scene.framebuffer.color_format,
+             scene.framebuffer.depth_format, m_samples),
         m_guard_band(guard_band_for(m_fb.width, m_fb.height)) {
     const glm::vec4& c = scene.framebuffer.clear_color;
     const float rgba[4] = {c.x, c.y, c.z, c.w};
     m_fb.clear(rgba, scene.framebuffer.clear_depth);
-    m_last_writer.assign(m_fb.depth.size(), -1);
+    m_last_writer.assign(static_cast<size_t>(m_fb.width) * m_fb.height, -1);
+    for (unsigned i = 0; i < m_samples; ++i) {
+      const SampleOffset o = sample_offset(m_samples, i);
+      m_sample_dx[i] = o.dx;
+      m_sample_dy[i] = o.dy;
+    }
+    const auto [min_dx, max_dx] =
+        std::minmax_element(m_sample_dx.begin(), m_sample_dx.begin() + m_samples);
+    const auto [min_dy, max_dy] =
+        std::minmax_element(m_sample_dy.begin(), m_sample_dy.begin() + m_samples);
+    m_reach_x = {*min_dx, *max_dx};
+    m_reach_y = {*min_dy, *max_dy};
   }
 
   Result run() {
     for (const Draw& draw : m_scene.draws) render_draw(draw);
-    return Result{std::move(m_fb), std::move(m_last_writer), m_stats};
+    return Result{resolve(m_fb, m_k), std::move(m_last_writer), m_stats};
   }
 
  private:
   void render_draw(const Draw& draw) {
+    // Supersampling: widths and sizes keep their size in output pixels.
+    RenderState state = draw.state;
+    state.line_width = state.line_width * static_cast<float>(m_k);
+    state.point_size = state.point_size * static_cast<float>(m_k);
     std::vector<ShadedVertex> shaded(draw.positions.size());
     for (uint32_t i = 0; i < shaded.size(); ++i) shaded[i] = shade_vertex(m_scene, draw, i);
     // The vertex in a slot, or nullptr when the primitive is invalid (an
@@ -232,10 +252,10 @@ class Renderer {
           }
           if (!valid) {
             ++m_stats.triangles_invalid;
-          } else if (draw.state.polygon_mode == PolygonMode::fill) {
-            render_triangle(draw.state, tri, id);
+          } else if (state.polygon_mode == PolygonMode::fill) {
+            render_triangle(state, tri, id);
           } else {
-            render_unfilled_triangle(draw.state, tri, id);
+            render_unfilled_triangle(state, tri, id);
           }
         }
         break;
@@ -249,7 +269,7 @@ class Renderer {
             ++m_stats.lines_invalid;
             continue;
           }
-          render_line(draw.state, {*a, *b}, slots.draw_first, slots.draw_last, id);
+          render_line(state, {*a, *b}, slots.draw_first, slots.draw_last, id);
         }
         break;
       case PrimitiveClass::point:
@@ -263,7 +283,7 @@ class Renderer {
             ++m_stats.points_clipped_away;
           } else {
             // A point's colour is its vertex's, whatever the shading.
-            rasterize_point(draw.state, *v, v->color, id);
+            rasterize_point(state, *v, v->color, id);
           }
         }
         break;
@@ -351,14 +371,24 @@ class Renderer {
                    id);
   }
 
-  // A clipped line in window space (spec sections 8b and 9).
+  // A clipped line in window space (spec sections 8b and 9; multisampled:
+  // section 14's rectangle).
   void rasterize_line(const RenderState& st, const WindowVertex& a, const WindowVertex& b,
                       const glm::vec4& flat_color, bool draw_first, bool draw_last, int64_t id) {
-    const int w = line_width_pixels(st.line_width);
     const EdgeValue dx = EdgeValue{b.x} - a.x, dy = EdgeValue{b.y} - a.y;
+    const EdgeValue l2 = dx * dx + dy * dy;
+    if (m_samples > 1) {
+      if (l2 == 0) {
+        ++m_stats.lines_degenerate;
+        return;
+      }
+      rasterize_line_rectangle(st, a, b, flat_color, id);
+      return;
+    }
+    const int w = line_width_pixels(st.line_width);
     std::vector<Pixel> pixels;
     if (st.line_rasterization == LineRasterization::diamond_exit) {
-      if (dx == 0 && dy == 0) {
+      if (l2 == 0) {
         ++m_stats.lines_degenerate;
         return;
       }
@@ -368,33 +398,117 @@ class Renderer {
           bresenham_pixels(a.x, a.y, b.x, b.y, draw_first, draw_last, w, m_fb.width, m_fb.height);
     }
     ++m_stats.lines_rasterized;
-    // Attributes as for the triangle (a, b, a) with the line parameter in
-    // place of the edge functions, so the float operations are the triangle's.
-    const EdgeValue l2 = dx * dx + dy * dy;
+    const SetupTriangle t = line_setup(a, b, l2);
+    for (const Pixel& p : pixels) {
+      const std::array<EdgeValue, 3> e =
+          line_functions(a, dx, dy, l2, pixel_center(p.x), pixel_center(p.y));
+      const float z = depth_at(t, e);
+      write_fragment(st, p.x, p.y, 1, &z, color_at(st, t, flat_color, e), id);
+    }
+  }
+
+  // Attributes of a line as for the triangle (a, b, a) with the line
+  // parameter in place of the edge functions, so the float operations are
+  // the triangle's (spec section 9).
+  static SetupTriangle line_setup(const WindowVertex& a, const WindowVertex& b, EdgeValue l2) {
     SetupTriangle t;
     t.v = {a, b, a};
     t.area2 = l2 == 0 ? 1 : l2;
     t.apply_offset = false;  // polygon offset is for filled triangles only
-    for (const Pixel& p : pixels) {
-      const EdgeValue px = pixel_center(p.x), py = pixel_center(p.y);
-      const EdgeValue T = (px - a.x) * dx + (py - a.y) * dy;
-      const std::array<EdgeValue, 3> e =
-          l2 == 0 ? std::array<EdgeValue, 3>{1, 0, 0} : std::array<EdgeValue, 3>{l2 - T, T, 0};
-      shade_fragment(st, t, flat_color, p.x, p.y, e, id);
+    return t;
+  }
+  static std::array<EdgeValue, 3> line_functions(const WindowVertex& a, EdgeValue dx, EdgeValue dy,
+                                                 EdgeValue l2, EdgeValue px, EdgeValue py) {
+    if (l2 == 0) return {1, 0, 0};
+    const EdgeValue T = (px - a.x) * dx + (py - a.y) * dy;
+    return {l2 - T, T, 0};
+  }
+
+  // A multisampled line (spec section 14): the rectangle's four edges
+  // tested at every sample, depth per sample from the line parameter at the
+  // sample, colour at the pixel centre.
+  void rasterize_line_rectangle(const RenderState& st, const WindowVertex& a, const WindowVertex& b,
+                                const glm::vec4& flat_color, int64_t id) {
+    ++m_stats.lines_rasterized;
+    const EdgeValue dx = EdgeValue{b.x} - a.x, dy = EdgeValue{b.y} - a.y;
+    const EdgeValue l2 = dx * dx + dy * dy;
+    const LineRectangle r = line_rectangle(a.x, a.y, b.x, b.y, st.line_width);
+    struct Edge {
+      int64_t x, y, dx, dy, bias;
+    };
+    std::array<Edge, 4> edges;
+    for (int k = 0; k < 4; ++k) {
+      const int64_t ex = r.x[(k + 1) % 4] - r.x[k], ey = r.y[(k + 1) % 4] - r.y[k];
+      const bool owns = ey < 0 || (ey == 0 && ex > 0);  // section 8's rule
+      edges[k] = {r.x[k], r.y[k], ex, ey, owns ? 0 : 1};
+    }
+    const SetupTriangle t = line_setup(a, b, l2);
+    const auto [x0, x1] = std::minmax({r.x[0], r.x[1], r.x[2], r.x[3]});
+    const auto [y0, y1] = std::minmax({r.y[0], r.y[1], r.y[2], r.y[3]});
+    scan_samples(st, id, x0, x1, y0, y1, [&](int x, int y, uint32_t& mask, float* z) {
+      for (unsigned s = 0; s < m_samples; ++s) {
+        const int64_t sx = pixel_center(x) + m_sample_dx[s], sy = pixel_center(y) + m_sample_dy[s];
+        bool in = true;
+        for (const Edge& e : edges) in = in && e.dx * (sy - e.y) - e.dy * (sx - e.x) - e.bias >= 0;
+        if (!in) continue;
+        mask |= 1u << s;
+        z[s] = depth_at(t, line_functions(a, dx, dy, l2, sx, sy));
+      }
+      if (mask == 0) return glm::vec4(0.0f);
+      return color_at(st, t, flat_color,
+                      line_functions(a, dx, dy, l2, pixel_center(x), pixel_center(y)));
+    });
+  }
+
+  // Calls shade(x, y, mask, z) for every pixel of the render target that has
+  // a sample point within the subpixel box [x0, x1] x [y0, y1] (section 14's
+  // widened box), and writes the fragment when shade() covered a sample;
+  // shade returns the fragment's colour.
+  template <typename Shade>
+  void scan_samples(const RenderState& st, int64_t id, int64_t x0, int64_t x1, int64_t y0,
+                    int64_t y1, Shade&& shade) {
+    const int px0 = static_cast<int>(
+        std::max<int64_t>(0, ceil_div(x0 - kSubpixelHalf - m_reach_x.second, kSubpixelOne)));
+    const int px1 = static_cast<int>(std::min<int64_t>(
+        m_fb.width - 1, floor_div(x1 - kSubpixelHalf - m_reach_x.first, kSubpixelOne)));
+    const int py0 = static_cast<int>(
+        std::max<int64_t>(0, ceil_div(y0 - kSubpixelHalf - m_reach_y.second, kSubpixelOne)));
+    const int py1 = static_cast<int>(std::min<int64_t>(
+        m_fb.height - 1, floor_div(y1 - kSubpixelHalf - m_reach_y.first, kSubpixelOne)));
+    std::array<float, kMaxSamples> z;
+    for (int y = py0; y <= py1; ++y) {
+      for (int x = px0; x <= px1; ++x) {
+        uint32_t mask = 0;
+        const glm::vec4 color = shade(x, y, mask, z.data());
+        if (mask != 0) write_fragment(st, x, y, mask, z.data(), color, id);
+      }
     }
   }
 
   // A point that passed the view-volume test, or a polygon-mode vertex
-  // (spec section 8c): depth z_w and a constant colour.
+  // (spec sections 8c and 14): depth z_w and a constant colour at every
+  // sample inside its square.
   void rasterize_point(const RenderState& st, const ShadedVertex& v, const glm::vec4& color,
                        int64_t id) {
     ++m_stats.points_rasterized;
     const float z = to_window(v, m_fb.width, m_fb.height).z;
     const glm::vec2 xy = window_xy(v, m_fb.width, m_fb.height);
-    for (const Pixel& p :
-         point_pixels(point_square(xy.x, xy.y, st.point_size), m_fb.width, m_fb.height)) {
-      write_fragment(st, p.x, p.y, z, color, id);
-    }
+    const PointSquare sq = point_square(xy.x, xy.y, st.point_size);
+    // Section 8c's space has pixel centres at 256 x: sample s of pixel x is at
+    // 256 x + dx_s, covered iff x0 <= it < x0 + side (likewise y).
+    scan_samples(st, id, sq.x0 + kSubpixelHalf, sq.x0 + sq.side - 1 + kSubpixelHalf,
+                 sq.y0 + kSubpixelHalf, sq.y0 + sq.side - 1 + kSubpixelHalf,
+                 [&](int x, int y, uint32_t& mask, float* zs) {
+                   for (unsigned s = 0; s < m_samples; ++s) {
+                     const int64_t sx = int64_t{x} * kSubpixelOne + m_sample_dx[s];
+                     const int64_t sy = int64_t{y} * kSubpixelOne + m_sample_dy[s];
+                     if (sx < sq.x0 || sx >= sq.x0 + sq.side || sy < sq.y0 || sy >= sq.y0 + sq.side)
+                       continue;
+                     mask |= 1u << s;
+                     zs[s] = z;
+                   }
+                   return color;
+                 });
   }
 
   void setup_and_rasterize(const RenderState& st, std::array<WindowVertex, 3> v,
@@ -420,93 +534,113 @@ class Renderer {
     }
     t.apply_offset = st.offset_factor != 0.0f || st.offset_units != 0.0f;
     if (t.apply_offset) t.depth_offset = polygon_offset(t, st, m_fb.depth_format);
-    const Subpixel min_x = std::min({v[0].x, v[1].x, v[2].x});
-    const Subpixel max_x = std::max({v[0].x, v[1].x, v[2].x});
-    const Subpixel min_y = std::min({v[0].y, v[1].y, v[2].y});
-    const Subpixel max_y = std::max({v[0].y, v[1].y, v[2].y});
-    // Pixels whose centres (i * 256 + 128) lie within the vertices' box.
-    t.x0 = std::max(0, -floor_div_subpixel(-(int64_t{min_x} - kSubpixelHalf)));
-    t.x1 = std::min(m_fb.width - 1, floor_div_subpixel(int64_t{max_x} - kSubpixelHalf));
-    t.y0 = std::max(0, -floor_div_subpixel(-(int64_t{min_y} - kSubpixelHalf)));
-    t.y1 = std::min(m_fb.height - 1, floor_div_subpixel(int64_t{max_y} - kSubpixelHalf));
-
-    for (int y = t.y0; y <= t.y1; ++y) {
-      for (int x = t.x0; x <= t.x1; ++x) {
-        const Subpixel px = pixel_center(x), py = pixel_center(y);
-        const EdgeValue e0 = edge_function(v[1], v[2], px, py);
-        const EdgeValue e1 = edge_function(v[2], v[0], px, py);
-        const EdgeValue e2 = edge_function(v[0], v[1], px, py);
-        if (e0 - t.bias[0] < 0 || e1 - t.bias[1] < 0 || e2 - t.bias[2] < 0) continue;
-        shade_fragment(st, t, flat_color, x, y, {e0, e1, e2}, id);
+    const auto [min_x, max_x] = std::minmax({v[0].x, v[1].x, v[2].x});
+    const auto [min_y, max_y] = std::minmax({v[0].y, v[1].y, v[2].y});
+    const auto edges_at = [&](Subpixel px, Subpixel py) {
+      return std::array<EdgeValue, 3>{edge_function(v[1], v[2], px, py),
+                                      edge_function(v[2], v[0], px, py),
+                                      edge_function(v[0], v[1], px, py)};
+    };
+    scan_samples(st, id, min_x, max_x, min_y, max_y, [&](int x, int y, uint32_t& mask, float* z) {
+      const Subpixel px = pixel_center(x), py = pixel_center(y);
+      for (unsigned s = 0; s < m_samples; ++s) {
+        const std::array<EdgeValue, 3> e = edges_at(px + m_sample_dx[s], py + m_sample_dy[s]);
+        if (e[0] - t.bias[0] < 0 || e[1] - t.bias[1] < 0 || e[2] - t.bias[2] < 0) continue;
+        mask |= 1u << s;
+        z[s] = depth_at(t, e);
       }
-    }
+      // Colour once per fragment, at the centre (section 14).
+      return mask == 0 ? glm::vec4(0.0f) : color_at(st, t, flat_color, edges_at(px, py));
+    });
   }
 
-  // Interpolates depth and colour from the three weights e (edge functions,
-  // or a line's parameter) and writes the fragment (spec section 9).
-  void shade_fragment(const RenderState& st, const SetupTriangle& t, const glm::vec4& flat_color,
-                      int x, int y, const std::array<EdgeValue, 3>& e, int64_t id) {
+  // Depth from the three weights e (edge functions, or a line's parameter):
+  // linear in window space, relative to z0 so that a triangle of constant
+  // depth gets exactly z0 everywhere; then polygon offset (spec section 9).
+  static float depth_at(const SetupTriangle& t, const std::array<EdgeValue, 3>& e) {
+    const float f1 = static_cast<float>(e[1]);
+    const float f2 = static_cast<float>(e[2]);
+    const WindowVertex &v0 = t.v[0], &v1 = t.v[1], &v2 = t.v[2];
+    float z = v0.z + (f1 * (v1.z - v0.z) + f2 * (v2.z - v0.z)) / static_cast<float>(t.area2);
+    if (t.apply_offset) z = z + t.depth_offset;
+    return z;
+  }
+
+  // Colour from the three weights e: flat, or perspective-correct
+  // sum(e_i * c_i / w_i) / sum(e_i / w_i) (spec section 9).
+  static glm::vec4 color_at(const RenderState& st, const SetupTriangle& t,
+                            const glm::vec4& flat_color, const std::array<EdgeValue, 3>& e) {
+    if (st.shading == Shading::flat) return flat_color;
     const float f0 = static_cast<float>(e[0]);
     const float f1 = static_cast<float>(e[1]);
     const float f2 = static_cast<float>(e[2]);
     const WindowVertex &v0 = t.v[0], &v1 = t.v[1], &v2 = t.v[2];
-
-    // Depth: linear in window space, relative to z0 so that a triangle of
-    // constant depth gets exactly z0 everywhere; then polygon offset.
-    float z = v0.z + (f1 * (v1.z - v0.z) + f2 * (v2.z - v0.z)) / static_cast<float>(t.area2);
-    if (t.apply_offset) z = z + t.depth_offset;
-
+    const float den = f0 * v0.inv_w + f1 * v1.inv_w + f2 * v2.inv_w;
     glm::vec4 src;
-    if (st.shading == Shading::flat) {
-      src = flat_color;
-    } else {
-      // Perspective-correct: sum(e_i * c_i / w_i) / sum(e_i / w_i).
-      const float den = f0 * v0.inv_w + f1 * v1.inv_w + f2 * v2.inv_w;
-      for (int i = 0; i < 4; ++i) {
-        const float num =
-            f0 * v0.color_over_w[i] + f1 * v1.color_over_w[i] + f2 * v2.color_over_w[i];
-        src[i] = gpusim::clamp01(num / den);
-      }
+    for (int i = 0; i < 4; ++i) {
+      const float num = f0 * v0.color_over_w[i] + f1 * v1.color_over_w[i] + f2 * v2.color_over_w[i];
+      src[i] = gpusim::clamp01(num / den);
     }
-    write_fragment(st, x, y, z, src, id);
+    return src;
   }
 
-  // Depth test, colour mask, blending and storage of one fragment (spec
-  // sections 11 and 12), the same for every kind of primitive.
-  void write_fragment(const RenderState& st, int x, int y, float z, const glm::vec4& src,
-                      int64_t id) {
+  // Depth test, colour mask, blending and storage of one fragment: the
+  // samples of `mask`, sample s at depth z[s], all with colour `src` (spec
+  // sections 11, 12 and 14), the same for every kind of primitive.
+  void write_fragment(const RenderState& st, int x, int y, uint32_t mask, const float* z,
+                      const glm::vec4& src, int64_t id) {
     ++m_stats.fragments_generated;
-    const size_t p = m_fb.pixel_index(x, y);
+    m_stats.samples_generated += static_cast<uint64_t>(__builtin_popcount(mask));
+    uint32_t passed = mask;
     if (st.depth_test) {
-      const DepthValue fragment_depth = encode_depth(m_fb.depth_format, z);
-      if (!depth_compare(st.depth_func, fragment_depth, m_fb.depth[p])) return;
-      if (st.depth_write) m_fb.depth[p] = fragment_depth;
+      for (unsigned s = 0; s < m_samples; ++s) {
+        if (!(mask >> s & 1)) continue;
+        DepthValue& stored = m_fb.depth[m_fb.sample_index(x, y, s)];
+        const DepthValue fragment_depth = encode_depth(m_fb.depth_format, z[s]);
+        if (!depth_compare(st.depth_func, fragment_depth, stored)) {
+          passed &= ~(1u << s);
+        } else if (st.depth_write) {
+          stored = fragment_depth;
+        }
+      }
     }
+    if (passed == 0) return;
+    const uint64_t n = static_cast<uint64_t>(__builtin_popcount(passed));
     ++m_stats.fragments_passed_depth;
+    m_stats.samples_passed_depth += n;
 
     if (!(st.color_mask[0] || st.color_mask[1] || st.color_mask[2] || st.color_mask[3])) return;
     ++m_stats.fragments_written;
-    m_last_writer[p] = id;
-    ColorChannel* stored = &m_fb.color[p * 4];
+    m_stats.samples_written += n;
+    m_last_writer[m_fb.pixel_index(x, y)] = id;
     const ColorFormat fmt = m_fb.color_format;
-    glm::vec4 dst(0.0f);
-    if (st.blend) {
-      for (int i = 0; i < 4; ++i) dst[i] = decode_color(fmt, stored[i]);
-    }
-    for (int i = 0; i < 4; ++i) {
-      if (!st.color_mask[i]) continue;
-      const float out = st.blend ? blend_channel(st, src, dst, i) : src[i];
-      // Fixed-point buffers clamp the blended value; float buffers keep it.
-      stored[i] = encode_color(fmt, fmt == ColorFormat::rgba8 ? gpusim::clamp01(out) : out);
+    for (unsigned s = 0; s < m_samples; ++s) {
+      if (!(passed >> s & 1)) continue;
+      ColorChannel* stored = &m_fb.color[m_fb.sample_index(x, y, s) * 4];
+      glm::vec4 dst(0.0f);
+      if (st.blend) {
+        for (int i = 0; i < 4; ++i) dst[i] = decode_color(fmt, stored[i]);
+      }
+      for (int i = 0; i < 4; ++i) {
+        if (!st.color_mask[i]) continue;
+        const float out = st.blend ? blend_channel(st, src, dst, i) : src[i];
+        // Fixed-point buffers clamp the blended value; float buffers keep it.
+        stored[i] = encode_color(fmt, fmt == ColorFormat::rgba8 ? gpusim::clamp01(out) : out);
+      }
     }
   }
 
   const Scene& m_scene;
-  Framebuffer m_fb;
+  const unsigned m_k;        // supersample factor
+  const unsigned m_samples;  // per pixel
+  Framebuffer m_fb;          // the render target, m_samples per pixel
   GuardBand m_guard_band;
   std::vector<int64_t> m_last_writer;
   Stats m_stats;
   int64_t m_next_primitive_id = 0;  // every kind, in API order
+  // Sample offsets from the pixel centre (subpixels), and their extremes.
+  std::array<Subpixel, kMaxSamples> m_sample_dx{}, m_sample_dy{};
+  std::pair<Subpixel, Subpixel> m_reach_x, m_reach_y;
 };
 
 }  // namespace
@@ -880,6 +1014,64 @@ std::vector<Pixel> point_pixels(const PointSquare& sq, int width, int height) {
   return out;
 }
 
+LineRectangle line_rectangle(int64_t ax, int64_t ay, int64_t bx, int64_t by, float w) {
+  const int64_t dx = bx - ax, dy = by - ay;
+  // Half the width along the left normal (-dy, dx), in float, then snapped.
+  const float s = (w * 128.0f) / std::sqrt(static_cast<float>(dx * dx + dy * dy));
+  const int64_t ox = round_half_away(static_cast<float>(-dy) * s);
+  const int64_t oy = round_half_away(static_cast<float>(dx) * s);
+  LineRectangle r;
+  r.x = {ax - ox, bx - ox, bx + ox, ax + ox};
+  r.y = {ay - oy, by - oy, by + oy, ay + oy};
+  return r;
+}
+
+Framebuffer resolve(const Framebuffer& target, unsigned k) {
+  const int width = target.width / static_cast<int>(k),
+            height = target.height / static_cast<int>(k);
+  Framebuffer out(width, height, target.color_format, target.depth_format);
+  const unsigned n = k * k * target.samples;
+  if (n == 1) {
+    out.color = target.color;  // one sample: the stored bits, unchanged
+    out.depth = target.depth;
+    return out;
+  }
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      ColorChannel* c = out.color_at(x, y);
+      for (int ch = 0; ch < 4; ++ch) {
+        // Rows j, then columns i, then samples, all ascending; the float sum
+        // starts from the first sample.
+        uint32_t sum = 0;
+        float sum_f = 0.0f;
+        bool first = true;
+        for (unsigned j = 0; j < k; ++j) {
+          for (unsigned i = 0; i < k; ++i) {
+            for (unsigned s = 0; s < target.samples; ++s) {
+              const size_t at =
+                  target.sample_index(static_cast<int>(k * x + i), static_cast<int>(k * y + j), s);
+              const ColorChannel v = target.color[at * 4 + static_cast<size_t>(ch)];
+              if (target.color_format == ColorFormat::rgba8) {
+                sum += v;
+              } else {
+                const float f = decode_color(ColorFormat::rgba16f, v);
+                sum_f = first ? f : sum_f + f;
+                first = false;
+              }
+            }
+          }
+        }
+        c[ch] = target.color_format == ColorFormat::rgba8
+                    ? static_cast<ColorChannel>((2 * sum + n) / (2 * n))
+                    : encode_color(ColorFormat::rgba16f, sum_f / static_cast<float>(n));
+      }
+      out.depth[out.pixel_index(x, y)] =
+          target.depth[target.sample_index(static_cast<int>(k * x), static_cast<int>(k * y), 0)];
+    }
+  }
+  return out;
+}
+
 nlohmann::json Stats::to_json() const {
   return {{"triangles_in", triangles_in},
           {"triangles_invalid", triangles_invalid},
@@ -902,7 +1094,10 @@ nlohmann::json Stats::to_json() const {
           {"points_rasterized", points_rasterized},
           {"fragments_generated", fragments_generated},
           {"fragments_passed_depth", fragments_passed_depth},
-          {"fragments_written", fragments_written}};
+          {"fragments_written", fragments_written},
+          {"samples_generated", samples_generated},
+          {"samples_passed_depth", samples_passed_depth},
+          {"samples_written", samples_written}};
 }
 
 Result render(const Scene& scene) {

@@ -143,6 +143,17 @@ struct PointSquare {
 PointSquare point_square(float x_w, float y_w, float point_size);
 std::vector<Pixel> point_pixels(const PointSquare& sq, int width, int height);
 
+// Antialiasing (spec section 14). A multisampled line's rectangle: the
+// corners P0..P3 (counter-clockwise, subpixels) of the segment A B (snapped,
+// A != B) widened by w pixels.
+struct LineRectangle {
+  std::array<int64_t, 4> x{}, y{};
+};
+LineRectangle line_rectangle(int64_t ax, int64_t ay, int64_t bx, int64_t by, float w);
+// The frame written out: the box filter of a render target's samples over
+// k x k pixels (colour), sample 0 of the block's lower-left pixel (depth).
+Framebuffer resolve(const Framebuffer& target, unsigned k);
+
 struct Stats {
   uint64_t triangles_in = 0;            // assembled
   uint64_t triangles_invalid = 0;       // non-finite position or out-of-range index
@@ -166,18 +177,24 @@ struct Stats {
   uint64_t fragments_generated = 0;     // covered pixels
   uint64_t fragments_passed_depth = 0;
   uint64_t fragments_written = 0;  // passed depth with a colour channel enabled
+  // Antialiasing: the samples behind the fragment counts (equal to them
+  // with one sample per pixel).
+  uint64_t samples_generated = 0;
+  uint64_t samples_passed_depth = 0;
+  uint64_t samples_written = 0;
   nlohmann::json to_json() const;
 };
 
 struct Result {
-  Framebuffer framebuffer;
-  // Per pixel, the id of the primitive that last wrote its colour (assembled
+  Framebuffer framebuffer;  // resolved: the scene's width x height, one sample
+  // Per render-target pixel (the framebuffer's pixels unless supersampled),
+  // the id of the primitive that last wrote a colour sample of it (assembled
   // primitives of every kind numbered from 0 in API order across draws), or -1.
   std::vector<int64_t> last_writer;
   Stats stats;
 };
 
-// Render the scene: clear, then every draw in order.
+// Render the scene: clear, then every draw in order, then resolve.
 Result render(const Scene& scene);
 
 }  // namespace gpusim::golden

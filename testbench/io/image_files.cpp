@@ -167,11 +167,28 @@ void write_frame_png(const Framebuffer& fb, const std::string& path) {
   write_png_rgba8(path, w, h, rgba);
 }
 
-Image read_exr(const std::string& path) {
+namespace {
+
+void check_regular_file(const std::string& path) {
   namespace fs = std::filesystem;
   std::error_code ec;
   if (!fs::exists(path, ec)) throw InputError(path + ": no such file");
   if (!fs::is_regular_file(path, ec)) throw InputError(path + ": not a regular file");
+}
+
+// A corrupt header can claim an absurd size; refuse before allocating.
+void check_size(const std::string& path, long long w, long long h, long long n_channels) {
+  constexpr long long kMaxSamples = 1LL << 30;
+  if (w > kMaxSamples || h > kMaxSamples || w * h > kMaxSamples / n_channels) {
+    throw InputError(path + ": image too large (" + std::to_string(w) + "x" + std::to_string(h) +
+                     ", " + std::to_string(n_channels) + " channels)");
+  }
+}
+
+}  // namespace
+
+Image read_exr(const std::string& path) {
+  check_regular_file(path);
   Image img;
   try {
     if (!Imf::isOpenExrFile(path.c_str())) throw InputError(path + ": not an OpenEXR file");
@@ -189,12 +206,7 @@ Image read_exr(const std::string& path) {
     long long n_channels = 0;
     for (auto it = list.begin(); it != list.end(); ++it) ++n_channels;
     if (n_channels == 0) throw InputError(path + ": no channels");
-    // A corrupt header can claim an absurd size; refuse before allocating.
-    constexpr long long kMaxSamples = 1LL << 30;
-    if (w > kMaxSamples || h > kMaxSamples || w * h > kMaxSamples / n_channels) {
-      throw InputError(path + ": image too large (" + std::to_string(w) + "x" + std::to_string(h) +
-                       ", " + std::to_string(n_channels) + " channels)");
-    }
+    check_size(path, w, h, n_channels);
     img.width = static_cast<int>(w);
     img.height = static_cast<int>(h);
 
@@ -242,6 +254,73 @@ Image read_exr(const std::string& path) {
     throw InputError(path + ": cannot read OpenEXR file: " + one_line(e.what()));
   }
   return img;
+}
+
+Image read_png(const std::string& path) {
+  check_regular_file(path);
+  // The simplified API, as in write_png_rgba8: its errors come back in
+  // image.message, never as a longjmp through our frames.
+  png_image image;
+  std::memset(&image, 0, sizeof image);
+  image.version = PNG_IMAGE_VERSION;
+  if (!png_image_begin_read_from_file(&image, path.c_str())) {
+    const std::string message = image.message;
+    png_image_free(&image);
+    throw InputError(path + ": cannot read PNG file: " + one_line(message));
+  }
+  if ((image.format & PNG_FORMAT_FLAG_LINEAR) != 0) {
+    png_image_free(&image);
+    // libpng would convert 16-bit samples to 8-bit sRGB or premultiply them.
+    throw InputError(path + ": 16-bit PNG files are not supported (8-bit only)");
+  }
+  const bool alpha = (image.format & PNG_FORMAT_FLAG_ALPHA) != 0;
+  const int n = alpha ? 4 : 3;
+  try {
+    check_size(path, image.width, image.height, n);
+  } catch (const InputError&) {
+    png_image_free(&image);
+    throw;
+  }
+  image.format = alpha ? PNG_FORMAT_RGBA : PNG_FORMAT_RGB;
+  std::vector<uint8_t> samples(PNG_IMAGE_SIZE(image));
+  if (!png_image_finish_read(&image, nullptr, samples.data(), 0, nullptr)) {
+    const std::string message = image.message;
+    png_image_free(&image);
+    throw InputError(path + ": cannot read PNG file: " + one_line(message));
+  }
+  png_image_free(&image);
+  Image img;
+  img.png = true;
+  img.width = static_cast<int>(image.width);
+  img.height = static_cast<int>(image.height);
+  const size_t pixels = static_cast<size_t>(img.width) * img.height;
+  static const char* const kNames[4] = {"R", "G", "B", "A"};
+  for (int c = 0; c < n; ++c) {
+    img.channel_names.push_back(kNames[c]);
+    std::vector<float> v(pixels);
+    for (size_t i = 0; i < pixels; ++i) v[i] = samples[i * n + c] / 255.0f;
+    img.channels.push_back(std::move(v));
+  }
+  return img;
+}
+
+Image read_image(const std::string& path) {
+  check_regular_file(path);
+  png_byte signature[8] = {};
+  size_t got = 0;
+  if (std::FILE* f = std::fopen(path.c_str(), "rb")) {
+    got = std::fread(signature, 1, sizeof signature, f);
+    std::fclose(f);
+  } else {
+    throw InputError(path + ": cannot read: " + std::strerror(errno));
+  }
+  if (got == sizeof signature && png_sig_cmp(signature, 0, sizeof signature) == 0) {
+    return read_png(path);
+  }
+  if (got < sizeof signature || !Imf::isOpenExrFile(path.c_str())) {
+    throw InputError(path + ": not an OpenEXR or PNG file");
+  }
+  return read_exr(path);
 }
 
 }  // namespace gpusim

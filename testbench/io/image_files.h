@@ -26,15 +26,25 @@ void write_frame_png(const Framebuffer& fb, const std::string& path);
 void write_png_rgba8(const std::string& path, int width, int height,
                      const std::vector<uint8_t>& rgba);
 
-// Any EXR file as float channels, in file order (top row first).
+// An image file as float channels, in file order (top row first).
 struct Image {
   int width = 0;
   int height = 0;
-  std::vector<std::string> channel_names;    // sorted as the file lists them
+  std::vector<std::string> channel_names;    // as the file lists them
   std::vector<std::vector<float>> channels;  // channels[c][y * width + x]
+  bool png = false;                          // read from a PNG file
   const std::vector<float>* find(const std::string& name) const;
 };
-// Throws InputError naming the file and the problem.
+// Any EXR file (channels sorted as the file lists them). Throws InputError
+// naming the file and the problem.
 Image read_exr(const std::string& path);
+// An 8-bit PNG file as channels R, G, B (grey is expanded to RGB) and A when
+// the file has alpha (a colour key included), each value v / 255. 16-bit
+// PNGs are refused. Throws InputError naming the file and the problem.
+Image read_png(const std::string& path);
+// read_png for a file that starts with the PNG signature, read_exr for an
+// OpenEXR file; anything else is an InputError "PATH: not an OpenEXR or PNG
+// file".
+Image read_image(const std::string& path);
 
 }  // namespace gpusim

@@ -138,8 +138,13 @@ TEST(GoldenStats, MixedSceneCountersAndConservation) {
   EXPECT_EQ(j.at("triangles_after_clip").get<uint64_t>(), 7u);
   EXPECT_EQ(j.at("fragments_written").get<uint64_t>(), t0 + t4);
   // 11 triangle and fragment counters, triangles_unfilled, 6 for lines, 4 for
-  // points (spec section 13); none of the latter moved in a triangle scene.
-  EXPECT_EQ(j.size(), 22u);
+  // points (spec section 13), 3 for samples (section 14); none of the lines'
+  // and points' moved in a triangle scene, and one sample per pixel makes
+  // the sample counts the fragment counts.
+  EXPECT_EQ(j.size(), 25u);
+  EXPECT_EQ(st.samples_generated, st.fragments_generated);
+  EXPECT_EQ(st.samples_passed_depth, st.fragments_passed_depth);
+  EXPECT_EQ(st.samples_written, st.fragments_written);
   for (const char* k : {"triangles_unfilled", "lines_in", "lines_invalid", "lines_clipped_away",
                         "lines_clipped", "lines_degenerate", "lines_rasterized", "points_in",
                         "points_invalid", "points_clipped_away", "points_rasterized"}) {

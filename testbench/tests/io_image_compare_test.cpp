@@ -1,6 +1,7 @@
-// Image comparison: pass/fail, tolerances, exact mode, NaN and infinity
-// rules, the first differing pixel in window coordinates, the report and the
-// heat-map.
+// Image comparison: thresholds and verdicts (idiff's fail, warn, failpercent,
+// hardfail), exact mode, NaN and infinity rules, error statistics against
+// closed-form values, the first failing pixel in window coordinates, PNG
+// input, the report and the heat-map with its legend.
 #include <gtest/gtest.h>
 #include <png.h>
 #include <unistd.h>
@@ -10,6 +11,7 @@
 #include <cstring>
 #include <filesystem>
 #include <limits>
+#include <map>
 #include <sstream>
 
 #include "hw/input_error.h"
@@ -54,19 +56,28 @@ TEST(CompareImages, IdenticalImagesPass) {
   const Image b = a;
   const CompareResult r = compare_images(a, b, {});
   EXPECT_TRUE(r.pass());
+  EXPECT_EQ(r.verdict, Verdict::pass);
   EXPECT_EQ(r.width, 4);
   EXPECT_EQ(r.height, 3);
-  EXPECT_EQ(r.differing_pixels, 0);
-  EXPECT_EQ(r.differing_share, 0.0);
+  EXPECT_EQ(r.failing_pixels, 0);
+  EXPECT_EQ(r.warning_pixels, 0);
   EXPECT_FALSE(r.has_first);
   ASSERT_EQ(r.channels.size(), 3u);
   EXPECT_EQ(r.channels[0].name, "B");
   EXPECT_EQ(r.channels[2].name, "R");
-  for (const ChannelDiff& d : r.channels) {
-    EXPECT_EQ(d.max_abs_error, 0.0) << d.name;
-    EXPECT_EQ(d.differing_pixels, 0) << d.name;
+  for (const ErrorStats& d : r.channels) {
+    EXPECT_EQ(d.max_error, 0.0) << d.name;
+    EXPECT_FALSE(d.has_max) << d.name;
+    EXPECT_EQ(d.mean_error, 0.0) << d.name;
+    EXPECT_EQ(d.rms_error, 0.0) << d.name;
+    EXPECT_EQ(d.psnr, std::numeric_limits<double>::infinity()) << d.name;
+    EXPECT_EQ(d.failing_pixels, 0) << d.name;
+    EXPECT_EQ(d.fail, kDefaultFailThreshold) << d.name;
+    EXPECT_EQ(d.warn, kDefaultFailThreshold) << d.name;
   }
-  EXPECT_TRUE(compare_images(a, b, CompareOptions{true, 0.0f, {}}).pass());
+  CompareOptions exact;
+  exact.exact = true;
+  EXPECT_TRUE(compare_images(a, b, exact).pass());
 }
 
 TEST(CompareImages, OneChangedPixelIsNamedInWindowCoordinates) {
@@ -75,30 +86,34 @@ TEST(CompareImages, OneChangedPixelIsNamedInWindowCoordinates) {
   // File row 0, x = 2: the top row, so window y = height - 1 = 2.
   channel(b, "G")[2] = channel(b, "G")[2] + 0.5f;
   const CompareResult r = compare_images(a, b, {});
-  EXPECT_FALSE(r.pass());
-  EXPECT_EQ(r.differing_pixels, 1);
-  EXPECT_DOUBLE_EQ(r.differing_share, 1.0 / 12.0);
+  EXPECT_EQ(r.verdict, Verdict::failure);
+  EXPECT_EQ(r.failing_pixels, 1);
   ASSERT_TRUE(r.has_first);
+  EXPECT_TRUE(r.first_fails);
   EXPECT_EQ(r.first_x, 2);
   EXPECT_EQ(r.first_y, 2);
   // Channels B, G, R: a's values are 0.25 + 10c at file index 2.
   EXPECT_EQ(r.first_a, (std::vector<float>{0.25f, 10.25f, 20.25f}));
   EXPECT_EQ(r.first_b, (std::vector<float>{0.25f, 10.75f, 20.25f}));
-  EXPECT_EQ(r.channels[0].differing_pixels, 0);
-  EXPECT_EQ(r.channels[1].differing_pixels, 1);
-  EXPECT_EQ(r.channels[2].differing_pixels, 0);
-  EXPECT_EQ(r.channels[1].max_abs_error, 0.5);
-  EXPECT_EQ(r.channels[0].max_abs_error, 0.0);
+  EXPECT_EQ(r.channels[0].failing_pixels, 0);
+  EXPECT_EQ(r.channels[1].failing_pixels, 1);
+  EXPECT_EQ(r.channels[2].failing_pixels, 0);
+  EXPECT_EQ(r.channels[1].max_error, 0.5);
+  EXPECT_EQ(r.channels[1].max_x, 2);
+  EXPECT_EQ(r.channels[1].max_y, 2);
+  EXPECT_EQ(r.channels[0].max_error, 0.0);
+  EXPECT_TRUE(r.has_color);
+  EXPECT_EQ(r.color.name, "RGB");
 }
 
-TEST(CompareImages, FirstDifferingPixelFollowsWindowScanOrder) {
+TEST(CompareImages, FirstFailingPixelFollowsWindowScanOrder) {
   const Image a = make_image();
   Image b = a;
   channel(b, "R")[at(b, 0, 2)] = -1.0f;  // top left
   channel(b, "B")[at(b, 1, 1)] = -1.0f;  // middle row
   channel(b, "G")[at(b, 3, 0)] = -1.0f;  // bottom row, rightmost: first in window order
   const CompareResult r = compare_images(a, b, {});
-  EXPECT_EQ(r.differing_pixels, 3);
+  EXPECT_EQ(r.failing_pixels, 3);
   EXPECT_EQ(r.first_x, 3);
   EXPECT_EQ(r.first_y, 0);
   // Bottom-right pixel is file index 11: values 1.375 + 10c.
@@ -117,11 +132,45 @@ TEST(CompareImages, ChannelsAreMatchedByName) {
   channel(b, "R")[3] += 1.0f;
   const CompareResult r = compare_images(a, b, {});
   EXPECT_EQ(r.channels[2].name, "R");
-  EXPECT_EQ(r.channels[2].differing_pixels, 1);
-  EXPECT_EQ(r.channels[0].differing_pixels, 0);
+  EXPECT_EQ(r.channels[2].failing_pixels, 1);
+  EXPECT_EQ(r.channels[0].failing_pixels, 0);
 }
 
-TEST(CompareImages, TolerancesAreInclusive) {
+// Errors of 0.5 in channel R over k = 3 of 8 pixels, all else equal: mean
+// 3 * 0.5 / 8, RMS sqrt(3 * 0.25 / 8), PSNR 20 log10(1 / RMS); over the four
+// colour channels the same sums divide by 32 values.
+TEST(CompareImages, StatisticsOfAKnownOffset) {
+  Image a = make_image(4, 2, {"A", "B", "G", "R", "Z"});
+  for (auto& c : a.channels) std::fill(c.begin(), c.end(), 0.25f);
+  Image b = a;
+  for (int x : {1, 2, 3}) channel(b, "R")[at(b, x, 1)] = 0.75f;  // top row (window y = 1)
+  const CompareResult r = compare_images(a, b, {});
+  ASSERT_EQ(r.channels.size(), 5u);
+  const ErrorStats& red = r.channels[3];
+  ASSERT_EQ(red.name, "R");
+  EXPECT_DOUBLE_EQ(red.mean_error, 1.5 / 8);
+  EXPECT_DOUBLE_EQ(red.rms_error, std::sqrt(0.75 / 8));
+  EXPECT_DOUBLE_EQ(red.psnr, 20.0 * std::log10(1.0 / std::sqrt(0.75 / 8)));
+  EXPECT_NEAR(red.psnr, 10.2803, 1e-4);
+  EXPECT_EQ(red.max_error, 0.5);
+  EXPECT_EQ(red.max_x, 1);  // the first of the three in window order
+  EXPECT_EQ(red.max_y, 1);
+  EXPECT_EQ(red.failing_pixels, 3);
+  ASSERT_TRUE(r.has_color);
+  EXPECT_EQ(r.color.name, "RGBA");
+  EXPECT_DOUBLE_EQ(r.color.mean_error, 1.5 / 32);
+  EXPECT_DOUBLE_EQ(r.color.rms_error, std::sqrt(0.75 / 32));
+  EXPECT_DOUBLE_EQ(r.color.psnr, 20.0 * std::log10(1.0 / std::sqrt(0.75 / 32)));
+  EXPECT_EQ(r.color.max_error, 0.5);
+  EXPECT_EQ(r.color.failing_pixels, 3);
+  const ErrorStats& z = r.channels[4];
+  EXPECT_EQ(z.mean_error, 0.0);
+  EXPECT_EQ(z.psnr, std::numeric_limits<double>::infinity());
+  EXPECT_EQ(r.failing_pixels, 3);
+  EXPECT_EQ(r.verdict, Verdict::failure);
+}
+
+TEST(CompareImages, ThresholdsAreInclusive) {
   Image a = make_image(2, 1, {"G", "R"});
   Image b = a;
   channel(a, "R") = {0.5f, 0.0f};
@@ -130,29 +179,101 @@ TEST(CompareImages, TolerancesAreInclusive) {
   channel(b, "G") = {0.0f, 1.125f};  // |diff| 0.125
 
   CompareOptions o;
-  o.default_tolerance = 0.25f;  // equal to the largest error: passes
+  o.fail = 0.25;  // equal to the largest error: passes
   CompareResult r = compare_images(a, b, o);
   EXPECT_TRUE(r.pass());
-  EXPECT_EQ(r.channels[1].max_abs_error, 0.25);  // still reported
-  EXPECT_EQ(r.channels[0].max_abs_error, 0.125);
-  EXPECT_EQ(r.channels[1].tolerance, 0.25);
+  EXPECT_EQ(r.channels[1].max_error, 0.25);  // still reported
+  EXPECT_EQ(r.channels[0].max_error, 0.125);
+  EXPECT_EQ(r.channels[1].fail, 0.25);
+  EXPECT_EQ(r.channels[1].warn, 0.25);  // warn follows the fail threshold
 
-  o.default_tolerance = 0.125f;  // R exceeds, G is exactly at it
+  o.fail = 0.125;  // R exceeds, G is exactly at it
   r = compare_images(a, b, o);
-  EXPECT_EQ(r.differing_pixels, 1);
-  EXPECT_EQ(r.channels[1].differing_pixels, 1);
-  EXPECT_EQ(r.channels[0].differing_pixels, 0);
+  EXPECT_EQ(r.failing_pixels, 1);
+  EXPECT_EQ(r.channels[1].failing_pixels, 1);
+  EXPECT_EQ(r.channels[0].failing_pixels, 0);
   EXPECT_EQ(r.first_x, 0);
   EXPECT_EQ(r.first_y, 0);
 
-  o.default_tolerance = 0.0f;
-  o.tolerance["R"] = 0.25f;  // per channel overrides the default: only G fails
+  o.fail = 0.0;
+  o.channel_fail = {{"R", 0.25}};  // per channel overrides --fail: only G fails
   r = compare_images(a, b, o);
-  EXPECT_EQ(r.differing_pixels, 1);
-  EXPECT_EQ(r.channels[0].differing_pixels, 1);
-  EXPECT_EQ(r.channels[1].differing_pixels, 0);
-  EXPECT_EQ(r.channels[0].tolerance, 0.0);
+  EXPECT_EQ(r.failing_pixels, 1);
+  EXPECT_EQ(r.channels[0].failing_pixels, 1);
+  EXPECT_EQ(r.channels[1].failing_pixels, 0);
+  EXPECT_EQ(r.channels[0].fail, 0.0);
   EXPECT_EQ(r.first_x, 1);
+}
+
+// --warn below the fail threshold: errors between the two give WARNING, and
+// the first such pixel is reported as a warning pixel.
+TEST(CompareImages, WarnThresholdGivesWarning) {
+  Image a = make_image(2, 1, {"R"});
+  Image b = a;
+  channel(b, "R")[1] += 0.5f;
+  CompareOptions o;
+  o.fail = 0.75;
+  o.warn = 0.25;
+  CompareResult r = compare_images(a, b, o);
+  EXPECT_EQ(r.verdict, Verdict::warning);
+  EXPECT_EQ(r.failing_pixels, 0);
+  EXPECT_EQ(r.warning_pixels, 1);
+  ASSERT_TRUE(r.has_first);
+  EXPECT_FALSE(r.first_fails);
+  EXPECT_EQ(r.first_x, 1);
+  o.warn = 0.5;  // inclusive
+  EXPECT_EQ(compare_images(a, b, o).verdict, Verdict::pass);
+  o.hard_warn = 0.4;  // any one error above it warns, whatever the share
+  o.warn_percent = 100.0;
+  EXPECT_EQ(compare_images(a, b, o).verdict, Verdict::warning);
+  o.hard_fail = 0.4;
+  EXPECT_EQ(compare_images(a, b, o).verdict, Verdict::failure);
+}
+
+// FAILURE needs more than --failpercent % of the pixels failing: 2 of 8 is
+// exactly 25 % (not more: WARNING, as those pixels also warn), 3 of 8 fails.
+TEST(CompareImages, FailPercentBoundary) {
+  Image a = make_image(4, 2, {"R"});
+  Image b = a;
+  channel(b, "R")[0] += 1.0f;
+  channel(b, "R")[1] += 1.0f;
+  CompareOptions o;
+  o.fail_percent = 25.0;
+  CompareResult r = compare_images(a, b, o);
+  EXPECT_EQ(r.failing_pixels, 2);
+  EXPECT_EQ(r.verdict, Verdict::warning);
+  o.warn_percent = 25.0;
+  EXPECT_EQ(compare_images(a, b, o).verdict, Verdict::pass);
+  channel(b, "R")[2] += 1.0f;
+  r = compare_images(a, b, o);
+  EXPECT_EQ(r.failing_pixels, 3);
+  EXPECT_EQ(r.verdict, Verdict::failure);
+  o.fail_percent = 0.0;  // the default: any failing pixel fails
+  channel(b, "R") = *a.find("R");
+  channel(b, "R")[7] += 1.0f;
+  EXPECT_EQ(compare_images(a, b, o).verdict, Verdict::failure);
+}
+
+TEST(CompareImages, ChannelThresholdGroups) {
+  EXPECT_EQ(parse_channel_threshold("RGBA=0.004"), (std::pair<std::string, double>{"RGBA", 0.004}));
+  EXPECT_EQ(parse_channel_threshold("Z=1e-6"), (std::pair<std::string, double>{"Z", 1e-6}));
+  for (const char* bad : {"RGBA", "=0.1", "R=", "R=-1", "R=0.1x", "R=nan"}) {
+    EXPECT_THROW(parse_channel_threshold(bad), InputError) << bad;
+  }
+  Image a = make_image(1, 1, {"A", "B", "G", "R", "Z"});
+  CompareOptions o;
+  o.channel_fail = {{"RGBA", 0.004}, {"RGB", 0.01}, {"Z", 1e-6}, {"B", 0.5}};
+  const CompareResult r = compare_images(a, a, o);
+  std::map<std::string, double> fail;
+  for (const ErrorStats& s : r.channels) fail[s.name] = s.fail;
+  EXPECT_EQ(fail, (std::map<std::string, double>{
+                      {"A", 0.004}, {"B", 0.5}, {"G", 0.01}, {"R", 0.01}, {"Z", 1e-6}}));
+  // A group applies to the letters the images have; one with none is a typo.
+  Image rgb = make_image(1, 1, {"B", "G", "R"});
+  o.channel_fail = {{"RGBA", 0.004}};
+  EXPECT_EQ(compare_images(rgb, rgb, o).channels[0].fail, 0.004);
+  o.channel_fail = {{"AZ", 0.004}};
+  EXPECT_THROW(compare_images(rgb, rgb, o), InputError);
 }
 
 TEST(CompareImages, ExactModeComparesBits) {
@@ -160,20 +281,19 @@ TEST(CompareImages, ExactModeComparesBits) {
   Image b = a;
   channel(a, "Z") = {0.0f, 1.0f, std::nanf("1")};
   channel(b, "Z") = {-0.0f, std::nextafter(1.0f, 2.0f), std::nanf("2")};
-  CompareOptions loose;
-  loose.default_tolerance = 1e-6f;
-  const CompareResult l = compare_images(a, b, loose);
-  EXPECT_TRUE(l.pass());  // 0 == -0, 1 ulp within 1e-6, NaN == NaN
-  EXPECT_DOUBLE_EQ(l.channels[0].max_abs_error, std::ldexp(1.0, -23));
+  const CompareResult l = compare_images(a, b, {});
+  EXPECT_TRUE(l.pass());  // 0 == -0, 1 ulp within the default 1e-6, NaN == NaN
+  EXPECT_DOUBLE_EQ(l.channels[0].max_error, std::ldexp(1.0, -23));
 
   CompareOptions exact;
   exact.exact = true;
-  exact.default_tolerance = 1.0f;  // ignored in exact mode
+  exact.fail = 1.0;  // unused in exact mode
   const CompareResult e = compare_images(a, b, exact);
   EXPECT_TRUE(e.exact);
-  EXPECT_EQ(e.differing_pixels, 2);  // -0 and the ulp; NaNs with other payloads are equal
+  EXPECT_EQ(e.failing_pixels, 2);  // -0 and the ulp; NaNs with other payloads are equal
   EXPECT_EQ(e.first_x, 0);
-  EXPECT_EQ(e.channels[0].differing_pixels, 2);
+  EXPECT_EQ(e.channels[0].failing_pixels, 2);
+  EXPECT_EQ(e.verdict, Verdict::failure);
 }
 
 TEST(CompareImages, NaNAndInfinityRules) {
@@ -182,13 +302,15 @@ TEST(CompareImages, NaNAndInfinityRules) {
   channel(a, "A") = {kNaN, 1.0f, kNaN, kInf, kInf, FLT_MAX};
   channel(b, "A") = {1.0f, kNaN, kNaN, kInf, -kInf, -FLT_MAX};
   CompareOptions o;
-  o.default_tolerance = 1e30f;  // huge, yet NaN against a number still differs
+  o.fail = 1e30;  // huge, yet NaN against a number still fails
   const CompareResult r = compare_images(a, b, o);
   // x = 0, 1 (NaN vs number), 4 (+inf vs -inf), 5 (2 * FLT_MAX > 1e30); x = 2
   // (NaN vs NaN) and 3 (inf vs inf) are equal.
-  EXPECT_EQ(r.differing_pixels, 4);
-  EXPECT_EQ(r.channels[0].differing_pixels, 4);
-  EXPECT_EQ(r.channels[0].max_abs_error, std::numeric_limits<double>::infinity());
+  EXPECT_EQ(r.failing_pixels, 4);
+  EXPECT_EQ(r.channels[0].failing_pixels, 4);
+  EXPECT_EQ(r.channels[0].max_error, std::numeric_limits<double>::infinity());
+  EXPECT_EQ(r.channels[0].rms_error, std::numeric_limits<double>::infinity());
+  EXPECT_EQ(r.channels[0].psnr, -std::numeric_limits<double>::infinity());
   EXPECT_EQ(r.first_x, 0);
   EXPECT_TRUE(std::isnan(r.first_a[0]));
   EXPECT_EQ(r.first_b[0], 1.0f);
@@ -199,75 +321,112 @@ TEST(CompareImages, NaNAndInfinityRules) {
   channel(c, "A") = {FLT_MAX};
   channel(d, "A") = {-FLT_MAX};
   const CompareResult big = compare_images(c, d, {});
-  EXPECT_EQ(big.channels[0].max_abs_error, 2.0 * static_cast<double>(FLT_MAX));
-  EXPECT_EQ(big.differing_pixels, 1);
+  EXPECT_EQ(big.channels[0].max_error, 2.0 * static_cast<double>(FLT_MAX));
+  EXPECT_EQ(big.failing_pixels, 1);
 }
 
-void expect_input_error(const Image& a, const Image& b, const CompareOptions& o,
-                        const std::string& message) {
+template <typename Error>
+void expect_error(const Image& a, const Image& b, const CompareOptions& o,
+                  const std::string& message) {
   try {
     compare_images(a, b, o, "a.exr", "b.exr");
-    ADD_FAILURE() << "no InputError, expected: " << message;
-  } catch (const InputError& e) {
+    ADD_FAILURE() << "no error, expected: " << message;
+  } catch (const Error& e) {
     EXPECT_EQ(std::string(e.what()), message);
   }
 }
 
-TEST(CompareImages, MismatchesAndBadTolerancesAreInputErrors) {
-  expect_input_error(make_image(4, 3), make_image(3, 4), {},
-                     "a.exr and b.exr differ in size: 4x3 vs 3x4");
-  expect_input_error(make_image(2, 2, {"B", "G", "R"}), make_image(2, 2, {"A", "B", "G", "R"}), {},
-                     "a.exr and b.exr differ in channels: B,G,R vs A,B,G,R");
+TEST(CompareImages, MismatchesAndBadThresholdsAreInputErrors) {
+  expect_error<ImageMismatch>(make_image(4, 3), make_image(3, 4), {},
+                              "a.exr and b.exr differ in size: 4x3 vs 3x4");
+  const Image rgb = make_image(2, 2, {"B", "G", "R"});
+  const Image rgba = make_image(2, 2, {"A", "B", "G", "R"});
+  expect_error<ImageMismatch>(rgb, rgba, {},
+                              "a.exr and b.exr differ in channels: B,G,R vs A,B,G,R");
+  CompareOptions common;
+  common.common_channels = true;
+  const CompareResult r = compare_images(rgb, rgba, common);
+  EXPECT_EQ(r.channels.size(), 3u);
+  EXPECT_TRUE(r.only_in_a.empty());
+  EXPECT_EQ(r.only_in_b, (std::vector<std::string>{"A"}));
+  expect_error<ImageMismatch>(make_image(2, 2, {"Z"}), rgb, common,
+                              "a.exr and b.exr differ in channels: Z vs B,G,R (none in common)");
   CompareOptions typo;
-  typo.tolerance["Y"] = 0.1f;
-  expect_input_error(make_image(), make_image(), typo,
-                     "tolerance given for channel Y, which a.exr and b.exr do not have "
-                     "(channels: B,G,R)");
+  typo.channel_fail = {{"Y", 0.1}};
+  expect_error<InputError>(make_image(), make_image(), typo,
+                           "threshold given for channel Y, which a.exr and b.exr do not both "
+                           "have (channels compared: B,G,R)");
   CompareOptions negative;
-  negative.tolerance["G"] = -0.5f;
-  expect_input_error(make_image(), make_image(), negative,
-                     "tolerance for channel G must be a non-negative number");
-  CompareOptions nan_default;
-  nan_default.default_tolerance = kNaN;
-  expect_input_error(make_image(), make_image(), nan_default,
-                     "tolerance must be a non-negative number");
+  negative.channel_fail = {{"G", -0.5}};
+  expect_error<InputError>(make_image(), make_image(), negative,
+                           "threshold for G must be a non-negative number");
+  CompareOptions nan_fail;
+  nan_fail.fail = kNaN;
+  expect_error<InputError>(make_image(), make_image(), nan_fail,
+                           "fail threshold (--fail, --tolerance) must be a non-negative number");
+  CompareOptions percent;
+  percent.fail_percent = 101.0;
+  expect_error<InputError>(make_image(), make_image(), percent,
+                           "--failpercent and --warnpercent must be between 0 and 100");
 }
 
-TEST(CompareReport, FailShowsTableFirstPixelAndValues) {
-  const Image a = make_image();
+TEST(CompareReport, FailureShowsTableFirstPixelAndValues) {
+  Image a = make_image(4, 3, {"B", "G", "R"});
   Image b = a;
   channel(b, "G")[2] += 0.5f;
   CompareOptions o;
-  o.tolerance["R"] = 0.25f;
+  o.channel_fail = {{"R", 0.25}};
   const CompareResult r = compare_images(a, b, o);
   std::ostringstream os;
   print_compare_report(os, r, "golden.exr", "model.exr");
   const std::string text = os.str();
-  EXPECT_NE(text.find("compare golden.exr model.exr: 4x3, 3 channels\n"), std::string::npos)
-      << text;
-  EXPECT_NE(text.find("channel  tolerance       max abs error   differing pixels\n"),
+  EXPECT_NE(text.find("compare golden.exr model.exr: 4x3, channels compared: B,G,R\n"),
             std::string::npos)
       << text;
-  EXPECT_NE(text.find("\nG        0               0.5             1\n"), std::string::npos) << text;
-  EXPECT_NE(text.find("\nR        0.25            0               0\n"), std::string::npos) << text;
-  EXPECT_NE(text.find("differing pixels: 1 of 12 (8.3333%)\n"), std::string::npos) << text;
-  EXPECT_NE(text.find("first differing pixel: x=2 y=2 (window coordinates, origin lower left)\n"),
+  EXPECT_NE(
+      text.find("channel  fail     warn     max error      at x,y   mean error   RMS error    "
+                "PSNR dB failing warning\n"),
+      std::string::npos)
+      << text;
+  // G: one error of 0.5 in 12 pixels: mean 0.5 / 12, RMS sqrt(0.25 / 12), PSNR 16.81 dB.
+  EXPECT_NE(
+      text.find("\nG        1e-06    1e-06    0.5            2,2      0.0416667    0.144338     "
+                "16.81   1       1\n"),
+      std::string::npos)
+      << text;
+  EXPECT_NE(
+      text.find("\nR        0.25     0.25     0              -        0            0            "
+                "inf     0       0\n"),
+      std::string::npos)
+      << text;
+  EXPECT_NE(
+      text.find("\nRGB      -        -        0.5            2,2      0.0138889    0.0833333    "
+                "21.58   1       1\n"),
+      std::string::npos)
+      << text;
+  EXPECT_NE(text.find("failing pixels: 1 of 12 (8.3333%), FAILURE above 0% (--failpercent)\n"),
+            std::string::npos)
+      << text;
+  EXPECT_NE(text.find("first failing pixel: x=2 y=2 (window coordinates, origin lower left)\n"),
             std::string::npos)
       << text;
   EXPECT_NE(text.find("  G        10.25           10.75\n"), std::string::npos) << text;
-  ASSERT_GE(text.size(), 5u);
-  EXPECT_EQ(text.substr(text.size() - 5), "FAIL\n");
+  ASSERT_GE(text.size(), 8u);
+  EXPECT_EQ(text.substr(text.size() - 8), "FAILURE\n");
   EXPECT_EQ(text.find("PASS"), std::string::npos);
 }
 
 TEST(CompareReport, PassEndsWithPass) {
   const Image a = make_image();
+  CompareOptions exact;
+  exact.exact = true;
   std::ostringstream os;
-  print_compare_report(os, compare_images(a, a, CompareOptions{true, 0.0f, {}}), "x.exr", "y.exr");
+  print_compare_report(os, compare_images(a, a, exact), "x.exr", "y.exr");
   const std::string text = os.str();
   EXPECT_NE(text.find("exact (bitwise)"), std::string::npos) << text;
-  EXPECT_NE(text.find("differing pixels: 0 of 12 (0.0000%)\n"), std::string::npos) << text;
-  EXPECT_EQ(text.find("first differing pixel"), std::string::npos) << text;
+  EXPECT_NE(text.find("\nB        bits     bits     0"), std::string::npos) << text;
+  EXPECT_NE(text.find("failing pixels: 0 of 12 (0.0000%)"), std::string::npos) << text;
+  EXPECT_EQ(text.find("first failing pixel"), std::string::npos) << text;
   EXPECT_EQ(text.substr(text.size() - 5), "PASS\n");
 }
 
@@ -282,7 +441,7 @@ class HeatmapTest : public ::testing::Test {
   }
   void TearDown() override { fs::remove_all(dir_); }
 
-  std::vector<uint8_t> read_png(const std::string& p, int w, int h) {
+  std::vector<uint8_t> read_png_rgba(const std::string& p, int w, int h) {
     png_image image;
     std::memset(&image, 0, sizeof image);
     image.version = PNG_IMAGE_VERSION;
@@ -298,6 +457,14 @@ class HeatmapTest : public ::testing::Test {
   fs::path dir_;
 };
 
+// The documented colour map, written out again: linear blue -> red -> yellow.
+std::vector<uint8_t> ramp(double t) {
+  const double r = t < 0.5 ? 2 * t : 1.0, g = t < 0.5 ? 0.0 : 2 * t - 1,
+               b = t < 0.5 ? 1 - 2 * t : 0.0;
+  return {static_cast<uint8_t>(std::lround(r * 255)), static_cast<uint8_t>(std::lround(g * 255)),
+          static_cast<uint8_t>(std::lround(b * 255)), 255};
+}
+
 TEST_F(HeatmapTest, RampFromBlueThroughRedToYellow) {
   // Two rows of 4 in file order. Row 0: equal, error 1 (the maximum), 0.5,
   // 0.25. Row 1: NaN against a number (infinite: full yellow, not part of the
@@ -308,8 +475,8 @@ TEST_F(HeatmapTest, RampFromBlueThroughRedToYellow) {
   channel(b, "R") = {0.0f, 1.0f, -0.5f, 0.25f, 1.0f, 0.0f, 5.0f, kNaN};
   channel(b, "G")[5] += 0.125f;
   const std::string p = (dir_ / "diff.png").string();
-  write_diff_heatmap(a, b, p);
-  const std::vector<uint8_t> px = read_png(p, 4, 2);
+  EXPECT_EQ(write_diff_heatmap(a, b, p), 1.0);
+  const std::vector<uint8_t> px = read_png_rgba(p, 4, 2 + kLegendHeight);
   const std::vector<uint8_t> want = {
       0,   0,   0,   255,  // equal: black
       255, 255, 0,   255,  // t = 1: yellow
@@ -320,26 +487,110 @@ TEST_F(HeatmapTest, RampFromBlueThroughRedToYellow) {
       0,   0,   0,   255,  // equal
       0,   0,   0,   255,  // NaN vs NaN: equal
   };
-  EXPECT_EQ(px, want);
+  EXPECT_EQ(std::vector<uint8_t>(px.begin(), px.begin() + 32), want);
   EXPECT_EQ(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()), 1);
 }
 
-TEST_F(HeatmapTest, ToleranceBlacksOutSmallDifferences) {
+TEST_F(HeatmapTest, ThresholdBlacksOutSmallDifferences) {
   Image a = make_image(2, 1, {"R"});
   Image b = a;
   channel(b, "R")[0] += 0.5f;
   channel(b, "R")[1] += 2.0f;
   CompareOptions o;
-  o.default_tolerance = 1.0f;
+  o.fail = 1.0;
   const std::string p = (dir_ / "diff.png").string();
-  write_diff_heatmap(a, b, p, o);
-  EXPECT_EQ(read_png(p, 2, 1), (std::vector<uint8_t>{0, 0, 0, 255, 255, 255, 0, 255}));
+  EXPECT_EQ(write_diff_heatmap(a, b, p, o), 2.0);
+  const std::vector<uint8_t> px = read_png_rgba(p, 2, 1 + kLegendHeight);
+  EXPECT_EQ(std::vector<uint8_t>(px.begin(), px.begin() + 8),
+            (std::vector<uint8_t>{0, 0, 0, 255, 255, 255, 0, 255}));
+}
+
+// Below the image: black rows, the bar (colour map of x / (width - 1)), and
+// white labels 0, max / 2 and max; nothing else is drawn.
+TEST_F(HeatmapTest, LegendBarFollowsTheColourMap) {
+  const int w = 101, h = 3;
+  Image a = make_image(w, h, {"R"});
+  Image b = a;
+  channel(b, "R")[5] += 0.25f;  // max 0.25: labels "0", "0.125", "0.25"
+  const std::string p = (dir_ / "diff.png").string();
+  EXPECT_EQ(write_diff_heatmap(a, b, p), 0.25);
+  const std::vector<uint8_t> px = read_png_rgba(p, w, h + kLegendHeight);
+  auto pixel = [&](int x, int y) {
+    const size_t i = (static_cast<size_t>(y) * w + x) * 4;
+    return std::vector<uint8_t>(px.begin() + i, px.begin() + i + 4);
+  };
+  const std::vector<uint8_t> black = {0, 0, 0, 255}, white = {255, 255, 255, 255};
+  for (int x = 0; x < w; ++x) {
+    for (int y = 0; y < kLegendBarTop; ++y) EXPECT_EQ(pixel(x, h + y), black) << x;
+    for (int y = 0; y < kLegendBarHeight; ++y) {
+      EXPECT_EQ(pixel(x, h + kLegendBarTop + y), ramp(x / 100.0)) << x << "," << y;
+    }
+  }
+  EXPECT_EQ(pixel(0, h + kLegendBarTop), (std::vector<uint8_t>{0, 0, 255, 255}));
+  EXPECT_EQ(pixel(50, h + kLegendBarTop), (std::vector<uint8_t>{255, 0, 0, 255}));
+  EXPECT_EQ(pixel(100, h + kLegendBarTop), (std::vector<uint8_t>{255, 255, 0, 255}));
+  // Labels: only black and white below the bar, white in the left, middle and
+  // right thirds (the three numbers).
+  int white_in[3] = {0, 0, 0};
+  for (int y = h + kLegendBarTop + kLegendBarHeight; y < h + kLegendHeight; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const std::vector<uint8_t> v = pixel(x, y);
+      ASSERT_TRUE(v == black || v == white) << x << "," << y;
+      if (v == white) ++white_in[x * 3 / w];
+    }
+  }
+  EXPECT_GT(white_in[0], 0);
+  EXPECT_GT(white_in[1], 0);
+  EXPECT_GT(white_in[2], 0);
 }
 
 TEST_F(HeatmapTest, SizeMismatchThrows) {
   EXPECT_THROW(write_diff_heatmap(make_image(2, 2), make_image(2, 3), (dir_ / "d.png").string()),
-               InputError);
+               ImageMismatch);
   EXPECT_FALSE(fs::exists(dir_ / "d.png"));
+}
+
+// PNG input: 8-bit values as v / 255, R, G, B and A when the file has alpha;
+// read_image tells PNG from EXR by the signature; 16-bit files are refused.
+TEST_F(HeatmapTest, PngInput) {
+  const std::string p = (dir_ / "in.png").string();
+  write_png_rgba8(p, 2, 1, {0, 51, 255, 128, 10, 20, 30, 255});
+  for (const Image& img : {read_png(p), read_image(p)}) {
+    EXPECT_TRUE(img.png);
+    EXPECT_EQ(img.width, 2);
+    EXPECT_EQ(img.height, 1);
+    EXPECT_EQ(img.channel_names, (std::vector<std::string>{"R", "G", "B", "A"}));
+    EXPECT_EQ(*img.find("R"), (std::vector<float>{0.0f, 10 / 255.0f}));
+    EXPECT_EQ(*img.find("G"), (std::vector<float>{0.2f, 20 / 255.0f}));
+    EXPECT_EQ(*img.find("A"), (std::vector<float>{128 / 255.0f, 1.0f}));
+  }
+  // 16-bit: written through libpng's linear (16-bit) format.
+  const std::string p16 = (dir_ / "deep.png").string();
+  png_image image;
+  std::memset(&image, 0, sizeof image);
+  image.version = PNG_IMAGE_VERSION;
+  image.width = 1;
+  image.height = 1;
+  image.format = PNG_FORMAT_LINEAR_RGB;
+  const uint16_t rgb16[3] = {0, 1000, 65535};
+  ASSERT_TRUE(png_image_write_to_file(&image, p16.c_str(), 0, rgb16, 0, nullptr)) << image.message;
+  png_image_free(&image);
+  try {
+    read_image(p16);
+    ADD_FAILURE() << "16-bit PNG accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), p16 + ": 16-bit PNG files are not supported (8-bit only)");
+  }
+  const std::string text = (dir_ / "frame.png.txt").string();
+  std::FILE* f = std::fopen(text.c_str(), "w");
+  std::fputs("not an image", f);
+  std::fclose(f);
+  try {
+    read_image(text);
+    ADD_FAILURE() << "text accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), text + ": not an OpenEXR or PNG file");
+  }
 }
 
 }  // namespace
