@@ -1315,11 +1315,13 @@ def msaa_interpenetrating():
 
 @scene("msaa_blend", "multisampling", "12, 14",
        "4 samples: rotated translucent quads (src_alpha, one_minus_src_alpha) and additive ones "
-       "over a Gouraud background: each sample blends with its own stored colour")
+       "over a tilted Gouraud background quad and the clear colour: each sample blends with its "
+       "own stored colour")
 def msaa_blend():
     rng = random.Random(1404)
     w, h = 128, 96
-    draws = [{"primitive": "triangle_strip", "positions": quad_strip(-1, -1, 1, 1, 0.9),
+    draws = [{"primitive": "triangle_strip",
+              "positions": [[-0.85, -0.95, 0.9], [0.95, -0.7, 0.9], [-0.95, 0.8, 0.9], [0.7, 0.9, 0.9]],
               "colors": [[0.1, 0.2, 0.9, 1], [0.9, 0.2, 0.1, 1], [0.1, 0.9, 0.2, 1],
                          [0.8, 0.8, 0.8, 1]], "state": {"depth_test": "off"}}]
     for k in range(10):
