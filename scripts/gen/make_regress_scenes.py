@@ -1367,6 +1367,29 @@ def msaa_lines():
             "draws": draws}
 
 
+@scene("msaa_lines_tile_edges", "multisampling", "8b, 14",
+       "4 samples: rectangle lines along and across llvmpipe's 64-pixel tile boundaries (x, y = "
+       "64 + 0.1, reaching into pixel 63's samples; controls at 70 + 0.1), widths 1 and 2.3: "
+       "llvmpipe 22.3 loses the samples in the last row or column of a tile (docs/validation.md)")
+def msaa_lines_tile_edges():
+    size = 128
+    pos = []
+    for x in (64.1, 70.1, 64.6):
+        pos += [win(sub(x), 6, size), win(sub(x), 40, size)]                  # vertical
+    for y in (64.1, 70.1, 64.6):
+        pos += [win(76, sub(y), size), win(120, sub(y), size)]                # horizontal
+    pos += [win(44.25, 80.5, size), win(84.75, 100.25, size)]                 # across x = 64
+    pos += [win(10.5, 44.75, size), win(30.25, 84.5, size)]                   # across y = 64
+    wide = [win(sub(64.3), 90, size), win(sub(64.3), 124, size),
+            win(90, sub(64.4), size), win(124, sub(64.4), size)]
+    return {"framebuffer": {"width": size, "height": size, "samples": MSAA,
+                            "clear_color": [0, 0, 0, 1]},
+            "draws": [{"primitive": "lines", "positions": pos, "colors": [id_col(3)] * len(pos),
+                       "state": {"depth_test": "off", "shading": "flat"}},
+                      {"primitive": "lines", "positions": wide, "colors": [id_col(5)] * len(wide),
+                       "state": {"depth_test": "off", "shading": "flat", "line_width": 2.3}}]}
+
+
 @scene("msaa_points", "multisampling", "8c, 14",
        "4 samples: point squares of sizes 0.25 to 12.5 at random subpixel positions, on pixel "
        "centres and on pixel corners, tested at the sample positions")
