@@ -1063,9 +1063,12 @@ struct GlReference::Impl {
             }
             out.color_at(x, y)[c] = static_cast<ColorChannel>((2 * sum + n) / (2 * n));
           } else {
-            float sum = 0.0f;
+            // The sum starts from the first value (so that -0 stays -0).
+            float sum = decode_half(rt.color_at(k * x, k * y)[c]);
             for (int j = 0; j < k; ++j) {
-              for (int i = 0; i < k; ++i) sum += decode_half(rt.color_at(k * x + i, k * y + j)[c]);
+              for (int i = (j == 0 ? 1 : 0); i < k; ++i) {
+                sum += decode_half(rt.color_at(k * x + i, k * y + j)[c]);
+              }
             }
             out.color_at(x, y)[c] = encode_half(sum / static_cast<float>(n));
           }
