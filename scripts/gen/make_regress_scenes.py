@@ -1185,6 +1185,252 @@ def known_half_rounding():
             "draws": draws}
 
 
+# ------------------------------------------------------------- multisampling
+#
+# 4 samples per pixel (section 14), the count llvmpipe supports besides 1.
+# scripts/regress compares, per pixel, the number of covered samples
+# (round(4 * alpha) of the coverage variant, the union over every primitive)
+# exactly, and the resolved colour within 1/255.
+
+MSAA = 4
+
+
+@scene("msaa_sunburst", "multisampling", "8, 14",
+       "4 samples: a fan of 90 thin triangles around a centre off the pixel grid (edges at every "
+       "angle) and piglit's accuracy pattern (8x8 triangles, each rotated by 2pi/64 more), "
+       "flat white and grey on black")
+def msaa_sunburst():
+    w = h = 128
+    pos, col = [], []
+    cx, cy, n = 40.3, 44.7, 90
+    for i in range(n):
+        a0, a1 = 2 * math.pi * i / n, 2 * math.pi * (i + 0.55) / n
+        for (x, y) in ((cx, cy), (cx + 38 * math.cos(a0), cy + 38 * math.sin(a0)),
+                       (cx + 38 * math.cos(a1), cy + 38 * math.sin(a1))):
+            pos.append([r(clip_x(x, w)), r(clip_x(y, h)), 0, 1])
+            col.append([1, 1, 1, 1] if i % 2 else [0.5, 0.5, 0.5, 1])
+    # piglit ext_framebuffer_multisample/accuracy's Triangles pattern in the
+    # right half and the top: NDC (pattern) -> this framebuffer's region.
+    tri = [(-0.5, -1.0), (0.0, 1.0), (0.5, -1.0)]
+    across = 8
+    for t in range(across * across):
+        rot = 2 * math.pi / (across * across) * t
+        i, j = t % across, across - 1 - t // across
+        for (px, py) in tri:
+            x, y = 0.1 * px, 0.1 * py
+            x, y = math.cos(rot) * x - math.sin(rot) * y, math.sin(rot) * x + math.cos(rot) * y
+            x, y = 0.95 * (x + (2 * i + 1) / across - 1), 0.95 * (y + (2 * j + 1) / across - 1)
+            wx, wy = 84 + (x + 1) * 22, 20 + (y + 1) * 54   # 44 x 108 pixels at the right
+            pos.append([r(clip_x(wx, w)), r(clip_x(wy, h)), 0, 1])
+            col.append([1, 1, 1, 1])
+    return {"framebuffer": {"width": w, "height": h, "samples": MSAA, "clear_color": [0, 0, 0, 1]},
+            "draws": [{"primitive": "triangles", "positions": pos, "colors": col,
+                       "state": {"depth_test": "off", "shading": "flat"}}]}
+
+
+@scene("msaa_slivers", "multisampling", "8, 9, 14",
+       "4 samples: 300 slivers and needles (under a pixel wide, some under 1/100) in every "
+       "direction, Gouraud colours, depth lequal per sample, unorm24")
+def msaa_slivers():
+    rng = random.Random(1401)
+    w = h = 112
+    pos, col = [], []
+    for i in range(300):
+        cx, cy = rng.uniform(0, w), rng.uniform(0, h)
+        length = rng.uniform(4, 80)
+        a = rng.uniform(0, 2 * math.pi)
+        dx, dy = math.cos(a) * length / 2, math.sin(a) * length / 2
+        width = rng.uniform(0.05, 1.2) if i % 2 else rng.uniform(0.002, 0.05)
+        t = rng.uniform(0.1, 0.9)
+        ox, oy = -math.sin(a) * width, math.cos(a) * width
+        for (x, y) in ((cx - dx, cy - dy), (cx + dx, cy + dy),
+                       (cx - dx + 2 * t * dx + ox, cy - dy + 2 * t * dy + oy)):
+            pos.append([r(clip_x(x, w)), r(clip_x(y, h)), r(rng.uniform(-0.9, 0.9)), 1])
+            col.append(rcol(rng))
+    return {"framebuffer": {"width": w, "height": h, "samples": MSAA, "clear_color": [0, 0, 0, 1]},
+            "draws": [{"primitive": "triangles", "positions": pos, "colors": col,
+                       "state": {"depth_test": "lequal"}}]}
+
+
+@scene("msaa_grid_shared_edges", "multisampling", "7, 8, 14",
+       "4 samples: a 12x8 grid of jittered quads (indexed triangles sharing every edge) and "
+       "axis-aligned quads with edges exactly on sample rows and columns, additively blended "
+       "(one, one) at 0.25: every sample covered exactly once, 4 per pixel inside the grid")
+def msaa_grid_shared_edges():
+    rng = random.Random(1402)
+    w, h = 128, 96
+    n, m = 12, 8
+    pos, idx = [], []
+    for j in range(m + 1):
+        for i in range(n + 1):
+            x, y = i * w / n, j * h / m
+            if 0 < i < n and 0 < j < m:
+                x += rng.uniform(-3, 3)
+                y += rng.uniform(-3, 3)
+            pos.append([r(clip_x(x, w)), r(clip_x(y, h)), 0.5, 1])
+    for j in range(m):
+        for i in range(n):
+            a = j * (n + 1) + i
+            if (i + j) % 2:
+                idx += [a, a + 1, a + n + 2, a, a + n + 2, a + n + 1]
+            else:
+                idx += [a, a + 1, a + n + 1, a + 1, a + n + 2, a + n + 1]
+    # Side by side quads whose shared edges run exactly through sample
+    # positions (x = k + 6/16 etc.: the edge owns its samples by the fill rule).
+    axis = []
+    p = lambda x, y: [clip_x(x, w), clip_x(y, h), 0.2, 1]  # exact: multiples of 1/256 pixel
+    for k in range(6):
+        x0, x1 = 8 + 18 * k + [0.375, 0.875, 0.125, 0.625, 0.5, 0.0][k], 8 + 18 * (k + 1) + 0.375
+        y0, y1 = 30 + [0.125, 0.375, 0.625, 0.875, 0.5, 0.0][k], 66.625
+        axis += [p(x0, y0), p(x1, y0), p(x1, y1), p(x0, y0), p(x1, y1), p(x0, y1)]
+    additive = {"depth_test": "off", "blend": {"src": "one", "dst": "one"}}
+    return {
+        "framebuffer": {"width": w, "height": h, "samples": MSAA, "clear_color": [0, 0, 0, 0]},
+        "draws": [
+            {"positions": pos, "indices": idx, "colors": [[0.25, 0.25, 0.25, 0.25]] * len(pos),
+             "state": additive},
+            {"positions": axis, "colors": [[0.0, 0.25, 0.5, 0.25]] * len(axis), "state": additive},
+        ],
+    }
+
+
+@scene("msaa_interpenetrating", "multisampling", "9, 11, 14",
+       "4 samples: five planes through one another at different angles, perspective, unorm24: "
+       "along the intersection lines each sample keeps its own nearest surface")
+def msaa_interpenetrating():
+    rng = random.Random(1403)
+    draws = []
+    for k in range(5):
+        a = k * 36 + 7
+        draws.append({"primitive": "triangle_strip", "positions": quad_strip(-1.2, -0.6, 1.2, 0.6),
+                      "colors": [rcol(rng) for _ in range(4)],
+                      "transform": {"rotate": [[a, 0, 1, 0], [15 * k - 30, 1, 0, 0]],
+                                    "translate": [0, 0, -3]},
+                      "state": {"depth_test": "less"}})
+    return {"framebuffer": {"width": 128, "height": 96, "samples": MSAA,
+                            "clear_color": [0.1, 0.1, 0.1, 1]},
+            "camera": {"type": "perspective", "fovy": 50, "near": 1, "far": 8},
+            "draws": draws}
+
+
+@scene("msaa_blend", "multisampling", "12, 14",
+       "4 samples: rotated translucent quads (src_alpha, one_minus_src_alpha) and additive ones "
+       "over a tilted Gouraud background quad and the clear colour: each sample blends with its "
+       "own stored colour")
+def msaa_blend():
+    rng = random.Random(1404)
+    w, h = 128, 96
+    draws = [{"primitive": "triangle_strip",
+              "positions": [[-0.85, -0.95, 0.9], [0.95, -0.7, 0.9], [-0.95, 0.8, 0.9], [0.7, 0.9, 0.9]],
+              "colors": [[0.1, 0.2, 0.9, 1], [0.9, 0.2, 0.1, 1], [0.1, 0.9, 0.2, 1],
+                         [0.8, 0.8, 0.8, 1]], "state": {"depth_test": "off"}}]
+    for k in range(10):
+        cx, cy = rng.uniform(-0.7, 0.7), rng.uniform(-0.7, 0.7)
+        s, a = rng.uniform(0.15, 0.45), rng.uniform(0, math.pi)
+        corners = [(cx + s * math.cos(a + q * math.pi / 2), cy + s * math.sin(a + q * math.pi / 2))
+                   for q in (0, 1, 3, 2)]
+        blend = ({"src": "src_alpha", "dst": "one_minus_src_alpha"} if k % 3
+                 else {"src": "one", "dst": "one"})
+        draws.append({"primitive": "triangle_strip",
+                      "positions": [[r(x), r(y), 0] for (x, y) in corners],
+                      "colors": [rcol(rng, r(rng.uniform(0.2, 0.8))) for _ in range(4)],
+                      "state": {"depth_test": "off", "blend": blend,
+                                "shading": "flat" if k % 2 else "gouraud"}})
+    return {"framebuffer": {"width": w, "height": h, "samples": MSAA, "clear_color": [0, 0, 0, 0]},
+            "draws": draws}
+
+
+@scene("msaa_lines", "multisampling", "8b, 14",
+       "4 samples: lines as rectangles (no diamond exit, width not rounded), widths 0.5 to 7.3 "
+       "at every angle from subpixel end points, and a strip of width-1 lines; flat colours")
+def msaa_lines():
+    rng = random.Random(1405)
+    size = 128
+    draws = []
+    widths = [1, 0.5, 1.5, 2, 2.5, 3.7, 5, 7.3]
+    for k, wd in enumerate(widths):
+        pos = []
+        for q in range(4):
+            a = 2 * math.pi * (k * 4 + q + rng.uniform(0.1, 0.9)) / 32
+            cx, cy = 34 + 60 * (k % 2), 14 + 15 * (k // 2) * 2
+            length = rng.uniform(10, 26)
+            x0, y0 = sub(cx + rng.uniform(-3, 3)), sub(cy + rng.uniform(-3, 3))
+            pos += [win(x0, y0, size),
+                    win(sub(x0 + length * math.cos(a)), sub(y0 + length * math.sin(a) * 0.5), size)]
+        draws.append({"primitive": "lines", "positions": pos, "colors": [id_col(k)] * len(pos),
+                      "state": {"depth_test": "off", "shading": "flat", "line_width": wd}})
+    strip = [win(sub(4 + 120 * i / 11), sub(118 + 6 * math.sin(i * 1.3)), size) for i in range(12)]
+    draws.append({"primitive": "line_strip", "positions": strip, "colors": [id_col(9)] * len(strip),
+                  "state": {"depth_test": "off", "shading": "flat"}})
+    return {"framebuffer": {"width": size, "height": size, "samples": MSAA,
+                            "clear_color": [0, 0, 0, 1]},
+            "draws": draws}
+
+
+@scene("msaa_lines_tile_edges", "multisampling", "8b, 14",
+       "4 samples: rectangle lines along and across llvmpipe's 64-pixel tile boundaries (x, y = "
+       "64 + 0.1, reaching into pixel 63's samples; controls at 70 + 0.1), widths 1 and 2.3: "
+       "llvmpipe 22.3 loses the samples in the last row or column of a tile (docs/validation.md)")
+def msaa_lines_tile_edges():
+    size = 128
+    pos = []
+    for x in (64.1, 70.1, 64.6):
+        pos += [win(sub(x), 6, size), win(sub(x), 40, size)]                  # vertical
+    for y in (64.1, 70.1, 64.6):
+        pos += [win(76, sub(y), size), win(120, sub(y), size)]                # horizontal
+    pos += [win(44.25, 80.5, size), win(84.75, 100.25, size)]                 # across x = 64
+    pos += [win(10.5, 44.75, size), win(30.25, 84.5, size)]                   # across y = 64
+    wide = [win(sub(64.3), 90, size), win(sub(64.3), 124, size),
+            win(90, sub(64.4), size), win(124, sub(64.4), size)]
+    return {"framebuffer": {"width": size, "height": size, "samples": MSAA,
+                            "clear_color": [0, 0, 0, 1]},
+            "draws": [{"primitive": "lines", "positions": pos, "colors": [id_col(3)] * len(pos),
+                       "state": {"depth_test": "off", "shading": "flat"}},
+                      {"primitive": "lines", "positions": wide, "colors": [id_col(5)] * len(wide),
+                       "state": {"depth_test": "off", "shading": "flat", "line_width": 2.3}}]}
+
+
+@scene("msaa_points", "multisampling", "8c, 14",
+       "4 samples: point squares of sizes 0.25 to 12.5 at random subpixel positions, on pixel "
+       "centres and on pixel corners, tested at the sample positions")
+def msaa_points():
+    rng = random.Random(1406)
+    size = 128
+    sizes = [1, 2, 3, 4, 5, 8, 12.5, 0.25, 0.5, 1.5, 2.25, 3.7]
+    draws = []
+    for k, s in enumerate(sizes):
+        pos = []
+        for j, (fx, fy) in enumerate(((None, None), (0.5, 0.5), (0.0, 0.0), (None, None))):
+            cx, cy = 10 + (k % 4) * 30 + j * 6.5, 14 + (k // 4) * 40 + (j % 2) * 14
+            if fx is None:
+                x, y = sub(cx + rng.random()), sub(cy + rng.random())
+            else:
+                x, y = math.floor(cx) + fx, math.floor(cy) + fy
+            pos.append(win(x, y, size))
+        draws.append({"primitive": "points", "positions": pos, "colors": [id_col(k)] * len(pos),
+                      "state": {"depth_test": "off", "point_size": s}})
+    return {"framebuffer": {"width": size, "height": size, "samples": MSAA,
+                            "clear_color": [0, 0, 0, 1]},
+            "draws": draws}
+
+
+@scene("msaa_mesh_duck", "multisampling", "2, 7, 9, 11, 14",
+       "4 samples: duck.dae (Collada) lit by a point light, back faces culled, perspective, "
+       "unorm24: silhouettes and self-occlusion per sample")
+def msaa_mesh_duck():
+    return {
+        "framebuffer": {"width": 128, "height": 128, "samples": MSAA,
+                        "clear_color": [0.05, 0.1, 0.05, 1]},
+        "camera": {"type": "perspective", "fovy": 50, "near": 0.5, "far": 10,
+                   "eye": [1.6, 1.6, 2.2], "target": [0.1, 0.8, 0]},
+        "lights": [{"type": "point", "position": [1, 3, 2], "attenuation": [1, 0.1, 0.0]}],
+        "draws": [{"mesh": MODELS + "/Collada/duck.dae",
+                   "material": {"color": [0.9, 0.8, 0.2, 1], "specular": [0.4, 0.4, 0.4, 1],
+                                "shininess": 10},
+                   "state": {"cull": "front", "front_face": "cw"}}],
+    }
+
+
 def dump(value):
     """JSON with one line per vertex: arrays of numbers (and of booleans) stay on
     one line, and so do the index lists."""

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "hw/pixel_formats.h"
 #include "testbench/golden/golden_model.h"
 
 namespace gpusim::reference {
@@ -21,67 +22,69 @@ namespace {
 
 // The OpenGL entry points used, all resolved through eglGetProcAddress
 // (Mesa resolves core functions too: EGL_KHR_get_all_proc_addresses).
-#define GPUSIM_GL_FUNCTIONS(X)                                   \
-  X(PFNGLGETSTRINGPROC, glGetString)                             \
-  X(PFNGLGETERRORPROC, glGetError)                               \
-  X(PFNGLGETINTEGERVPROC, glGetIntegerv)                         \
-  X(PFNGLENABLEPROC, glEnable)                                   \
-  X(PFNGLDISABLEPROC, glDisable)                                 \
-  X(PFNGLVIEWPORTPROC, glViewport)                               \
-  X(PFNGLCLIPCONTROLPROC, glClipControl)                         \
-  X(PFNGLDEPTHRANGEPROC, glDepthRange)                           \
-  X(PFNGLCLEARCOLORPROC, glClearColor)                           \
-  X(PFNGLCLEARDEPTHPROC, glClearDepth)                           \
-  X(PFNGLCLEARPROC, glClear)                                     \
-  X(PFNGLCOLORMASKPROC, glColorMask)                             \
-  X(PFNGLDEPTHMASKPROC, glDepthMask)                             \
-  X(PFNGLDEPTHFUNCPROC, glDepthFunc)                             \
-  X(PFNGLCULLFACEPROC, glCullFace)                               \
-  X(PFNGLFRONTFACEPROC, glFrontFace)                             \
-  X(PFNGLPOLYGONOFFSETPROC, glPolygonOffset)                     \
-  X(PFNGLBLENDFUNCPROC, glBlendFunc)                             \
-  X(PFNGLBLENDEQUATIONPROC, glBlendEquation)                     \
-  X(PFNGLPROVOKINGVERTEXPROC, glProvokingVertex)                 \
-  X(PFNGLPIXELSTOREIPROC, glPixelStorei)                         \
-  X(PFNGLREADPIXELSPROC, glReadPixels)                           \
-  X(PFNGLFINISHPROC, glFinish)                                   \
-  X(PFNGLGENFRAMEBUFFERSPROC, glGenFramebuffers)                 \
-  X(PFNGLDELETEFRAMEBUFFERSPROC, glDeleteFramebuffers)           \
-  X(PFNGLBINDFRAMEBUFFERPROC, glBindFramebuffer)                 \
-  X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, glCheckFramebufferStatus)   \
-  X(PFNGLFRAMEBUFFERRENDERBUFFERPROC, glFramebufferRenderbuffer) \
-  X(PFNGLGENRENDERBUFFERSPROC, glGenRenderbuffers)               \
-  X(PFNGLDELETERENDERBUFFERSPROC, glDeleteRenderbuffers)         \
-  X(PFNGLBINDRENDERBUFFERPROC, glBindRenderbuffer)               \
-  X(PFNGLRENDERBUFFERSTORAGEPROC, glRenderbufferStorage)         \
-  X(PFNGLGENVERTEXARRAYSPROC, glGenVertexArrays)                 \
-  X(PFNGLDELETEVERTEXARRAYSPROC, glDeleteVertexArrays)           \
-  X(PFNGLBINDVERTEXARRAYPROC, glBindVertexArray)                 \
-  X(PFNGLGENBUFFERSPROC, glGenBuffers)                           \
-  X(PFNGLDELETEBUFFERSPROC, glDeleteBuffers)                     \
-  X(PFNGLBINDBUFFERPROC, glBindBuffer)                           \
-  X(PFNGLBUFFERDATAPROC, glBufferData)                           \
-  X(PFNGLVERTEXATTRIBPOINTERPROC, glVertexAttribPointer)         \
-  X(PFNGLENABLEVERTEXATTRIBARRAYPROC, glEnableVertexAttribArray) \
-  X(PFNGLDRAWARRAYSPROC, glDrawArrays)                           \
-  X(PFNGLDRAWELEMENTSPROC, glDrawElements)                       \
-  X(PFNGLCREATESHADERPROC, glCreateShader)                       \
-  X(PFNGLSHADERSOURCEPROC, glShaderSource)                       \
-  X(PFNGLCOMPILESHADERPROC, glCompileShader)                     \
-  X(PFNGLGETSHADERIVPROC, glGetShaderiv)                         \
-  X(PFNGLGETSHADERINFOLOGPROC, glGetShaderInfoLog)               \
-  X(PFNGLDELETESHADERPROC, glDeleteShader)                       \
-  X(PFNGLCREATEPROGRAMPROC, glCreateProgram)                     \
-  X(PFNGLATTACHSHADERPROC, glAttachShader)                       \
-  X(PFNGLLINKPROGRAMPROC, glLinkProgram)                         \
-  X(PFNGLGETPROGRAMIVPROC, glGetProgramiv)                       \
-  X(PFNGLGETPROGRAMINFOLOGPROC, glGetProgramInfoLog)             \
-  X(PFNGLDELETEPROGRAMPROC, glDeleteProgram)                     \
-  X(PFNGLUSEPROGRAMPROC, glUseProgram)                           \
-  X(PFNGLGETUNIFORMLOCATIONPROC, glGetUniformLocation)           \
-  X(PFNGLUNIFORM1IPROC, glUniform1i)                             \
-  X(PFNGLLINEWIDTHPROC, glLineWidth)                             \
-  X(PFNGLPOINTSIZEPROC, glPointSize)                             \
+#define GPUSIM_GL_FUNCTIONS(X)                                                 \
+  X(PFNGLGETSTRINGPROC, glGetString)                                           \
+  X(PFNGLGETERRORPROC, glGetError)                                             \
+  X(PFNGLGETINTEGERVPROC, glGetIntegerv)                                       \
+  X(PFNGLENABLEPROC, glEnable)                                                 \
+  X(PFNGLDISABLEPROC, glDisable)                                               \
+  X(PFNGLVIEWPORTPROC, glViewport)                                             \
+  X(PFNGLCLIPCONTROLPROC, glClipControl)                                       \
+  X(PFNGLDEPTHRANGEPROC, glDepthRange)                                         \
+  X(PFNGLCLEARCOLORPROC, glClearColor)                                         \
+  X(PFNGLCLEARDEPTHPROC, glClearDepth)                                         \
+  X(PFNGLCLEARPROC, glClear)                                                   \
+  X(PFNGLCOLORMASKPROC, glColorMask)                                           \
+  X(PFNGLDEPTHMASKPROC, glDepthMask)                                           \
+  X(PFNGLDEPTHFUNCPROC, glDepthFunc)                                           \
+  X(PFNGLCULLFACEPROC, glCullFace)                                             \
+  X(PFNGLFRONTFACEPROC, glFrontFace)                                           \
+  X(PFNGLPOLYGONOFFSETPROC, glPolygonOffset)                                   \
+  X(PFNGLBLENDFUNCPROC, glBlendFunc)                                           \
+  X(PFNGLBLENDEQUATIONPROC, glBlendEquation)                                   \
+  X(PFNGLPROVOKINGVERTEXPROC, glProvokingVertex)                               \
+  X(PFNGLPIXELSTOREIPROC, glPixelStorei)                                       \
+  X(PFNGLREADPIXELSPROC, glReadPixels)                                         \
+  X(PFNGLFINISHPROC, glFinish)                                                 \
+  X(PFNGLGENFRAMEBUFFERSPROC, glGenFramebuffers)                               \
+  X(PFNGLDELETEFRAMEBUFFERSPROC, glDeleteFramebuffers)                         \
+  X(PFNGLBINDFRAMEBUFFERPROC, glBindFramebuffer)                               \
+  X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, glCheckFramebufferStatus)                 \
+  X(PFNGLFRAMEBUFFERRENDERBUFFERPROC, glFramebufferRenderbuffer)               \
+  X(PFNGLGENRENDERBUFFERSPROC, glGenRenderbuffers)                             \
+  X(PFNGLDELETERENDERBUFFERSPROC, glDeleteRenderbuffers)                       \
+  X(PFNGLBINDRENDERBUFFERPROC, glBindRenderbuffer)                             \
+  X(PFNGLRENDERBUFFERSTORAGEPROC, glRenderbufferStorage)                       \
+  X(PFNGLRENDERBUFFERSTORAGEMULTISAMPLEPROC, glRenderbufferStorageMultisample) \
+  X(PFNGLBLITFRAMEBUFFERPROC, glBlitFramebuffer)                               \
+  X(PFNGLGENVERTEXARRAYSPROC, glGenVertexArrays)                               \
+  X(PFNGLDELETEVERTEXARRAYSPROC, glDeleteVertexArrays)                         \
+  X(PFNGLBINDVERTEXARRAYPROC, glBindVertexArray)                               \
+  X(PFNGLGENBUFFERSPROC, glGenBuffers)                                         \
+  X(PFNGLDELETEBUFFERSPROC, glDeleteBuffers)                                   \
+  X(PFNGLBINDBUFFERPROC, glBindBuffer)                                         \
+  X(PFNGLBUFFERDATAPROC, glBufferData)                                         \
+  X(PFNGLVERTEXATTRIBPOINTERPROC, glVertexAttribPointer)                       \
+  X(PFNGLENABLEVERTEXATTRIBARRAYPROC, glEnableVertexAttribArray)               \
+  X(PFNGLDRAWARRAYSPROC, glDrawArrays)                                         \
+  X(PFNGLDRAWELEMENTSPROC, glDrawElements)                                     \
+  X(PFNGLCREATESHADERPROC, glCreateShader)                                     \
+  X(PFNGLSHADERSOURCEPROC, glShaderSource)                                     \
+  X(PFNGLCOMPILESHADERPROC, glCompileShader)                                   \
+  X(PFNGLGETSHADERIVPROC, glGetShaderiv)                                       \
+  X(PFNGLGETSHADERINFOLOGPROC, glGetShaderInfoLog)                             \
+  X(PFNGLDELETESHADERPROC, glDeleteShader)                                     \
+  X(PFNGLCREATEPROGRAMPROC, glCreateProgram)                                   \
+  X(PFNGLATTACHSHADERPROC, glAttachShader)                                     \
+  X(PFNGLLINKPROGRAMPROC, glLinkProgram)                                       \
+  X(PFNGLGETPROGRAMIVPROC, glGetProgramiv)                                     \
+  X(PFNGLGETPROGRAMINFOLOGPROC, glGetProgramInfoLog)                           \
+  X(PFNGLDELETEPROGRAMPROC, glDeleteProgram)                                   \
+  X(PFNGLUSEPROGRAMPROC, glUseProgram)                                         \
+  X(PFNGLGETUNIFORMLOCATIONPROC, glGetUniformLocation)                         \
+  X(PFNGLUNIFORM1IPROC, glUniform1i)                                           \
+  X(PFNGLLINEWIDTHPROC, glLineWidth)                                           \
+  X(PFNGLPOINTSIZEPROC, glPointSize)                                           \
   X(PFNGLPOLYGONMODEPROC, glPolygonMode)
 
 struct Gl {
@@ -267,8 +270,10 @@ struct GlReference::Impl {
   int viewport_side = 0;
   std::string renderer, version;
 
-  // Per render.
+  // Per render. width x height: the render target (the framebuffer's size
+  // times `supersample`, spec section 14), which every rule below uses.
   int width = 0, height = 0;
+  unsigned samples = 1, supersample = 1;
   int tx = 0, ty = 0;  // window position of NDC (0, 0) in the V x V viewport
   ReferenceStats stats;
 
@@ -552,8 +557,10 @@ struct GlReference::Impl {
     gl.glPolygonMode(GL_FRONT_AND_BACK, st.polygon_mode == PolygonMode::line    ? GL_LINE
                                         : st.polygon_mode == PolygonMode::point ? GL_POINT
                                                                                 : GL_FILL);
-    gl.glLineWidth(st.line_width);
-    gl.glPointSize(st.point_size);
+    // Supersampling (spec section 14): widths and sizes times k, a float
+    // product, so that they keep their size in output pixels.
+    gl.glLineWidth(st.line_width * static_cast<float>(supersample));
+    gl.glPointSize(st.point_size * static_cast<float>(supersample));
     check("render state");
   }
 
@@ -875,36 +882,42 @@ struct GlReference::Impl {
       }
     }
     const FramebufferDesc& desc = scene.framebuffer;
-    width = desc.width;
-    height = desc.height;
+    // Antialiasing (spec section 14). llvmpipe multisamples with 1 or 4
+    // samples only (PIPE_MAX_SAMPLES 4 in Mesa 22.3); anything else would be
+    // some other count, so it is refused. Supersampling renders the render
+    // target and box-filters it here (read_back); combined with 4 samples
+    // that would be two resolves with two roundings (llvmpipe's, then ours),
+    // not the spec's one box filter over k^2 * N samples: refused too.
+    samples = desc.samples;
+    supersample = desc.supersample;
+    if (samples != 1 && samples != 4) {
+      throw NotRenderable("framebuffer.samples " + std::to_string(samples) +
+                          ": llvmpipe multisamples with 1 or 4 samples only");
+    }
+    if (samples != 1 && supersample != 1) {
+      throw NotRenderable("framebuffer.samples " + std::to_string(samples) + " with supersample " +
+                          std::to_string(supersample) +
+                          ": the reference supersamples single-sampled frames only");
+    }
+    width = desc.width * static_cast<int>(supersample);
+    height = desc.height * static_cast<int>(supersample);
     tx = width / 2;
     ty = height / 2;
     stats = ReferenceStats{};
 
-    GLuint fbo = 0, color_rb = 0, depth_rb = 0;
-    gl.glGenFramebuffers(1, &fbo);
-    gl.glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-    gl.glGenRenderbuffers(1, &color_rb);
-    gl.glBindRenderbuffer(GL_RENDERBUFFER, color_rb);
-    gl.glRenderbufferStorage(GL_RENDERBUFFER,
-                             desc.color_format == ColorFormat::rgba8 ? GL_RGBA8 : GL_RGBA16F, width,
-                             height);
-    gl.glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, color_rb);
-    gl.glGenRenderbuffers(1, &depth_rb);
-    gl.glBindRenderbuffer(GL_RENDERBUFFER, depth_rb);
     GLenum depth_internal = GL_DEPTH_COMPONENT24;
     if (desc.depth_format == DepthFormat::unorm16) depth_internal = GL_DEPTH_COMPONENT16;
     if (desc.depth_format == DepthFormat::float32) depth_internal = GL_DEPTH_COMPONENT32F;
-    gl.glRenderbufferStorage(GL_RENDERBUFFER, depth_internal, width, height);
-    gl.glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_rb);
+    const GLenum color_internal = desc.color_format == ColorFormat::rgba8 ? GL_RGBA8 : GL_RGBA16F;
+    // The framebuffer drawn into (multisampled when samples > 1) and, when
+    // multisampled, the single-sample one it is resolved into and read from.
+    Fbo draw_fbo, resolve_fbo;
     struct Cleanup {
       Impl* self;
-      GLuint fbo, color_rb, depth_rb;
+      Fbo* fbos[2];
       ~Cleanup() {
         self->gl.glBindFramebuffer(GL_FRAMEBUFFER, 0);
-        self->gl.glDeleteFramebuffers(1, &fbo);
-        self->gl.glDeleteRenderbuffers(1, &color_rb);
-        self->gl.glDeleteRenderbuffers(1, &depth_rb);
+        for (Fbo* f : fbos) self->delete_fbo(*f);
         if (!self->batch_buffers.empty()) {
           self->gl.glDeleteBuffers(static_cast<GLsizei>(self->batch_buffers.size()),
                                    self->batch_buffers.data());
@@ -912,16 +925,17 @@ struct GlReference::Impl {
         self->batch_buffers.clear();
         self->batches.clear();
       }
-    } cleanup{this, fbo, color_rb, depth_rb};
-    if (gl.glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
-      throw ReferenceError("the framebuffer object is incomplete");
-    }
+    } cleanup{this, {&draw_fbo, &resolve_fbo}};
+    draw_fbo = make_fbo(color_internal, depth_internal, samples);
+    if (samples > 1) resolve_fbo = make_fbo(color_internal, depth_internal, 1);
+    gl.glBindFramebuffer(GL_FRAMEBUFFER, draw_fbo.fbo);
     check("framebuffer set-up");
 
     // Fixed state for the whole frame (each batch sets its viewport).
     gl.glViewport(tx - viewport_side / 2, ty - viewport_side / 2, viewport_side, viewport_side);
-    // Aliased lines and points: no smoothing, no multisampling, the point
-    // size from glPointSize (GL_PROGRAM_POINT_SIZE off).
+    // No smoothing; the point size from glPointSize (GL_PROGRAM_POINT_SIZE
+    // off). Multisampling on exactly when the buffer has samples: then lines
+    // are rectangles and points squares tested at the samples (section 14).
     gl.glDisable(GL_LINE_SMOOTH);
     gl.glDisable(GL_POLYGON_SMOOTH);
     gl.glDisable(GL_PROGRAM_POINT_SIZE);
@@ -930,7 +944,13 @@ struct GlReference::Impl {
     gl.glProvokingVertex(GL_LAST_VERTEX_CONVENTION);
     gl.glDisable(GL_DITHER);
     gl.glDisable(GL_SCISSOR_TEST);
-    gl.glDisable(GL_MULTISAMPLE);
+    if (samples > 1) {
+      gl.glEnable(GL_MULTISAMPLE);
+    } else {
+      gl.glDisable(GL_MULTISAMPLE);
+    }
+    gl.glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
+    gl.glDisable(GL_SAMPLE_COVERAGE);
     gl.glDisable(GL_FRAMEBUFFER_SRGB);
     check("frame state");
 
@@ -965,8 +985,30 @@ struct GlReference::Impl {
     }
 
     result.stats = stats;
-    Framebuffer& fb = result.framebuffer;
-    fb = Framebuffer(width, height, desc.color_format, desc.depth_format);
+    if (samples > 1) {
+      // The resolve: colour is the box filter of the samples (llvmpipe sums
+      // them in float and multiplies by 1/N, then rounds: exact .5 ties go
+      // either way, docs/validation.md); depth is one sample per pixel,
+      // which llvmpipe's blit takes from sample 0 (measured:
+      // docs/validation.md, "Multisampling") -- the spec's output depth.
+      gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, draw_fbo.fbo);
+      gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, resolve_fbo.fbo);
+      gl.glBlitFramebuffer(0, 0, width, height, 0, 0, width, height, GL_COLOR_BUFFER_BIT,
+                           GL_NEAREST);
+      gl.glBlitFramebuffer(0, 0, width, height, 0, 0, width, height, GL_DEPTH_BUFFER_BIT,
+                           GL_NEAREST);
+      check("multisample resolve");
+      gl.glBindFramebuffer(GL_FRAMEBUFFER, resolve_fbo.fbo);
+    }
+    const Framebuffer target = read_back(desc);
+    result.framebuffer = supersample == 1 ? target : downsample(target, desc);
+    return result;
+  }
+
+  // The bound framebuffer's colour and depth (width x height) in the scene's
+  // formats.
+  Framebuffer read_back(const FramebufferDesc& desc) {
+    Framebuffer fb(width, height, desc.color_format, desc.depth_format);
     gl.glPixelStorei(GL_PACK_ALIGNMENT, 1);
     const size_t pixels = static_cast<size_t>(width) * height;
     if (desc.color_format == ColorFormat::rgba8) {
@@ -1000,7 +1042,88 @@ struct GlReference::Impl {
       }
     }
     check("depth read-back");
-    return result;
+    return fb;
+  }
+
+  // Supersampling's resolve on the CPU, exactly as spec section 14 says
+  // (single-sampled render target, so n = k^2): rgba8 floor((2 sum + n) /
+  // (2n)); rgba16f the halves summed in float in the order j, then i, then
+  // half(sum / n). Depth: render-target pixel (kx, ky).
+  Framebuffer downsample(const Framebuffer& rt, const FramebufferDesc& desc) const {
+    const int k = static_cast<int>(supersample);
+    const uint32_t n = static_cast<uint32_t>(k * k);
+    Framebuffer out(desc.width, desc.height, desc.color_format, desc.depth_format);
+    for (int y = 0; y < desc.height; ++y) {
+      for (int x = 0; x < desc.width; ++x) {
+        for (int c = 0; c < 4; ++c) {
+          if (desc.color_format == ColorFormat::rgba8) {
+            uint32_t sum = 0;
+            for (int j = 0; j < k; ++j) {
+              for (int i = 0; i < k; ++i) sum += rt.color_at(k * x + i, k * y + j)[c];
+            }
+            out.color_at(x, y)[c] = static_cast<ColorChannel>((2 * sum + n) / (2 * n));
+          } else {
+            // The sum starts from the first value (so that -0 stays -0).
+            float sum = decode_half(rt.color_at(k * x, k * y)[c]);
+            for (int j = 0; j < k; ++j) {
+              for (int i = (j == 0 ? 1 : 0); i < k; ++i) {
+                sum += decode_half(rt.color_at(k * x + i, k * y + j)[c]);
+              }
+            }
+            out.color_at(x, y)[c] = encode_half(sum / static_cast<float>(n));
+          }
+        }
+        out.depth[out.pixel_index(x, y)] = rt.depth[rt.pixel_index(k * x, k * y)];
+      }
+    }
+    return out;
+  }
+
+  struct Fbo {
+    GLuint fbo = 0, color_rb = 0, depth_rb = 0;
+  };
+
+  // A complete framebuffer object of width x height with a colour and a
+  // depth renderbuffer, multisampled when samples > 1.
+  Fbo make_fbo(GLenum color_internal, GLenum depth_internal, unsigned sample_count) {
+    Fbo f;
+    gl.glGenFramebuffers(1, &f.fbo);
+    gl.glBindFramebuffer(GL_FRAMEBUFFER, f.fbo);
+    auto storage = [&](GLuint& rb, GLenum internal, GLenum attachment) {
+      gl.glGenRenderbuffers(1, &rb);
+      gl.glBindRenderbuffer(GL_RENDERBUFFER, rb);
+      if (sample_count > 1) {
+        gl.glRenderbufferStorageMultisample(GL_RENDERBUFFER, static_cast<GLsizei>(sample_count),
+                                            internal, width, height);
+      } else {
+        gl.glRenderbufferStorage(GL_RENDERBUFFER, internal, width, height);
+      }
+      gl.glFramebufferRenderbuffer(GL_FRAMEBUFFER, attachment, GL_RENDERBUFFER, rb);
+    };
+    storage(f.color_rb, color_internal, GL_COLOR_ATTACHMENT0);
+    storage(f.depth_rb, depth_internal, GL_DEPTH_ATTACHMENT);
+    if (gl.glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+      delete_fbo(f);
+      throw ReferenceError("the framebuffer object is incomplete (" + std::to_string(sample_count) +
+                           " samples)");
+    }
+    if (sample_count > 1) {
+      GLint got = 0;
+      gl.glGetIntegerv(GL_SAMPLES, &got);
+      if (got != static_cast<GLint>(sample_count)) {
+        delete_fbo(f);
+        throw ReferenceError("asked for " + std::to_string(sample_count) +
+                             " samples per pixel, OpenGL gave " + std::to_string(got));
+      }
+    }
+    return f;
+  }
+
+  void delete_fbo(Fbo& f) {
+    if (f.fbo != 0) gl.glDeleteFramebuffers(1, &f.fbo);
+    if (f.color_rb != 0) gl.glDeleteRenderbuffers(1, &f.color_rb);
+    if (f.depth_rb != 0) gl.glDeleteRenderbuffers(1, &f.depth_rb);
+    f = Fbo{};
   }
 };
 

@@ -69,7 +69,9 @@ class ReferenceError : public std::runtime_error {
 };
 
 // A scene the reference cannot render faithfully (line_rasterization
-// "bresenham": OpenGL only has the diamond-exit rule). Nothing is drawn.
+// "bresenham": OpenGL only has the diamond-exit rule; framebuffer.samples
+// other than 1 and 4, the only counts llvmpipe multisamples with; samples 4
+// together with supersample > 1). Nothing is drawn.
 class NotRenderable : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
@@ -126,11 +128,15 @@ class GlReference {
   GlReference& operator=(const GlReference&) = delete;
 
   // Render the scene: clear, then every draw in order, and read back colour
-  // and depth in the scene's formats. Throws NotRenderable for a scene with
-  // Bresenham lines. With repeat > 1 the frame (clear and
-  // draws, from the same uploaded buffers) is drawn that many times, each
-  // timed; the result is the same each time. Throws ReferenceError on a GL
-  // error.
+  // and depth in the scene's formats. Multisampled scenes (4 samples) are
+  // drawn into a multisampled framebuffer with GL_MULTISAMPLE on and resolved
+  // by glBlitFramebuffer (colour: llvmpipe's box filter; depth: sample 0 of
+  // each pixel); supersampled ones (single-sampled) at k*width x k*height with
+  // line widths and point sizes times k, then box-filtered on the CPU as spec
+  // section 14 says. Throws NotRenderable for a scene with
+  // Bresenham lines or sample counts llvmpipe cannot give (see NotRenderable). With repeat > 1 the
+  // frame (clear and draws, from the same uploaded buffers) is drawn that many times, each timed;
+  // the result is the same each time. Throws ReferenceError on a GL error.
   ReferenceResult render(const Scene& scene, int repeat = 1);
 
   std::string renderer() const;  // GL_RENDERER, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"
