@@ -429,6 +429,7 @@ class Renderer {
     t.x1 = std::min(m_fb.width - 1, floor_div_subpixel(int64_t{max_x} - kSubpixelHalf));
     t.y0 = std::max(0, -floor_div_subpixel(-(int64_t{min_y} - kSubpixelHalf)));
     t.y1 = std::min(m_fb.height - 1, floor_div_subpixel(int64_t{max_y} - kSubpixelHalf));
+    if (t.x0 > t.x1 || t.y0 > t.y1) ++m_stats.triangles_offscreen;
 
     for (int y = t.y0; y <= t.y1; ++y) {
       for (int x = t.x0; x <= t.x1; ++x) {
@@ -889,6 +890,7 @@ nlohmann::json Stats::to_json() const {
           {"triangles_degenerate", triangles_degenerate},
           {"triangles_culled", triangles_culled},
           {"triangles_rasterized", triangles_rasterized},
+          {"triangles_offscreen", triangles_offscreen},
           {"triangles_unfilled", triangles_unfilled},
           {"lines_in", lines_in},
           {"lines_invalid", lines_invalid},
