@@ -399,16 +399,21 @@ int run_info(const std::string& scene_path) {
 
   const nlohmann::json& cam = r["camera"];
   std::string camera = cam["type"].get<std::string>();
-  if (scene.auto_camera) camera += ", framed automatically (the scene has no camera, or \"auto\")";
+  if (scene.auto_camera) {
+    camera += ", framed automatically on the meshes' bounding box";
+  }
   if (camera == "none") camera += ": raw positions are clip coordinates";
+  std::string values;
   for (const char* key :
        {"eye", "target", "up", "fovy", "aspect", "left", "right", "bottom", "top", "near", "far"}) {
     if (!cam.contains(key)) continue;
     char buf[32];
     std::snprintf(buf, sizeof buf, "%g", cam[key].is_number() ? cam[key].get<double>() : 0.0);
-    camera += std::string(", ") + key + " " + (cam[key].is_array() ? vec_text(cam[key]) : buf);
+    values += std::string(values.empty() ? "" : ", ") + key + " " +
+              (cam[key].is_array() ? vec_text(cam[key]) : buf);
   }
   std::printf("camera: %s\n", camera.c_str());
+  if (!values.empty()) std::printf("  %s\n", values.c_str());
   if (cam["type"] == "matrices") {
     std::printf("  view %s\n  projection %s\n", cam["view"].dump().c_str(),
                 cam["projection"].dump().c_str());
