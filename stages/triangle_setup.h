@@ -67,9 +67,10 @@ class TriangleSetup : public PipelineStage {
 
   // The golden model's setup counters (docs/pipeline-spec.md, section 13).
   nlohmann::json pipeline_counts() const {
-    return {{"triangles_degenerate", m_degenerate},   {"triangles_culled", m_culled},
-            {"triangles_rasterized", m_rasterized},   {"lines_degenerate", m_lines_degenerate},
-            {"lines_rasterized", m_lines_rasterized}, {"points_rasterized", m_points_rasterized}};
+    return {{"triangles_degenerate", m_degenerate},    {"triangles_culled", m_culled},
+            {"triangles_rasterized", m_rasterized},    {"triangles_offscreen", m_offscreen},
+            {"lines_degenerate", m_lines_degenerate},  {"lines_rasterized", m_lines_rasterized},
+            {"points_rasterized", m_points_rasterized}};
   }
 
  private:

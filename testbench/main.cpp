@@ -122,13 +122,16 @@ void write_frame_outputs(const std::string& dir, const Framebuffer& fb, const nl
 
 // The summary's primitive and fragment lines from the counters both models
 // report (docs/pipeline-spec.md, section 13); lines and points only when the
-// frame has some.
+// frame has some. Off-screen triangles are rasterized without a pixel, so
+// they are shown apart: "rasterized" is the ones that reach the frame.
 void print_counts(const nlohmann::json& c) {
   auto n = [&](const char* key) { return c.value(key, uint64_t{0}); };
   auto u = [](uint64_t v) { return static_cast<unsigned long long>(v); };
-  std::printf("  triangles: %llu in, %llu culled, %llu clipped, %llu rasterized",
-              u(n("triangles_in")), u(n("triangles_culled")), u(n("triangles_clipped")),
-              u(n("triangles_rasterized")));
+  std::printf(
+      "  triangles: %llu in, %llu culled, %llu clipped, %llu rasterized, %llu off-screen or "
+      "between pixel centres",
+      u(n("triangles_in")), u(n("triangles_culled")), u(n("triangles_clipped")),
+      u(n("triangles_rasterized") - n("triangles_offscreen")), u(n("triangles_offscreen")));
   if (n("triangles_unfilled") > 0) {
     std::printf(", %llu drawn as lines or points", u(n("triangles_unfilled")));
   }
@@ -179,10 +182,89 @@ Scene load_scene_shown(const std::string& path, Progress& progress) {
   return load_scene(path, [&](const std::string& what) { progress.update(printable(what), true); });
 }
 
+// "(1, 2.5, -3)": a resolved vector or colour from Scene::resolved.
+std::string vec_text(const nlohmann::json& v) {
+  std::string out;
+  for (const nlohmann::json& x : v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", x.get<double>());
+    out += (out.empty() ? "(" : ", ") + std::string(buf);
+  }
+  return out + ")";
+}
+
+std::string vec_text(const glm::vec3& v) {
+  return vec_text(nlohmann::json::array({v.x, v.y, v.z}));
+}
+
+// Says on stderr that the loader framed the meshes (run, golden): the frame
+// depends on it, and stats.json's settings.camera holds every value to copy.
+void note_auto_camera(const Scene& scene) {
+  if (!scene.auto_camera) return;
+  const nlohmann::json& c = scene.resolved["camera"];
+  std::cerr << "gpusim: scene has no camera: framing the meshes' bounding box (eye "
+            << vec_text(c["eye"]) << ", target " << vec_text(c["target"]) << ", fovy "
+            << c["fovy"].get<double>() << "); stats.json's settings.camera has every value\n";
+}
+
+// Whether a lit material is white on every colour channel even where the
+// surface is turned 60 degrees from each light (n.L = 0.5; spec section 2,
+// attenuation taken as 1): its shading then shows almost no shape. Specular
+// counts only with shininess 0, where pow(n.H, 0) = 1 on every lit surface.
+bool saturates(const Scene& scene, const Material& m) {
+  glm::vec3 c = glm::vec3(m.emission) + glm::vec3(scene.global_ambient) * glm::vec3(m.ambient);
+  for (const Light& l : scene.lights) {
+    c += glm::vec3(l.ambient) * glm::vec3(m.ambient) +
+         0.5f * glm::vec3(l.diffuse) * glm::vec3(m.diffuse);
+    if (m.shininess == 0.0f) c += glm::vec3(l.specular) * glm::vec3(m.specular);
+  }
+  return c.r >= 1.0f && c.g >= 1.0f && c.b >= 1.0f;
+}
+
+// Warnings about a frame that rendered, probably not as meant (stderr only:
+// stats.json does not change), each with a hint.
+void print_warnings(const Scene& scene, const nlohmann::json& c) {
+  auto n = [&](const char* key) { return c.value(key, uint64_t{0}); };
+  const std::string info = "`gpusim info " + printable(scene.path) + "`";
+  for (const Draw& d : scene.draws) {
+    if (d.lighting && saturates(scene, d.material)) {
+      const Material& m = d.material;
+      std::cerr << "warning: " << printable(d.name)
+                << ": its material saturates the lighting, so it renders flat white-ish (ambient "
+                << vec_text(glm::vec3(m.ambient)) << ", diffuse " << vec_text(glm::vec3(m.diffuse))
+                << ", specular " << vec_text(glm::vec3(m.specular)) << ", shininess " << m.shininess
+                << "); give the draw a \"material\" with lower values: " << info
+                << " lists the materials\n";
+    }
+  }
+  const uint64_t triangles = n("triangles_in");
+  const uint64_t reaching =
+      n("triangles_rasterized") - n("triangles_offscreen") + n("triangles_unfilled");
+  if (triangles > 0 && reaching == 0) {
+    std::string why;
+    for (auto [key, what] : {std::pair{"triangles_culled", "culled"},
+                             {"triangles_offscreen", "off-screen"},
+                             {"triangles_clipped_away", "clipped away"},
+                             {"triangles_degenerate", "degenerate"},
+                             {"triangles_invalid", "invalid"}}) {
+      if (n(key) > 0) why += (why.empty() ? "" : ", ") + std::to_string(n(key)) + " " + what;
+    }
+    std::cerr << "warning: none of the " << triangles << " triangles reaches the frame (" << why
+              << "); check the camera and the cull state: " << info
+              << " prints the camera and the bounding box\n";
+  }
+  if (triangles + n("lines_in") + n("points_in") > 0 && n("fragments_generated") == 0) {
+    std::cerr << "warning: the frame has no fragments: only the clear colour is drawn; check the "
+                 "camera: "
+              << info << " prints it and the bounding box\n";
+  }
+}
+
 int run_golden(const std::string& scene_path, const std::string& out_dir, uint64_t memory_mib,
                const ProgressArgs& progress_args) {
   Progress progress = make_progress(progress_args);
   const Scene scene = load_scene_shown(scene_path, progress);
+  note_auto_camera(scene);
   check_scene_limits(scene);
   check_memory(estimate_golden_memory(scene), memory_limit(memory_mib), scene_path);
   progress.begin("render", "rendering with the golden model");
@@ -216,6 +298,8 @@ int run_golden(const std::string& scene_path, const std::string& out_dir, uint64
               result.framebuffer.width, result.framebuffer.height, out_dir.c_str(),
               out_dir.c_str());
   std::printf("  wall: %s\n", progress.wall_summary().c_str());
+  std::fflush(stdout);  // the summary, then its warnings, when both go to a terminal
+  print_warnings(scene, result.stats.to_json());
   return 0;
 }
 
@@ -286,6 +370,7 @@ bool check_against_golden(const golden::Result& ref, const GpuRunResult& gpu, un
 int run_cycle_model(const RunArgs& args, const ProgressArgs& progress_args) {
   Progress progress = make_progress(progress_args);
   const Scene scene = load_scene_shown(args.scene, progress);
+  note_auto_camera(scene);
   GpuConfig config = args.config.empty() ? GpuConfig{} : load_gpu_config(args.config);
   if (args.units_given) {
     nlohmann::json j = to_json(config);
@@ -356,8 +441,103 @@ int run_cycle_model(const RunArgs& args, const ProgressArgs& progress_args) {
         args.trace_dir.c_str());
   }
   std::printf("  wall: %s\n", progress.wall_summary().c_str());
+  std::fflush(stdout);
+  print_warnings(scene, result.counts);
   if (reference && !check_against_golden(*reference, result, scene.framebuffer.supersample))
     return 1;
+  return 0;
+}
+
+// `gpusim info SCENE`: what the loader made of a scene, to place a camera or
+// see why a frame looks wrong: framebuffer, camera, bounding boxes,
+// primitives, materials and lights. Values come from Scene::resolved (as in
+// stats.json) and the Draws.
+int run_info(const std::string& scene_path) {
+  const Scene scene = load_scene(scene_path);
+  const nlohmann::json& r = scene.resolved;
+  const nlohmann::json& fb = r["framebuffer"];
+  std::printf("scene: %s\n", printable(scene_path).c_str());
+  std::printf("framebuffer: %dx%d, %s colour, %s depth, clear colour %s, clear depth %g\n",
+              fb["width"].get<int>(), fb["height"].get<int>(),
+              fb["color_format"].get<std::string>().c_str(),
+              fb["depth_format"].get<std::string>().c_str(), vec_text(fb["clear_color"]).c_str(),
+              fb["clear_depth"].get<double>());
+
+  const nlohmann::json& cam = r["camera"];
+  std::string camera = cam["type"].get<std::string>();
+  if (scene.auto_camera) {
+    camera += ", framed automatically on the meshes' bounding box";
+  }
+  if (camera == "none") camera += ": raw positions are clip coordinates";
+  std::string values;
+  for (const char* key :
+       {"eye", "target", "up", "fovy", "aspect", "left", "right", "bottom", "top", "near", "far"}) {
+    if (!cam.contains(key)) continue;
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", cam[key].is_number() ? cam[key].get<double>() : 0.0);
+    values += std::string(values.empty() ? "" : ", ") + key + " " +
+              (cam[key].is_array() ? vec_text(cam[key]) : buf);
+  }
+  std::printf("camera: %s\n", camera.c_str());
+  if (!values.empty()) std::printf("  %s\n", values.c_str());
+  if (cam["type"] == "matrices") {
+    std::printf("  view %s\n  projection %s\n", cam["view"].dump().c_str(),
+                cam["projection"].dump().c_str());
+  }
+
+  const auto box_text = [](const Bounds& b) {
+    if (b.empty()) return std::string("empty");
+    return "min " + vec_text(b.min) + ", max " + vec_text(b.max) + ", size " +
+           vec_text(b.max - b.min) + ", centre " + vec_text((b.min + b.max) * 0.5f);
+  };
+  Bounds meshes;
+  uint64_t totals[3] = {0, 0, 0};  // by PrimitiveClass
+  for (size_t i = 0; i < scene.draws.size(); ++i) {
+    if (r["draws"][i].contains("mesh")) meshes.add(world_bounds(scene.draws[i]));
+    const Draw& d = scene.draws[i];
+    totals[static_cast<int>(primitive_class(d.primitive))] +=
+        primitive_count(d.primitive, d.vertex_count());
+  }
+  std::printf("bounding box of the meshes (world space): %s\n", box_text(meshes).c_str());
+  std::printf("ambient: %s\n", vec_text(r["ambient"]).c_str());
+
+  std::printf("lights: %zu\n", scene.lights.size());
+  for (size_t i = 0; i < r["lights"].size(); ++i) {
+    const nlohmann::json& l = r["lights"][i];
+    const bool point = l["type"] == "point";
+    std::printf("  lights[%zu]: %s, %s %s", i, l["type"].get<std::string>().c_str(),
+                point ? "position" : "direction",
+                vec_text(l[point ? "position" : "direction"]).c_str());
+    if (point) std::printf(", attenuation %s", vec_text(l["attenuation"]).c_str());
+    std::printf(", ambient %s, diffuse %s, specular %s\n", vec_text(l["ambient"]).c_str(),
+                vec_text(l["diffuse"]).c_str(), vec_text(l["specular"]).c_str());
+  }
+
+  const char* kinds[3] = {"points", "lines", "triangles"};  // PrimitiveClass order
+  std::printf("draws: %zu (%llu triangles, %llu lines, %llu points)\n", scene.draws.size(),
+              static_cast<unsigned long long>(totals[2]),
+              static_cast<unsigned long long>(totals[1]),
+              static_cast<unsigned long long>(totals[0]));
+  for (size_t i = 0; i < scene.draws.size(); ++i) {
+    const Draw& d = scene.draws[i];
+    const nlohmann::json& dr = r["draws"][i];
+    const bool mesh = dr.contains("mesh");
+    // The assembly when it is not the kind's plain list ("triangle_strip").
+    const std::string kind = kinds[static_cast<int>(primitive_class(d.primitive))];
+    const std::string type(to_string(d.primitive));
+    std::printf("  %s: %llu %s%s, %s, %s\n", printable(d.name).c_str(),
+                static_cast<unsigned long long>(primitive_count(d.primitive, d.vertex_count())),
+                kind.c_str(), type == kind ? "" : (" (" + type + ")").c_str(),
+                d.lighting ? "lit" : "unlit", mesh ? "mesh" : "raw positions");
+    std::printf("    bounding box%s: %s\n", mesh ? " (world space)" : " (after transform, / w)",
+                box_text(world_bounds(d)).c_str());
+    const nlohmann::json& m = dr["material"];
+    std::printf(
+        "    material (%s): ambient %s, diffuse %s, specular %s, emission %s, shininess %g\n",
+        dr["material_from"].get<std::string>().c_str(), vec_text(m["ambient"]).c_str(),
+        vec_text(m["diffuse"]).c_str(), vec_text(m["specular"]).c_str(),
+        vec_text(m["emission"]).c_str(), m["shininess"].get<double>());
+  }
   return 0;
 }
 
@@ -643,6 +823,11 @@ int main_with_errors(int argc, char** argv) {
                    "Trace only items and fragments of primitives A to B (inclusive): A:B")
       ->needs(trace_option);
 
+  std::string info_scene;
+  CLI::App* info = app.add_subcommand(
+      "info", "Print a scene's framebuffer, camera, bounding boxes, primitives, materials, lights");
+  info->add_option("scene", info_scene, "Scene file (JSON, docs/scene-format.md)")->required();
+
   CompareArgs cmp;
   CLI::App* compare = app.add_subcommand(
       "compare",
@@ -740,6 +925,7 @@ int main_with_errors(int argc, char** argv) {
     run.units_given = units_option->count() > 0;
     return run_cycle_model(run, progress_args);
   }
+  if (info->parsed()) return run_info(info_scene);
   if (compare->parsed()) return run_compare(cmp);
   if (trace_summary->parsed()) return run_trace_summary(trace_args);
   if (trace_follow->parsed()) {

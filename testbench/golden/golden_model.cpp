@@ -463,9 +463,10 @@ class Renderer {
   // Calls shade(x, y, mask, z) for every pixel of the render target that has
   // a sample point within the subpixel box [x0, x1] x [y0, y1] (section 14's
   // widened box), and writes the fragment when shade() covered a sample;
-  // shade returns the fragment's colour.
+  // shade returns the fragment's colour. Returns whether that pixel box was
+  // non-empty.
   template <typename Shade>
-  void scan_samples(const RenderState& st, int64_t id, int64_t x0, int64_t x1, int64_t y0,
+  bool scan_samples(const RenderState& st, int64_t id, int64_t x0, int64_t x1, int64_t y0,
                     int64_t y1, Shade&& shade) {
     const int px0 = static_cast<int>(
         std::max<int64_t>(0, ceil_div(x0 - kSubpixelHalf - m_reach_x.second, kSubpixelOne)));
@@ -483,6 +484,7 @@ class Renderer {
         if (mask != 0) write_fragment(st, x, y, mask, z.data(), color, id);
       }
     }
+    return px0 <= px1 && py0 <= py1;
   }
 
   // A point that passed the view-volume test, or a polygon-mode vertex
@@ -541,7 +543,8 @@ class Renderer {
                                       edge_function(v[2], v[0], px, py),
                                       edge_function(v[0], v[1], px, py)};
     };
-    scan_samples(st, id, min_x, max_x, min_y, max_y, [&](int x, int y, uint32_t& mask, float* z) {
+    // Off screen: no pixel has a sample point within the box.
+    const bool on_screen = scan_samples(st, id, min_x, max_x, min_y, max_y, [&](int x, int y, uint32_t& mask, float* z) {
       const Subpixel px = pixel_center(x), py = pixel_center(y);
       for (unsigned s = 0; s < m_samples; ++s) {
         const std::array<EdgeValue, 3> e = edges_at(px + m_sample_dx[s], py + m_sample_dy[s]);
@@ -552,6 +555,7 @@ class Renderer {
       // Colour once per fragment, at the centre (section 14).
       return mask == 0 ? glm::vec4(0.0f) : color_at(st, t, flat_color, edges_at(px, py));
     });
+    if (!on_screen) ++m_stats.triangles_offscreen;
   }
 
   // Depth from the three weights e (edge functions, or a line's parameter):
@@ -1081,6 +1085,7 @@ nlohmann::json Stats::to_json() const {
           {"triangles_degenerate", triangles_degenerate},
           {"triangles_culled", triangles_culled},
           {"triangles_rasterized", triangles_rasterized},
+          {"triangles_offscreen", triangles_offscreen},
           {"triangles_unfilled", triangles_unfilled},
           {"lines_in", lines_in},
           {"lines_invalid", lines_invalid},

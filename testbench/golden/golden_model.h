@@ -163,6 +163,7 @@ struct Stats {
   uint64_t triangles_degenerate = 0;    // zero area after snapping
   uint64_t triangles_culled = 0;        // removed by face culling
   uint64_t triangles_rasterized = 0;    // set up and scanned
+  uint64_t triangles_offscreen = 0;     // of those, no pixel centre in their box
   uint64_t triangles_unfilled = 0;      // drawn as lines or points (polygon mode)
   uint64_t lines_in = 0;                // assembled
   uint64_t lines_invalid = 0;           // non-finite position or out-of-range index

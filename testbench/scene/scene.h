@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <functional>
 #include <glm/glm.hpp>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -28,6 +29,7 @@ struct Draw {
   // otherwise from `colors`, or the material's diffuse colour when empty.
   bool lighting = false;
   Material material;
+  glm::mat4 model{1.0f};          // object -> world (the draw's transform)
   glm::mat4 model_view{1.0f};     // object -> eye
   glm::mat4 projection{1.0f};     // eye -> clip
   glm::mat4 mvp{1.0f};            // projection * model_view, computed in float by the loader
@@ -38,9 +40,31 @@ struct Draw {
   size_t vertex_count() const { return indices.empty() ? positions.size() : indices.size(); }
 };
 
+// An axis-aligned box; empty until a point is added.
+struct Bounds {
+  glm::vec3 min{std::numeric_limits<float>::infinity()};
+  glm::vec3 max{-std::numeric_limits<float>::infinity()};
+  bool empty() const { return !(min.x <= max.x); }
+  void add(const glm::vec3& p) {
+    min = glm::min(min, p);
+    max = glm::max(max, p);
+  }
+  void add(const Bounds& b) {
+    if (!b.empty()) add(b.min), add(b.max);
+  }
+};
+
+// The box of a draw's positions after its transform (world space), each
+// divided by its w (1 for meshes; raw positions may be homogeneous; w = 0 is
+// skipped). Every position counts, referenced or not.
+Bounds world_bounds(const Draw& d);
+
 struct Scene {
   std::string path;  // the scene file, for messages
   FramebufferDesc framebuffer;
+  // The loader chose the camera: the scene has mesh draws and no "camera"
+  // key, or "camera": "auto" (docs/scene-format.md).
+  bool auto_camera = false;
   glm::vec4 global_ambient{0.2f, 0.2f, 0.2f, 1.0f};
   std::vector<Light> lights;
   std::vector<Draw> draws;

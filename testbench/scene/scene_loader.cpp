@@ -31,6 +31,12 @@ using Out = nlohmann::json;
 
 constexpr int64_t kMaxFramebufferSize = 8192;
 constexpr int64_t kMaxSupersample = 8;
+// The automatic camera (frame_meshes): its field of view, the direction from
+// the meshes' centre to the eye (front, right and above: a three-quarter
+// view) and its near and far planes' distance from the bounding sphere.
+constexpr float kAutoFovy = 45.0f;
+const glm::vec3 kAutoDirection{1.0f, 1.0f, 2.0f};
+constexpr float kAutoDepthMargin = 1.1f;
 // The format nests at most 5 deep; the limit keeps pathological files cheap.
 constexpr size_t kMaxNesting = 32;
 
@@ -164,20 +170,34 @@ class SceneReader {
 
   // Sections.
   void read_framebuffer(const At& root, Scene& scene);
-  void read_camera(const At& root, Scene& scene);
+  // False when the camera is to be framed from the meshes (frame_meshes).
+  bool read_camera(const At& root, Scene& scene);
+  void set_look_at(Out& resolved, const glm::vec3& eye, const glm::vec3& target,
+                   const glm::vec3& up);
+  void set_perspective(Out& resolved, float fovy, float aspect, float near, float far);
+  void frame_meshes(Scene& scene);
+  void store_camera(Scene& scene, Out resolved) const;
   void read_lights(const At& root, Scene& scene);
-  Light read_light(const At& a, Out& resolved) const;
-  void read_draw(const At& a, Scene& scene) const;
+  Light read_light(const At& a, Out& resolved);
+  void place_lights(Scene& scene) const;
+  void read_draw(const At& a, Scene& scene);
   glm::mat4 read_transform(const At& a) const;
   Material read_material(const At& a) const;
   RenderState read_state(const At& a) const;
-  void finish_draw(Draw& d, const glm::mat4& model, const At& a, Scene& scene, Out resolved) const;
+  void finish_draw(Draw& d, const glm::mat4& model, const At& a, Scene& scene, Out resolved);
+  void place_draws(Scene& scene) const;
 
   std::string file_;
   fs::path dir_;
   SceneLoadStep step_;
   glm::mat4 view_{1.0f};
   glm::mat4 projection_{1.0f};
+  // What depends on the camera is resolved once every draw is read, since an
+  // automatic camera frames the meshes: per light its direction or position,
+  // per Draw its JSON path and whether it comes from a mesh file.
+  std::vector<At> light_at_;
+  std::vector<std::string> draw_path_;
+  std::vector<bool> draw_is_mesh_;
 };
 
 void SceneReader::check_keys(const At& obj, std::initializer_list<std::string_view> allowed) const {
@@ -338,7 +358,7 @@ Scene SceneReader::read_text(const std::string& text) {
   scene.resolved = Out::object();
   scene.resolved["file"] = file_;
   read_framebuffer(root, scene);
-  read_camera(root, scene);
+  scene.auto_camera = !read_camera(root, scene);
   if (has(root, "ambient")) scene.global_ambient = color(member(root, "ambient"));
   scene.resolved["ambient"] = out_vec(scene.global_ambient);
   read_lights(root, scene);
@@ -349,6 +369,9 @@ Scene SceneReader::read_text(const std::string& text) {
     if (!draws.v.is_array()) fail_value(draws, "expected an array of draws");
     for (size_t i = 0; i < draws.v.size(); ++i) read_draw(element(draws, i), scene);
   }
+  if (scene.auto_camera) frame_meshes(scene);
+  place_lights(scene);
+  place_draws(scene);
   return scene;
 }
 
@@ -397,14 +420,24 @@ void SceneReader::read_framebuffer(const At& root, Scene& scene) {
                                    {"clear_depth", tidy(fb.clear_depth)}};
 }
 
-void SceneReader::read_camera(const At& root, Scene& scene) {
+bool SceneReader::read_camera(const At& root, Scene& scene) {
   const FramebufferDesc& fb = scene.framebuffer;
+  bool meshes = false;
+  if (has(root, "draws") && root.v["draws"].is_array()) {
+    for (const Json& d : root.v["draws"]) meshes = meshes || (d.is_object() && d.contains("mesh"));
+  }
   Out resolved;
   if (!has(root, "camera")) {
+    // Raw positions without a camera are clip coordinates, as always; meshes
+    // come in their own units, so they are framed rather than left to chance.
+    if (meshes) return false;
     resolved["type"] = "none";
+  } else if (const At cam = member(root, "camera"); cam.v.is_string()) {
+    if (cam.v.get<std::string>() != "auto") fail_value(cam, "expected an object or \"auto\"");
+    if (!meshes) fail(cam.path, "\"auto\" frames the mesh draws, and the scene has none");
+    return false;
   } else {
-    const At cam = member(root, "camera");
-    expect_object(cam);
+    if (!cam.v.is_object()) fail_value(cam, "expected an object or \"auto\"");
     if (has(cam, "type")) {
       const At type = member(cam, "type");
       const std::string t = string(type);
@@ -431,7 +464,7 @@ void SceneReader::read_camera(const At& root, Scene& scene) {
       if (glm::length(glm::cross(glm::normalize(forward), glm::normalize(up))) < 1e-6f) {
         fail(member_path(cam.path, "up"), "is parallel to the view direction (target - eye)");
       }
-      view_ = glm::lookAt(eye, target, up);
+      set_look_at(resolved, eye, target, up);
 
       const At near_at = member(cam, "near"), far_at = member(cam, "far");
       const float near = real(near_at), far = real(far_at);
@@ -447,9 +480,7 @@ void SceneReader::read_camera(const At& root, Scene& scene) {
           if (!(aspect > 0.0f)) fail_value(aspect_at, "expected a positive number");
         }
         if (!(near > 0.0f)) fail_value(near_at, "expected a positive number");
-        projection_ = glm::perspective(glm::radians(fovy), aspect, near, far);
-        resolved["fovy"] = tidy(fovy);
-        resolved["aspect"] = tidy(aspect);
+        set_perspective(resolved, fovy, aspect, near, far);
       } else {
         float box[4];
         const char* names[4] = {"left", "right", "bottom", "top"};
@@ -458,12 +489,9 @@ void SceneReader::read_camera(const At& root, Scene& scene) {
         if (!(box[3] > box[2])) fail_value(member(cam, "top"), "expected top > bottom");
         projection_ = glm::ortho(box[0], box[1], box[2], box[3], near, far);
         for (int i = 0; i < 4; ++i) resolved[names[i]] = tidy(box[i]);
+        resolved["near"] = tidy(near);
+        resolved["far"] = tidy(far);
       }
-      resolved["near"] = tidy(near);
-      resolved["far"] = tidy(far);
-      resolved["eye"] = out_vec(eye);
-      resolved["target"] = out_vec(target);
-      resolved["up"] = out_vec(up);
     } else if (has(cam, "view") || has(cam, "projection")) {
       check_keys(cam, {"view", "projection"});
       view_ = matrix(member(cam, "view"));
@@ -475,9 +503,64 @@ void SceneReader::read_camera(const At& root, Scene& scene) {
            "matrices");
     }
   }
+  store_camera(scene, std::move(resolved));
+  return true;
+}
+
+void SceneReader::set_look_at(Out& resolved, const glm::vec3& eye, const glm::vec3& target,
+                              const glm::vec3& up) {
+  view_ = glm::lookAt(eye, target, up);
+  resolved["eye"] = out_vec(eye);
+  resolved["target"] = out_vec(target);
+  resolved["up"] = out_vec(up);
+}
+
+void SceneReader::set_perspective(Out& resolved, float fovy, float aspect, float near, float far) {
+  projection_ = glm::perspective(glm::radians(fovy), aspect, near, far);
+  resolved["fovy"] = tidy(fovy);
+  resolved["aspect"] = tidy(aspect);
+  resolved["near"] = tidy(near);
+  resolved["far"] = tidy(far);
+}
+
+void SceneReader::store_camera(Scene& scene, Out resolved) const {
   resolved["view"] = out_mat(view_);
   resolved["projection"] = out_mat(projection_);
-  scene.resolved["camera"] = resolved;
+  scene.resolved["camera"] = std::move(resolved);
+}
+
+// The automatic camera (docs/scene-format.md, camera "auto"): a perspective
+// camera whose view cone holds the sphere around the meshes' world box.
+// Every value is a float written exactly into the resolved camera, so the
+// camera copied into the scene renders the same frame.
+void SceneReader::frame_meshes(Scene& scene) {
+  Bounds box;
+  for (size_t i = 0; i < scene.draws.size(); ++i) {
+    if (draw_is_mesh_[i]) box.add(world_bounds(scene.draws[i]));
+  }
+  const glm::vec3 centre = (box.min + box.max) * 0.5f;
+  float radius = glm::length(box.max - box.min) * 0.5f;
+  if (!(radius > 0.0f)) radius = 1.0f;  // a single point: any size frames it
+  if (!std::isfinite(radius) || !std::isfinite(glm::length(centre))) {
+    fail("camera", "the meshes' bounding box overflows float: give the scene a camera");
+  }
+  const FramebufferDesc& fb = scene.framebuffer;
+  const float fovy = kAutoFovy;
+  const float aspect = static_cast<float>(fb.width) / static_cast<float>(fb.height);
+  // Half the narrower of the two fields of view.
+  const float half_y = glm::radians(fovy) * 0.5f;
+  const float half = std::min(half_y, std::atan(aspect * std::tan(half_y)));
+  const float distance = radius / std::sin(half);
+  const glm::vec3 eye = centre + distance * glm::normalize(kAutoDirection);
+  Out resolved;
+  resolved["type"] = "perspective";
+  resolved["auto"] = true;
+  set_look_at(resolved, eye, centre, glm::vec3(0.0f, 1.0f, 0.0f));
+  // The sphere spans distance -/+ radius in depth; the margin keeps its
+  // nearest and farthest points off the planes after rounding.
+  set_perspective(resolved, fovy, aspect, distance - kAutoDepthMargin * radius,
+                  distance + kAutoDepthMargin * radius);
+  store_camera(scene, std::move(resolved));
 }
 
 Out out_material(const Material& m) {
@@ -521,7 +604,7 @@ void SceneReader::read_lights(const At& root, Scene& scene) {
   }
 }
 
-Light SceneReader::read_light(const At& a, Out& resolved) const {
+Light SceneReader::read_light(const At& a, Out& resolved) {
   expect_object(a);
   const At type = member(a, "type");
   const std::string t = string(type);
@@ -531,23 +614,18 @@ Light SceneReader::read_light(const At& a, Out& resolved) const {
     const At dir_at = member(a, "direction");
     const glm::vec3 dir = vec3(dir_at);
     // Scene files give the direction the light travels; the models want the
-    // unit vector from the surface towards the light.
-    const glm::vec3 towards = glm::mat3(view_) * -dir;
-    if (!(glm::length(towards) > 0.0f) || !std::isfinite(glm::length(towards))) {
-      fail_value(dir_at, "expected a direction that is non-zero in eye space");
-    }
+    // unit vector from the surface towards the light (place_lights).
     l.type = LightType::directional;
-    l.vector = glm::normalize(towards);
+    l.vector = -dir;
+    light_at_.push_back(dir_at);
     resolved["direction"] = out_vec(dir);
   } else if (t == "point") {
     check_keys(a, {"type", "position", "ambient", "diffuse", "specular", "attenuation"});
     const At pos_at = member(a, "position");
     const glm::vec3 pos = vec3(pos_at);
     l.type = LightType::point;
-    l.vector = glm::vec3(view_ * glm::vec4(pos, 1.0f));
-    if (!std::isfinite(l.vector.x) || !std::isfinite(l.vector.y) || !std::isfinite(l.vector.z)) {
-      fail_value(pos_at, "expected a position that is finite in eye space");
-    }
+    l.vector = pos;  // to eye space in place_lights
+    light_at_.push_back(pos_at);
     if (has(a, "attenuation")) {
       const At att = member(a, "attenuation");
       float k[3];
@@ -569,11 +647,30 @@ Light SceneReader::read_light(const At& a, Out& resolved) const {
   if (has(a, "diffuse")) l.diffuse = color(member(a, "diffuse"));
   if (has(a, "specular")) l.specular = color(member(a, "specular"));
   resolved["type"] = t;
-  resolved["eye_vector"] = out_vec(l.vector);
   resolved["ambient"] = out_vec(l.ambient);
   resolved["diffuse"] = out_vec(l.diffuse);
   resolved["specular"] = out_vec(l.specular);
   return l;
+}
+
+// Lights to eye space, with the camera now known.
+void SceneReader::place_lights(Scene& scene) const {
+  for (size_t i = 0; i < scene.lights.size(); ++i) {
+    Light& l = scene.lights[i];
+    if (l.type == LightType::directional) {
+      const glm::vec3 towards = glm::mat3(view_) * l.vector;
+      if (!(glm::length(towards) > 0.0f) || !std::isfinite(glm::length(towards))) {
+        fail_value(light_at_[i], "expected a direction that is non-zero in eye space");
+      }
+      l.vector = glm::normalize(towards);
+    } else {
+      l.vector = glm::vec3(view_ * glm::vec4(l.vector, 1.0f));
+      if (!std::isfinite(l.vector.x) || !std::isfinite(l.vector.y) || !std::isfinite(l.vector.z)) {
+        fail_value(light_at_[i], "expected a position that is finite in eye space");
+      }
+    }
+    scene.resolved["lights"][i]["eye_vector"] = out_vec(l.vector);
+  }
 }
 
 glm::mat4 SceneReader::read_transform(const At& a) const {
@@ -691,7 +788,7 @@ RenderState SceneReader::read_state(const At& a) const {
   return s;
 }
 
-void SceneReader::read_draw(const At& a, Scene& scene) const {
+void SceneReader::read_draw(const At& a, Scene& scene) {
   expect_object(a);
   const bool is_mesh = has(a, "mesh");
   if (is_mesh) {
@@ -807,30 +904,8 @@ void SceneReader::read_draw(const At& a, Scene& scene) const {
 }
 
 void SceneReader::finish_draw(Draw& d, const glm::mat4& model, const At& a, Scene& scene,
-                              Out resolved) const {
-  d.model_view = view_ * model;
-  d.projection = projection_;
-  d.mvp = projection_ * d.model_view;
-  for (int c = 0; c < 4; ++c) {
-    for (int r = 0; r < 4; ++r) {
-      if (!std::isfinite(d.mvp[c][r]) || !std::isfinite(d.model_view[c][r])) {
-        fail(a.path, "the transform and camera matrices overflow float");
-      }
-    }
-  }
-  const glm::mat3 upper(d.model_view);
-  const glm::mat3 normal_matrix = glm::transpose(glm::inverse(upper));
-  if (glm::determinant(upper) == 0.0f || !all_finite(normal_matrix)) {
-    if (d.lighting) {
-      fail(a.path,
-           "the model-view matrix is singular, so a lit draw's normals cannot be "
-           "transformed (check transform and camera)");
-    }
-    d.normal_matrix = glm::mat3(1.0f);  // unused without lighting
-  } else {
-    d.normal_matrix = normal_matrix;
-  }
-
+                              Out resolved) {
+  d.model = model;
   const size_t n = d.vertex_count();
   resolved["name"] = d.name;
   resolved["primitive"] = std::string(to_string(d.primitive));
@@ -843,11 +918,52 @@ void SceneReader::finish_draw(Draw& d, const glm::mat4& model, const At& a, Scen
   resolved["material"] = out_material(d.material);
   resolved["state"] = out_state(d.state);
   resolved["model"] = out_mat(model);
+  draw_path_.push_back(a.path);
+  draw_is_mesh_.push_back(resolved.contains("mesh"));
   scene.resolved["draws"].push_back(std::move(resolved));
   scene.draws.push_back(std::move(d));
 }
 
+// The draws' matrices, with the camera now known.
+void SceneReader::place_draws(Scene& scene) const {
+  for (size_t i = 0; i < scene.draws.size(); ++i) {
+    Draw& d = scene.draws[i];
+    const std::string& path = draw_path_[i];
+    d.model_view = view_ * d.model;
+    d.projection = projection_;
+    d.mvp = projection_ * d.model_view;
+    for (int c = 0; c < 4; ++c) {
+      for (int r = 0; r < 4; ++r) {
+        if (!std::isfinite(d.mvp[c][r]) || !std::isfinite(d.model_view[c][r])) {
+          fail(path, "the transform and camera matrices overflow float");
+        }
+      }
+    }
+    const glm::mat3 upper(d.model_view);
+    const glm::mat3 normal_matrix = glm::transpose(glm::inverse(upper));
+    if (glm::determinant(upper) == 0.0f || !all_finite(normal_matrix)) {
+      if (d.lighting) {
+        fail(path,
+             "the model-view matrix is singular, so a lit draw's normals cannot be "
+             "transformed (check transform and camera)");
+      }
+      d.normal_matrix = glm::mat3(1.0f);  // unused without lighting
+    } else {
+      d.normal_matrix = normal_matrix;
+    }
+  }
+}
+
 }  // namespace
+
+Bounds world_bounds(const Draw& d) {
+  Bounds b;
+  for (const glm::vec4& p : d.positions) {
+    const glm::vec4 q = d.model * p;
+    if (q.w != 0.0f) b.add(glm::vec3(q) / q.w);
+  }
+  return b;
+}
 
 Scene load_scene(const std::string& path, const SceneLoadStep& step) {
   return SceneReader(path, step).read();

@@ -385,8 +385,9 @@ std::vector<std::string> pipeline_count_errors(const nlohmann::json& counts) {
                  away = get("triangles_clipped_away"), clipped = get("triangles_clipped"),
                  after = get("triangles_after_clip"), degenerate = get("triangles_degenerate"),
                  culled = get("triangles_culled"), rasterized = get("triangles_rasterized"),
-                 unfilled = get("triangles_unfilled"), generated = get("fragments_generated"),
-                 passed = get("fragments_passed_depth"), written = get("fragments_written");
+                 offscreen = get("triangles_offscreen"), unfilled = get("triangles_unfilled"),
+                 generated = get("fragments_generated"), passed = get("fragments_passed_depth"),
+                 written = get("fragments_written");
   const auto fail = [&](const std::string& what) { errors.push_back(what); };
   const auto n = [](uint64_t v) { return std::to_string(v); };
   // Survivors of the clipper of one kind: in - invalid - clipped away.
@@ -423,6 +424,10 @@ std::vector<std::string> pipeline_count_errors(const nlohmann::json& counts) {
   if (clipped > survived) {
     fail("triangles_clipped = " + n(clipped) + " exceeds the " + n(survived) +
          " triangles the clipper kept");
+  }
+  if (offscreen > rasterized) {
+    fail("triangles_offscreen = " + n(offscreen) +
+         " exceeds triangles_rasterized = " + n(rasterized));
   }
 
   // Lines and points: the survivors are rasterized (or degenerate), and so

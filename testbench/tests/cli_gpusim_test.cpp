@@ -366,12 +366,12 @@ TEST_F(Cli, CommandLineMistakesNameTheWordAtFault) {
     EXPECT_EQ(r.out, "gpusim: " + want + "\n") << args;
   };
   expect_message("render scene.json",
-                 "unknown command 'render'; commands: golden, run, compare, trace; see gpusim "
-                 "--help");
+                 "unknown command 'render'; commands: golden, run, info, compare, trace; see "
+                 "gpusim --help");
   expect_message("rn scene.json",
-                 "unknown command 'rn' (did you mean run?); commands: golden, run, compare, "
-                 "trace; see gpusim --help");
-  expect_message("", "a command is required: golden, run, compare, trace; see gpusim --help");
+                 "unknown command 'rn' (did you mean run?); commands: golden, run, info, "
+                 "compare, trace; see gpusim --help");
+  expect_message("", "a command is required: golden, run, info, compare, trace; see gpusim --help");
   expect_message("run " + scene + " --tile-size 32",
                  "run: unknown option --tile-size (tile_size is a GPU configuration key: set it in "
                  "the --config file, docs/gpu-config.md); see gpusim run --help");
@@ -398,6 +398,187 @@ TEST_F(Cli, RunSummarySaysUnitOrUnits) {
   const CommandResult two = run("run " + scene + " --units 2" + out);
   EXPECT_EQ(two.status, 0) << two.out;
   EXPECT_NE(two.out.find("quad_clipspace.json on 2 units: "), std::string::npos) << two.out;
+}
+
+// Issue 16's symptom: a model without a camera rendered black. The README's
+// first scene (the same glTF engine, no camera) is now framed: fragments,
+// the camera in stats.json, one line saying so, the model inside the frame
+// (the border is all clear colour) and covering a fair part of it.
+TEST_F(Cli, MeshWithoutCameraIsFramed) {
+  const CommandResult r =
+      run("run " + kScenes + "/model.json --check --out " + (dir_ / "out").string());
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("check: bit-exact"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("gpusim: scene has no camera: framing the meshes' bounding box (eye ("),
+            std::string::npos)
+      << r.out;
+  EXPECT_EQ(r.out.find("warning:"), std::string::npos) << r.out;
+  const nlohmann::json stats = nlohmann::json::parse(slurp(dir_ / "out/stats.json"));
+  const nlohmann::json& cam = stats.at("settings").at("camera");
+  EXPECT_EQ(cam.at("auto"), true);
+  EXPECT_EQ(cam.at("type"), "perspective");
+  for (const char* k : {"eye", "target", "up", "fovy", "aspect", "near", "far"}) {
+    EXPECT_TRUE(cam.contains(k)) << k;
+  }
+  EXPECT_GT(stats.at("stats").at("fragments_written").get<uint64_t>(), 0u);
+
+  const Image img = read_exr((dir_ / "out/frame.exr").string());
+  const std::vector<float>* ch[3] = {img.find("R"), img.find("G"), img.find("B")};
+  ASSERT_TRUE(ch[0] && ch[1] && ch[2]);
+  const auto differs = [&](int x, int y) {
+    const size_t p = static_cast<size_t>(y) * img.width + x;
+    for (const auto* c : ch) {
+      if ((*c)[p] != (*c)[0]) return true;
+    }
+    return false;
+  };
+  size_t covered = 0, border = 0;
+  for (int y = 0; y < img.height; ++y) {
+    for (int x = 0; x < img.width; ++x) {
+      if (!differs(x, y)) continue;
+      ++covered;
+      border += x == 0 || y == 0 || x == img.width - 1 || y == img.height - 1;
+    }
+  }
+  EXPECT_EQ(border, 0u);
+  const double share = static_cast<double>(covered) / (img.width * img.height);
+  EXPECT_GT(share, 0.1);
+  EXPECT_LT(share, 0.9);
+}
+
+// `gpusim info` on a scene whose numbers are known: a cube of side 2 scaled
+// by 0.5 about its centre and moved to (1, 2, 3) spans [0.5, 1.5] x [1.5,
+// 2.5] x [2.5, 3.5]; 6 quads are 12 triangles; a 5-vertex strip is 3.
+TEST_F(Cli, InfoPrintsBoxesCountsMaterialsAndLights) {
+  std::ofstream(dir_ / "cube.obj")
+      << "v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\n"
+         "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
+  std::ofstream(dir_ / "scene.json") << R"({"framebuffer": {"width": 64, "height": 32},
+      "lights": [{"type": "point", "position": [0, 4, 0], "attenuation": [1, 0.5, 0]}],
+      "draws": [
+        {"mesh": "cube.obj", "transform": {"translate": [1, 2, 3], "scale": 0.5},
+         "material": {"ambient": [0.1, 0.2, 0.3, 1], "diffuse": [0.4, 0.5, 0.6, 1],
+                      "specular": [0.7, 0.8, 0.9, 1], "shininess": 12}},
+        {"primitive": "triangle_strip", "positions": [[0,0,0], [1,0,0], [0,1,0], [1,1,0], [2,1,0]]},
+        {"primitive": "line_loop", "positions": [[0,0,0], [1,0,0], [0,1,0]]}]})";
+  const CommandResult r = run("info " + (dir_ / "scene.json").string());
+  ASSERT_EQ(r.status, 0) << r.out;
+  for (const char* want : {
+           "framebuffer: 64x32, rgba8 colour, unorm24 depth",
+           "camera: perspective, framed automatically",
+           "fovy 45, aspect 2,",
+           "target (1, 2, 3), up (0, 1, 0)",
+           "bounding box of the meshes (world space): min (0.5, 1.5, 2.5), max (1.5, 2.5, 3.5), "
+           "size (1, 1, 1), centre (1, 2, 3)",
+           "lights[0]: point, position (0, 4, 0), attenuation (1, 0.5, 0)",
+           "draws: 3 (15 triangles, 3 lines, 0 points)",
+           "draws[0] cube.obj mesh 0: 12 triangles, lit, mesh",
+           "material (scene): ambient (0.1, 0.2, 0.3, 1), diffuse (0.4, 0.5, 0.6, 1), specular "
+           "(0.7, 0.8, 0.9, 1), emission (0, 0, 0, 1), shininess 12",
+           "draws[1]: 3 triangles (triangle_strip), unlit, raw positions",
+           "bounding box (after transform, / w): min (0, 0, 0), max (2, 1, 0)",
+           "draws[2]: 3 lines (line_loop), unlit, raw positions",
+       }) {
+    EXPECT_NE(r.out.find(want), std::string::npos) << want << "\n" << r.out;
+  }
+  // Raw draws alone: the identity, said as such.
+  std::ofstream(dir_ / "raw.json") << R"({"draws": [{"positions": [[0, 0, 0]]}]})";
+  const CommandResult raw = run("info " + (dir_ / "raw.json").string());
+  EXPECT_EQ(raw.status, 0) << raw.out;
+  EXPECT_NE(raw.out.find("camera: none: raw positions are clip coordinates"), std::string::npos)
+      << raw.out;
+  EXPECT_NE(raw.out.find("bounding box of the meshes (world space): empty"), std::string::npos)
+      << raw.out;
+  // A bad scene: the loader's one line, exit 2 as for run and golden.
+  std::ofstream(dir_ / "bad.json") << R"({"framebuffer": {"widht": 1}})";
+  const CommandResult bad = run("info " + (dir_ / "bad.json").string());
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_EQ(std::count(bad.out.begin(), bad.out.end(), '\n'), 1) << bad.out;
+  EXPECT_NE(bad.out.find("framebuffer.widht: unknown key"), std::string::npos) << bad.out;
+}
+
+// Each warning from a minimal scene that triggers it, for both models; none
+// for a good scene; and stats.json the same bytes with or without them.
+TEST_F(Cli, WarningsNameTheProblemAndAHint) {
+  std::ofstream(dir_ / "tri.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  // Lit at 60 degrees from the light, ambient 1 * 0.2 + diffuse 1 * 0.5 +
+  // specular 1 (shininess 0: pow(x, 0) = 1) is over 1 on every channel.
+  std::ofstream(dir_ / "white.json")
+      << R"({"lights": [{"type": "directional", "direction": [0, 0, -1]}],
+      "draws": [{"mesh": "tri.obj", "material": {"ambient": [1, 1, 1, 1], "diffuse": [1, 1, 1, 1],
+                                                 "specular": [1, 1, 1, 1]}}]})";
+  // A triangle right of the frame, inside the guard band: rasterized, no pixel.
+  std::ofstream(dir_ / "offscreen.json")
+      << R"({"draws": [{"positions": [[1.5, 0, 0], [1.9, 0, 0], [1.5, 0.5, 0]]}]})";
+  // A clockwise triangle, culled.
+  std::ofstream(dir_ / "culled.json") << R"({"draws": [{"positions": [[0, 0, 0], [0, 0.5, 0],
+      [0.5, 0, 0]], "state": {"cull": "back"}}]})";
+  for (const char* model : {"golden", "run"}) {
+    SCOPED_TRACE(model);
+    const auto out = [&](const char* scene) {
+      return run(std::string(model) + " " + (dir_ / scene).string() + " --out " +
+                 (dir_ / "out").string());
+    };
+    const CommandResult white = out("white.json");
+    EXPECT_EQ(white.status, 0) << white.out;
+    EXPECT_NE(white.out.find("warning: draws[0] tri.obj mesh 0: its material saturates the "
+                             "lighting, so it renders flat white-ish"),
+              std::string::npos)
+        << white.out;
+    EXPECT_NE(white.out.find("` lists the materials\n"), std::string::npos) << white.out;
+
+    const CommandResult off = out("offscreen.json");
+    EXPECT_EQ(off.status, 0) << off.out;
+    EXPECT_NE(off.out.find("warning: none of the 1 triangles reaches the frame (1 off-screen); "
+                           "check the camera and the cull state: `gpusim info "),
+              std::string::npos)
+        << off.out;
+    EXPECT_NE(off.out.find("warning: the frame has no fragments"), std::string::npos) << off.out;
+
+    const CommandResult culled = out("culled.json");
+    EXPECT_EQ(culled.status, 0) << culled.out;
+    EXPECT_NE(culled.out.find("warning: none of the 1 triangles reaches the frame (1 culled)"),
+              std::string::npos)
+        << culled.out;
+
+    const CommandResult good = run(std::string(model) + " " + kScenes +
+                                   "/quad_clipspace.json --out " + (dir_ / "good").string());
+    EXPECT_EQ(good.status, 0) << good.out;
+    EXPECT_EQ(good.out.find("warning"), std::string::npos) << good.out;
+  }
+  // Warnings go to stderr only and do not touch stats.json.
+  const std::string scene = (dir_ / "offscreen.json").string();
+  ASSERT_EQ(run("golden " + scene + " --out " + (dir_ / "a").string()).status, 0);
+  // shell() adds 2>&1 after the command: the group keeps stderr discarded.
+  const CommandResult quiet = shell("{ " + kGpusim + " golden " + scene + " --out " +
+                                    (dir_ / "b").string() + " 2>/dev/null; }");
+  ASSERT_EQ(quiet.status, 0);
+  EXPECT_EQ(quiet.out.find("warning"), std::string::npos) << quiet.out;
+  EXPECT_EQ(slurp(dir_ / "a/stats.json"), slurp(dir_ / "b/stats.json"));
+}
+
+// The summary counts off-screen triangles apart from rasterized ones, with
+// stats.json's numbers: of 3 triangles, one right of the frame and one
+// between pixel centres have no pixel, one covers pixels.
+TEST_F(Cli, SummaryCountsOffscreenTrianglesApart) {
+  // 16x16: pixel centres at NDC (i + 0.5) / 8 - 1; x in [0.0, 0.05] holds none.
+  std::ofstream(dir_ / "scene.json") << R"({"framebuffer": {"width": 16, "height": 16},
+      "draws": [{"positions": [[1.5, 0, 0], [1.9, 0, 0], [1.5, 0.5, 0],
+                               [0.0, -0.5, 0], [0.05, -0.5, 0], [0.0, 0.5, 0],
+                               [-0.9, -0.9, 0], [-0.1, -0.9, 0], [-0.9, -0.1, 0]]}]})";
+  for (const char* model : {"golden", "run"}) {
+    const CommandResult r = run(std::string(model) + " " + (dir_ / "scene.json").string() +
+                                " --out " + (dir_ / model).string());
+    ASSERT_EQ(r.status, 0) << r.out;
+    const nlohmann::json s = nlohmann::json::parse(slurp(dir_ / model / "stats.json")).at("stats");
+    EXPECT_EQ(s.at("triangles_offscreen").get<uint64_t>(), 2u) << model;
+    EXPECT_EQ(s.at("triangles_rasterized").get<uint64_t>(), 3u) << model;
+    EXPECT_NE(r.out.find("  triangles: 3 in, 0 culled, 0 clipped, 1 rasterized, 2 off-screen or "
+                         "between pixel centres\n"),
+              std::string::npos)
+        << model << "\n"
+        << r.out;
+  }
 }
 
 // The scene generators write only where told (issue 16 item 6: --help used to

@@ -137,11 +137,11 @@ TEST(GoldenStats, MixedSceneCountersAndConservation) {
   EXPECT_EQ(j.at("triangles_in").get<uint64_t>(), 9u);
   EXPECT_EQ(j.at("triangles_after_clip").get<uint64_t>(), 7u);
   EXPECT_EQ(j.at("fragments_written").get<uint64_t>(), t0 + t4);
-  // 11 triangle and fragment counters, triangles_unfilled, 6 for lines, 4 for
-  // points (spec section 13), 3 for samples (section 14); none of the lines'
-  // and points' moved in a triangle scene, and one sample per pixel makes
-  // the sample counts the fragment counts.
-  EXPECT_EQ(j.size(), 25u);
+  // 11 triangle and fragment counters, triangles_unfilled and _offscreen, 6
+  // for lines, 4 for points (spec section 13), 3 for samples (section 14);
+  // none of the lines' and points' moved in a triangle scene, and one sample
+  // per pixel makes the sample counts the fragment counts.
+  EXPECT_EQ(j.size(), 26u);
   EXPECT_EQ(st.samples_generated, st.fragments_generated);
   EXPECT_EQ(st.samples_passed_depth, st.fragments_passed_depth);
   EXPECT_EQ(st.samples_written, st.fragments_written);
@@ -150,6 +150,26 @@ TEST(GoldenStats, MixedSceneCountersAndConservation) {
                         "points_invalid", "points_clipped_away", "points_rasterized"}) {
     EXPECT_EQ(j.at(k).get<uint64_t>(), 0u) << k;
   }
+}
+
+// triangles_offscreen counts rasterized triangles whose pixel box holds no
+// pixel centre: one beyond the right edge (inside the guard band, so not
+// clipped) and one sliver between pixel centres; the third covers pixels.
+TEST(GoldenStats, OffscreenTrianglesAreRasterizedWithoutPixels) {
+  Scene s;
+  s.framebuffer.width = kW;
+  s.framebuffer.height = kH;
+  Draw d;
+  d.positions = {at(70, 4),     at(90, 4),     at(70, 20),     // right of the frame
+                 at(10.1f, 10), at(10.4f, 10), at(10.1f, 30),  // between centres x 9.5, 10.5
+                 at(4, 4),      at(20, 4),     at(4, 20)};
+  s.draws.push_back(d);
+  const golden::Stats st = golden::render(s).stats;
+  EXPECT_EQ(st.triangles_clipped, 0u);
+  EXPECT_EQ(st.triangles_rasterized, 3u);
+  EXPECT_EQ(st.triangles_offscreen, 2u);
+  EXPECT_EQ(st.fragments_generated, ref_count({{{4, 4}}, {{20, 4}}, {{4, 20}}}, kW, kH));
+  EXPECT_EQ(st.to_json().at("triangles_offscreen").get<uint64_t>(), 2u);
 }
 
 }  // namespace

@@ -187,15 +187,31 @@ TEST(PipelineCounts, DoctoredGoldenCountsAreCaught) {
 // in two: 7 after clip; setup: 1 degenerate, 1 culled, 5 rasterized) and 2
 // in polygon mode line (1 culled, 1 unfilled drawn as 3 lines). 5 lines, 1
 // invalid, 1 clipped away, 1 clipped; 3 kept + 3 = 5 rasterized and 1
-// degenerate. 4 points, 2 clipped away, 2 rasterized.
+// degenerate. 4 points, 2 clipped away, 2 rasterized. 1 of the 5
+// rasterized triangles is off-screen.
 nlohmann::json every_kind_counts() {
-  return {{"triangles_in", 10u},     {"triangles_invalid", 1u},     {"triangles_clipped_away", 1u},
-          {"triangles_clipped", 1u}, {"triangles_after_clip", 7u},  {"triangles_degenerate", 1u},
-          {"triangles_culled", 2u},  {"triangles_rasterized", 5u},  {"triangles_unfilled", 1u},
-          {"lines_in", 5u},          {"lines_invalid", 1u},         {"lines_clipped_away", 1u},
-          {"lines_clipped", 1u},     {"lines_degenerate", 1u},      {"lines_rasterized", 5u},
-          {"points_in", 4u},         {"points_invalid", 0u},        {"points_clipped_away", 2u},
-          {"points_rasterized", 2u}, {"fragments_generated", 100u}, {"fragments_passed_depth", 90u},
+  return {{"triangles_in", 10u},
+          {"triangles_invalid", 1u},
+          {"triangles_clipped_away", 1u},
+          {"triangles_clipped", 1u},
+          {"triangles_after_clip", 7u},
+          {"triangles_degenerate", 1u},
+          {"triangles_culled", 2u},
+          {"triangles_rasterized", 5u},
+          {"triangles_unfilled", 1u},
+          {"triangles_offscreen", 1u},
+          {"lines_in", 5u},
+          {"lines_invalid", 1u},
+          {"lines_clipped_away", 1u},
+          {"lines_clipped", 1u},
+          {"lines_degenerate", 1u},
+          {"lines_rasterized", 5u},
+          {"points_in", 4u},
+          {"points_invalid", 0u},
+          {"points_clipped_away", 2u},
+          {"points_rasterized", 2u},
+          {"fragments_generated", 100u},
+          {"fragments_passed_depth", 90u},
           {"fragments_written", 80u}};
 }
 
@@ -217,6 +233,7 @@ TEST(PipelineCounts, LinesPointsAndPolygonModeBalance) {
            {"triangles_unfilled", +7, "polygon-mode triangles"},
            {"triangles_rasterized", -3, "is below triangles_after_clip = 7"},
            {"triangles_in", +5, "triangles_after_clip = 7 is below the 11"},
+           {"triangles_offscreen", +5, "triangles_offscreen = 6 exceeds triangles_rasterized = 5"},
        }) {
     nlohmann::json bad = good;
     bad[c.key] = static_cast<uint64_t>(static_cast<int64_t>(good[c.key].get<uint64_t>()) + c.delta);

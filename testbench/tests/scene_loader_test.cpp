@@ -4,10 +4,12 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <glm/gtc/matrix_transform.hpp>
 #include <map>
 #include <set>
 #include <sstream>
@@ -283,7 +285,7 @@ TEST_F(SceneLoaderTest, MeshLinesAndPointsBecomeDraws) {
     const nlohmann::json& r = s.resolved["draws"][i];
     SCOPED_TRACE(d.name);
     // Every part of the mesh draw shares its transform, material and state.
-    EXPECT_EQ(d.model_view[3][2], -2.0f);
+    EXPECT_EQ(d.model[3][2], -2.0f);
     expect_near(d.material.diffuse, glm::vec4(1, 0.5f, 0, 1));
     EXPECT_EQ(d.state.line_width, 3.0f);
     EXPECT_EQ(d.state.point_size, 5.0f);
@@ -442,6 +444,102 @@ TEST_F(SceneLoaderTest, NoCameraMeansClipSpace) {
   expect_near(d.positions[1], glm::vec4(1, 2, 3, 4));
   expect_near(d.mvp * d.positions[1], glm::vec4(1, 2, 3, 4));
   EXPECT_EQ(s.resolved["camera"]["type"], "none");
+}
+
+// ---------------------------------------------------------------- automatic camera
+
+// A cube with corners at +-1, 12 triangles.
+const char* kCubeObj =
+    "v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\n"
+    "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
+
+glm::vec3 json_vec3(const nlohmann::json& v) {
+  return {v[0].get<float>(), v[1].get<float>(), v[2].get<float>()};
+}
+
+// The symptom of issue 16: a mesh without a camera rendered black. Now the
+// loader frames it: the cube scaled by 2 about its centre and moved to (10,
+// -5, 3) spans [8, 12] x [-7, -3] x [1, 5]; every corner of that box must
+// land inside the view volume of the camera stats.json records, rebuilt here
+// with glm from those values, and the box must fill a fair part of the frame.
+TEST_F(SceneLoaderTest, MeshWithoutCameraIsFramed) {
+  write("cube.obj", kCubeObj);
+  const Scene s = load(R"({"framebuffer": {"width": 320, "height": 200},
+      "lights": [{"type": "point", "position": [0, 10, 0]}],
+      "draws": [{"mesh": "cube.obj", "transform": {"translate": [10, -5, 3], "scale": 2}}]})");
+  EXPECT_TRUE(s.auto_camera);
+  const nlohmann::json& cam = s.resolved["camera"];
+  EXPECT_EQ(cam["type"], "perspective");
+  EXPECT_EQ(cam["auto"], true);
+  EXPECT_EQ(cam["fovy"], 45.0);
+  EXPECT_FLOAT_EQ(cam["aspect"].get<float>(), 1.6f);
+  const glm::vec3 eye = json_vec3(cam["eye"]), target = json_vec3(cam["target"]);
+  const glm::vec3 up = json_vec3(cam["up"]);
+  expect_near(target, glm::vec3(10, -5, 3));
+  expect_near(up, glm::vec3(0, 1, 0));
+  // The documented rule: eye along (1, 1, 2) from the centre, at the distance
+  // where the sphere around the box (radius sqrt(3) * 2, half the diagonal)
+  // fits the narrower field of view, here the vertical 45 degrees.
+  const float radius = 2.0f * std::sqrt(3.0f);
+  const float distance = radius / std::sin(glm::radians(22.5f));
+  expect_near(eye, target + distance * glm::normalize(glm::vec3(1, 1, 2)), 1e-4f);
+  EXPECT_NEAR(cam["near"].get<float>(), distance - 1.1f * radius, 1e-4f);
+  EXPECT_NEAR(cam["far"].get<float>(), distance + 1.1f * radius, 1e-4f);
+
+  const glm::mat4 view = glm::lookAt(eye, target, up);
+  const glm::mat4 proj =
+      glm::perspective(glm::radians(cam["fovy"].get<float>()), cam["aspect"].get<float>(),
+                       cam["near"].get<float>(), cam["far"].get<float>());
+  float extent = 0.0f;  // the largest |x| or |y| in NDC
+  for (int i = 0; i < 8; ++i) {
+    const glm::vec4 corner{i & 1 ? 12 : 8, i & 2 ? -3 : -7, i & 4 ? 5 : 1, 1};
+    const glm::vec4 c = proj * view * corner;
+    ASSERT_GT(c.w, 0.0f);
+    for (int k = 0; k < 3; ++k) EXPECT_LT(std::abs(c[k]), c.w) << "corner " << i << " axis " << k;
+    extent = std::max({extent, std::abs(c.x / c.w), std::abs(c.y / c.w)});
+    // The loader's matrices are the same camera.
+    ASSERT_EQ(s.draws.size(), 1u);
+    const glm::vec4 object{i & 1 ? 1 : -1, i & 2 ? 1 : -1, i & 4 ? 1 : -1, 1};
+    expect_near(s.draws[0].mvp * object, c, 1e-3f);
+  }
+  EXPECT_GT(extent, 0.5f);  // not a speck in the middle
+  // Lights are in world space: the point light's eye position is view * p.
+  expect_near(json_vec3(s.resolved["lights"][0]["eye_vector"]),
+              glm::vec3(view * glm::vec4(0, 10, 0, 1)), 1e-4f);
+
+  // "auto" given explicitly is the same camera; copying the resolved values
+  // into the scene gives the very same matrices.
+  const Scene same = load(R"({"framebuffer": {"width": 320, "height": 200}, "camera": "auto",
+      "draws": [{"mesh": "cube.obj", "transform": {"translate": [10, -5, 3], "scale": 2}}]})");
+  EXPECT_TRUE(same.auto_camera);
+  EXPECT_EQ(same.draws[0].mvp, s.draws[0].mvp);
+  nlohmann::json copied = {{"framebuffer", {{"width", 320}, {"height", 200}}}, {"camera", cam}};
+  copied["draws"] = {
+      {{"mesh", "cube.obj"}, {"transform", {{"matrix", s.resolved["draws"][0]["model"]}}}}};
+  for (const char* k : {"auto", "view", "projection"}) copied["camera"].erase(k);
+  const Scene copy = load(copied.dump());
+  EXPECT_FALSE(copy.auto_camera);
+  EXPECT_EQ(copy.draws[0].mvp, s.draws[0].mvp);
+}
+
+TEST_F(SceneLoaderTest, AutoCameraOnlyForMeshes) {
+  // Raw positions without a camera stay clip coordinates, next to nothing else.
+  const Scene raw = load(R"({"draws": [{"positions": [[0.5, 0, 0], [0, 0.5, 0], [0, 0, 0]]}]})");
+  EXPECT_FALSE(raw.auto_camera);
+  EXPECT_EQ(raw.draws[0].mvp, glm::mat4(1.0f));
+  EXPECT_EQ(raw.resolved["camera"]["type"], "none");
+  EXPECT_FALSE(raw.resolved["camera"].contains("auto"));
+  // A mesh squashed to a point still gets a camera (radius 1 around it).
+  write("cube.obj", kCubeObj);
+  const Scene point = load(
+      R"({"draws": [{"mesh": "cube.obj", "transform": {"translate": [2, 2, 2], "scale": 0}}]})");
+  EXPECT_TRUE(point.auto_camera);
+  expect_near(json_vec3(point.resolved["camera"]["target"]), glm::vec3(2, 2, 2));
+  EXPECT_EQ(error_of(R"({"camera": "auto", "draws": [{"positions": []}]})"),
+            "camera: \"auto\" frames the mesh draws, and the scene has none");
+  EXPECT_EQ(error_of(R"({"camera": "fisheye"})"),
+            "camera: expected an object or \"auto\", got \"fisheye\"");
+  EXPECT_EQ(error_of(R"({"camera": 3})"), "camera: expected an object or \"auto\", got 3");
 }
 
 TEST_F(SceneLoaderTest, RotationsApplyInListedOrder) {
