@@ -259,7 +259,7 @@ std::shared_ptr<RasterPrimitive> TriangleSetup::setup_line(const ClippedPrimitiv
     t->area2 = l2;
   }
   if (rectangle) {
-    setup_line_rectangle(*t, st.line_width);
+    setup_line_rectangle(*t, std::max(1.0f, st.line_width));  // at least 1 pixel wide
     return t;
   }
   const int64_t w =

@@ -432,7 +432,8 @@ class Renderer {
     ++m_stats.lines_rasterized;
     const EdgeValue dx = EdgeValue{b.x} - a.x, dy = EdgeValue{b.y} - a.y;
     const EdgeValue l2 = dx * dx + dy * dy;
-    const LineRectangle r = line_rectangle(a.x, a.y, b.x, b.y, st.line_width);
+    // At least one pixel wide, as OpenGL clamps widths to its range.
+    const LineRectangle r = line_rectangle(a.x, a.y, b.x, b.y, std::max(1.0f, st.line_width));
     struct Edge {
       int64_t x, y, dx, dy, bias;
     };
