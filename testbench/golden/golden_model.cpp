@@ -545,17 +545,18 @@ class Renderer {
                                       edge_function(v[0], v[1], px, py)};
     };
     // Off screen: no pixel has a sample point within the box.
-    const bool on_screen = scan_samples(st, id, min_x, max_x, min_y, max_y, [&](int x, int y, uint32_t& mask, float* z) {
-      const Subpixel px = pixel_center(x), py = pixel_center(y);
-      for (unsigned s = 0; s < m_samples; ++s) {
-        const std::array<EdgeValue, 3> e = edges_at(px + m_sample_dx[s], py + m_sample_dy[s]);
-        if (e[0] - t.bias[0] < 0 || e[1] - t.bias[1] < 0 || e[2] - t.bias[2] < 0) continue;
-        mask |= 1u << s;
-        z[s] = depth_at(t, e);
-      }
-      // Colour once per fragment, at the centre (section 14).
-      return mask == 0 ? glm::vec4(0.0f) : color_at(st, t, flat_color, edges_at(px, py));
-    });
+    const bool on_screen = scan_samples(
+        st, id, min_x, max_x, min_y, max_y, [&](int x, int y, uint32_t& mask, float* z) {
+          const Subpixel px = pixel_center(x), py = pixel_center(y);
+          for (unsigned s = 0; s < m_samples; ++s) {
+            const std::array<EdgeValue, 3> e = edges_at(px + m_sample_dx[s], py + m_sample_dy[s]);
+            if (e[0] - t.bias[0] < 0 || e[1] - t.bias[1] < 0 || e[2] - t.bias[2] < 0) continue;
+            mask |= 1u << s;
+            z[s] = depth_at(t, e);
+          }
+          // Colour once per fragment, at the centre (section 14).
+          return mask == 0 ? glm::vec4(0.0f) : color_at(st, t, flat_color, edges_at(px, py));
+        });
     if (!on_screen) ++m_stats.triangles_offscreen;
   }
 

@@ -23,13 +23,31 @@ uint64_t pixels(const Scene& s) {
   return static_cast<uint64_t>(s.framebuffer.width) * static_cast<uint64_t>(s.framebuffer.height);
 }
 
-std::string size_text(const Scene& s) {
-  return std::to_string(s.framebuffer.width) + "x" + std::to_string(s.framebuffer.height);
+// Render-target pixels and samples (docs/pipeline-spec.md, section 14):
+// k^2 pixels per output pixel, N samples each.
+uint64_t target_pixels(const Scene& s) {
+  const uint64_t k = s.framebuffer.supersample;
+  return pixels(s) * k * k;
+}
+uint64_t target_samples(const Scene& s) {
+  return target_pixels(s) * s.framebuffer.samples;
 }
 
-// Bytes of one Framebuffer (colour channels and depth values per pixel).
+std::string size_text(const Scene& s) {
+  std::string t = std::to_string(s.framebuffer.width) + "x" + std::to_string(s.framebuffer.height);
+  if (s.framebuffer.supersample > 1)
+    t += " supersampled x" + std::to_string(s.framebuffer.supersample);
+  if (s.framebuffer.samples > 1) t += ", " + std::to_string(s.framebuffer.samples) + " samples";
+  return t;
+}
+
+// Bytes of the Framebuffers a model holds: the output image's (colour
+// channels and depth per pixel) and, when antialiased, the render target's
+// (per sample).
 uint64_t framebuffer_bytes(const Scene& s) {
-  return pixels(s) * (4 * sizeof(ColorChannel) + sizeof(DepthValue));
+  const uint64_t per_sample = 4 * sizeof(ColorChannel) + sizeof(DepthValue);
+  const bool resolved = target_samples(s) != pixels(s);
+  return (pixels(s) + (resolved ? target_samples(s) : 0)) * per_sample;
 }
 
 // The vertex arrays the scene holds already (they count against the limit).
@@ -55,9 +73,10 @@ uint64_t golden_draw_bytes(const Scene& s) {
 
 // load_frame()'s image: colour, depth, then every draw's arrays, each aligned.
 uint64_t gpu_image_bytes(const Scene& s) {
-  const uint64_t p = pixels(s);
-  uint64_t end = align(p * color_bytes_per_pixel(s.framebuffer.color_format)) +
-                 p * depth_bytes_per_pixel(s.framebuffer.depth_format);
+  const uint64_t n = target_samples(s);
+  const unsigned color = color_bytes_per_pixel(s.framebuffer.color_format);
+  uint64_t end = align(n * color) + n * depth_bytes_per_pixel(s.framebuffer.depth_format);
+  if (n != pixels(s)) end = align(end) + pixels(s) * color;  // the resolve's output
   for (const Draw& d : s.draws) {
     end = align(end) + d.positions.size() * sizeof(glm::vec4);
     if (d.lighting && !d.normals.empty()) end = align(end) + d.normals.size() * sizeof(glm::vec3);
@@ -122,7 +141,7 @@ MemoryEstimate estimate_golden_memory(const Scene& scene) {
   MemoryEstimate e;
   e.parts.push_back({"scene arrays", scene_array_bytes(scene)});
   e.parts.push_back({"golden framebuffer " + size_text(scene), framebuffer_bytes(scene)});
-  e.parts.push_back({"per-pixel last writer", pixels(scene) * sizeof(int64_t)});
+  e.parts.push_back({"per-pixel last writer", target_pixels(scene) * sizeof(int64_t)});
   e.parts.push_back({"largest draw's shaded vertices and triangles", golden_draw_bytes(scene)});
   e.parts.push_back({"output images", output_bytes(scene)});
   return e;
@@ -142,7 +161,8 @@ MemoryEstimate estimate_cycle_memory(const Scene& scene, const GpuConfig& config
     e.parts.push_back({"vertex cache map", most_vertices * sizeof(uint32_t)});
   }
   if (check) {
-    e.parts.push_back({"per-pixel last writer (x2, --check)", 2 * pixels(scene) * sizeof(int64_t)});
+    e.parts.push_back(
+        {"per-pixel last writer (x2, --check)", 2 * target_pixels(scene) * sizeof(int64_t)});
     e.parts.push_back({"golden framebuffer (--check)", framebuffer_bytes(scene)});
     e.parts.push_back(
         {"largest draw's shaded vertices and triangles (--check)", golden_draw_bytes(scene)});

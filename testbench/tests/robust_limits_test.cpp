@@ -53,6 +53,24 @@ TEST(Limits, EstimatesFollowTheFramebufferAndTheArrays) {
     if (p.what.find("GPU memory image") != std::string::npos) image = p.bytes;
   }
   EXPECT_EQ(image, 2 * load_frame(small).memory.size());
+  // Antialiased: N samples per render-target pixel, k^2 render-target pixels
+  // per output pixel, plus the resolve's output image.
+  for (const auto& [samples, k] : {std::pair{4u, 1u}, std::pair{2u, 3u}, std::pair{1u, 2u}}) {
+    Scene aa = small;
+    aa.framebuffer.samples = samples;
+    aa.framebuffer.supersample = k;
+    uint64_t aa_image = 0;
+    for (const auto& p : estimate_cycle_memory(aa, GpuConfig{}, false).parts) {
+      if (p.what.find("GPU memory image") != std::string::npos) aa_image = p.bytes;
+    }
+    EXPECT_EQ(aa_image, 2 * load_frame(aa).memory.size()) << samples << " samples, x" << k;
+    // The golden model's render target: 12 bytes per sample, plus the output.
+    uint64_t golden_fb = 0;
+    for (const auto& p : estimate_golden_memory(aa).parts) {
+      if (p.what.find("golden framebuffer") != std::string::npos) golden_fb = p.bytes;
+    }
+    EXPECT_EQ(golden_fb, 12ull * 64 * 32 * (1 + k * k * samples)) << samples << " samples, x" << k;
+  }
   // 8192x8192: 64 Mi pixels; the golden framebuffer holds 12 bytes a pixel,
   // the last-writer map 8, the output images 16: more than 2 GiB in all.
   const MemoryEstimate g = estimate_golden_memory(big);
