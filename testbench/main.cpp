@@ -457,8 +457,13 @@ int run_info(const std::string& scene_path) {
   const nlohmann::json& r = scene.resolved;
   const nlohmann::json& fb = r["framebuffer"];
   std::printf("scene: %s\n", printable(scene_path).c_str());
-  std::printf("framebuffer: %dx%d, %s colour, %s depth, clear colour %s, clear depth %g\n",
-              fb["width"].get<int>(), fb["height"].get<int>(),
+  std::string antialiasing;
+  if (scene.framebuffer.samples > 1)
+    antialiasing += ", " + std::to_string(scene.framebuffer.samples) + " samples per pixel";
+  if (scene.framebuffer.supersample > 1)
+    antialiasing += ", supersampled " + std::to_string(scene.framebuffer.supersample) + "x";
+  std::printf("framebuffer: %dx%d%s, %s colour, %s depth, clear colour %s, clear depth %g\n",
+              fb["width"].get<int>(), fb["height"].get<int>(), antialiasing.c_str(),
               fb["color_format"].get<std::string>().c_str(),
               fb["depth_format"].get<std::string>().c_str(), vec_text(fb["clear_color"]).c_str(),
               fb["clear_depth"].get<double>());
