@@ -644,6 +644,11 @@ int run_trace_follow(const TraceArgs& args, bool by_prim) {
   const TraceFollow::FrameLookup frame = [&](int px,
                                              int py) -> std::optional<TraceFollow::PixelValue> {
     const Image img = read_exr(reader.path("frame.exr"));
+    // A supersampled frame's trace is in render-target pixels, k per output
+    // pixel on each side: show the output pixel they resolve into.
+    const int k = img.width > 0 ? std::max(1, reader.manifest().width / img.width) : 1;
+    px /= k;
+    py /= k;
     if (px >= img.width || py >= img.height) return std::nullopt;
     const size_t p = static_cast<size_t>(img.height - 1 - py) * img.width + px;
     TraceFollow::PixelValue v;
