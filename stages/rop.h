@@ -18,8 +18,15 @@
 // tracking). clear: a fast clear of every owned tile to the encoded
 // clear_color.
 //
+// Multisampled frames (section 14): N colours per pixel, a pixel's samples
+// adjacent (tiles N times larger); a pixel's colour is blended into and
+// written to each sample of its mask (ShadedStampBatch::samples). With a
+// resolve after it the ROP passes its control tokens on (`done`) instead of
+// retiring them.
+//
 // Cost model, per token read at time t:
-//   work:  busy = ii * stamps (at least ii) + the memory stall of the misses,
+//   work:  busy = ii * stamps * ceil(N / samples_per_pass) (at least ii) + the
+//          memory stall of the misses,
 //          served one after another from t (a blocking cache), rounded up to
 //          whole cycles.
 //   clear: busy = ii.

@@ -65,11 +65,20 @@
 // saturate at +-2^24 subpixels), so |dM|, |dN| < 2^17 and the decision
 // variable and 2 i |dN| stay below 2^35: a 36-bit signed register.
 //
+// Multisampling (spec section 14; docs/architecture.md, "Multisampling and
+// the resolve"): each coverage edge's offsets to the N sample points,
+// a * dx_s + b * dy_s, are computed per primitive; the tile tests add their
+// extremes, and a partial stamp tests each pixel at its N samples, emitting
+// one sample mask per covered pixel (StampBatch::samples); accepted tiles emit
+// full masks. Setup has widened the box and given lines and points four edges.
+//
 // Cost model (cycles) of the tile walk, per primitive: 1 per tile visited (the tile test),
 // plus ii(rasterizer) per stamp evaluated in a partial tile and per stamp
 // emitted from an accepted tile; stamps outside the box are never visited,
-// rejected tiles cost only their test. busy_cycles = tiles_visited +
-// ii * (stamps_evaluated + stamps_accepted) + ii * control tokens.
+// rejected tiles cost only their test. With N samples per pixel every stamp
+// takes passes = ceil(N / samples_per_pass) times ii. busy_cycles =
+// tiles_visited + ii * passes * (stamps_evaluated + stamps_accepted) + ii *
+// control tokens.
 // Timing: the unit waits the cycles of the tiles walked since its last
 // output, then writes that tile's batch, readable latency(rasterizer) cycles
 // later; cycles of trailing tiles without coverage are waited at the end of
