@@ -295,21 +295,17 @@ def fullscreen_huge():
     }
 
 
-@scene("grid_shared_edges", "fill rule", "7, 8",
-       "a 16x8 grid of jittered quads (indexed triangles sharing every edge) plus exact "
-       "horizontal and vertical edges through pixel centres, additively blended: every pixel "
-       "exactly once")
-def grid_shared_edges():
-    rng = random.Random(41)
-    w, h = 256, 128
-    n, m = 16, 8
+def jittered_grid(rng, w, h, n, m, jitter):
+    """An n x m grid of quads over a w x h frame, as indexed triangles sharing
+    every edge; inner vertices moved by up to `jitter` pixels, the diagonals
+    alternating. Returns (positions, indices)."""
     pos, idx = [], []
     for j in range(m + 1):
         for i in range(n + 1):
             x, y = i * w / n, j * h / m
             if 0 < i < n and 0 < j < m:
-                x += rng.uniform(-4, 4)
-                y += rng.uniform(-4, 4)
+                x += rng.uniform(-jitter, jitter)
+                y += rng.uniform(-jitter, jitter)
             pos.append([r(clip_x(x, w)), r(clip_x(y, h)), 0.5, 1])
     for j in range(m):
         for i in range(n):
@@ -318,6 +314,16 @@ def grid_shared_edges():
                 idx += [a, a + 1, a + n + 2, a, a + n + 2, a + n + 1]
             else:
                 idx += [a, a + 1, a + n + 1, a + 1, a + n + 2, a + n + 1]
+    return pos, idx
+
+
+@scene("grid_shared_edges", "fill rule", "7, 8",
+       "a 16x8 grid of jittered quads (indexed triangles sharing every edge) plus exact "
+       "horizontal and vertical edges through pixel centres, additively blended: every pixel "
+       "exactly once")
+def grid_shared_edges():
+    w, h = 256, 128
+    pos, idx = jittered_grid(random.Random(41), w, h, 16, 8, 4)
     # Axis-aligned quads whose edges run exactly through pixel centres.
     axis = []
     for k in range(8):
@@ -1257,24 +1263,8 @@ def msaa_slivers():
        "axis-aligned quads with edges exactly on sample rows and columns, additively blended "
        "(one, one) at 0.25: every sample covered exactly once, 4 per pixel inside the grid")
 def msaa_grid_shared_edges():
-    rng = random.Random(1402)
     w, h = 128, 96
-    n, m = 12, 8
-    pos, idx = [], []
-    for j in range(m + 1):
-        for i in range(n + 1):
-            x, y = i * w / n, j * h / m
-            if 0 < i < n and 0 < j < m:
-                x += rng.uniform(-3, 3)
-                y += rng.uniform(-3, 3)
-            pos.append([r(clip_x(x, w)), r(clip_x(y, h)), 0.5, 1])
-    for j in range(m):
-        for i in range(n):
-            a = j * (n + 1) + i
-            if (i + j) % 2:
-                idx += [a, a + 1, a + n + 2, a, a + n + 2, a + n + 1]
-            else:
-                idx += [a, a + 1, a + n + 1, a + 1, a + n + 2, a + n + 1]
+    pos, idx = jittered_grid(random.Random(1402), w, h, 12, 8, 3)
     # Side by side quads whose shared edges run exactly through sample
     # positions (x = k + 6/16 etc.: the edge owns its samples by the fill rule).
     axis = []
