@@ -249,11 +249,68 @@ def points_wireframe():
     }
 
 
+def antialiased(samples, supersample, seed, color_format="rgba8", depth_format="unorm24"):
+    """Multisampling and supersampling (pipeline-spec.md section 14) at 96x64:
+    overlapping triangles with a depth test, alpha blending and additive
+    blending, a coplanar pair resolved by polygon offset, lines of widths 1,
+    1.5, 2, 3 and 5 in every direction (both line rules: multisampled lines
+    ignore the rule), points of sizes 1 to 9 on and off the edges, depth
+    tested."""
+    rng = random.Random(seed)
+    w, h = 96, 64
+    draws = []
+    tri, tcol = [], []
+    for _ in range(10):
+        cx, cy = rng.uniform(-0.9, 0.9), rng.uniform(-0.9, 0.9)
+        for _ in range(3):
+            tri.append([r(cx + rng.uniform(-0.5, 0.5)), r(cy + rng.uniform(-0.5, 0.5)),
+                        r(rng.uniform(-0.8, 0.8)), 1])
+            tcol.append([r(rng.random()), r(rng.random()), r(rng.random()), r(rng.uniform(0.3, 1))])
+    draws.append({"primitive": "triangles", "positions": tri[:15], "colors": tcol[:15],
+                  "state": {"depth_test": "less"}})
+    draws.append({"primitive": "triangles", "positions": tri[15:24], "colors": tcol[15:24],
+                  "state": {"depth_test": "lequal",
+                            "blend": {"src": "src_alpha", "dst": "one_minus_src_alpha"}}})
+    draws.append({"primitive": "triangles", "positions": tri[24:], "colors": tcol[24:],
+                  "state": {"depth_test": "always", "depth_write": False,
+                            "blend": {"src": "one", "dst": "one"}}})
+    # A tilted plane and a coplanar copy drawn over it with polygon offset.
+    plane = [[-0.7, -0.6, -0.3, 1], [0.6, -0.7, 0.4, 1], [-0.6, 0.7, 0.1, 1], [0.7, 0.6, 0.6, 1]]
+    draws.append({"primitive": "triangle_strip", "positions": plane, "colors": [[0.8, 0.2, 0.2, 1]] * 4,
+                  "state": {"depth_test": "less"}})
+    draws.append({"primitive": "triangle_strip", "positions": plane, "colors": [[0.2, 0.3, 0.9, 1]] * 4,
+                  "state": {"depth_test": "less", "polygon_offset": [-1, -2]}})
+    for k, width in enumerate([1, 1.5, 2, 3, 5]):
+        pos, col = [], []
+        for _ in range(6):
+            x, y = rng.uniform(-4, w + 4), rng.uniform(-4, h + 4)
+            pos.append([r(x / w * 2 - 1), r(y / h * 2 - 1), r(rng.uniform(-0.9, 0.9)), 1])
+            col.append([r(rng.random()), r(rng.random()), r(rng.random()), 1])
+        draws.append({"primitive": ["lines", "line_strip", "line_loop"][k % 3], "positions": pos,
+                      "colors": col,
+                      "state": {"line_width": width, "depth_test": "lequal",
+                                "line_rasterization": "bresenham" if k == 2 else "diamond_exit",
+                                "shading": "flat" if k == 1 else "gouraud"}})
+    for k, size in enumerate([1, 2, 3, 4.5, 9]):
+        pos, col = [], []
+        for _ in range(5):
+            pos.append([r(rng.uniform(-1.05, 1.05)), r(rng.uniform(-1.05, 1.05)), r(rng.uniform(-0.9, 0.9)), 1])
+            col.append([r(rng.random()), r(rng.random()), r(rng.random()), 1])
+        draws.append({"primitive": "points", "positions": pos, "colors": col,
+                      "state": {"point_size": size, "depth_test": "lequal"}})
+    fb = {"width": w, "height": h, "samples": samples, "supersample": supersample,
+          "color_format": color_format, "depth_format": depth_format,
+          "clear_color": [0.05, 0.05, 0.1, 1]}
+    return {"framebuffer": fb, "draws": draws}
+
+
 def main(argv=None):
     global OUT
     parser = argparse.ArgumentParser(
         description="Write the procedural test scenes (tiny_triangles.json, shared_edges.json, "
-                    "clipping.json, zfight_offset.json, states.json, lines_random.json, points_wireframe.json).")
+                    "clipping.json, zfight_offset.json, states.json, lines_random.json, points_wireframe.json, "
+                    "aa_samples2.json, aa_samples8.json, aa_samples16.json, aa_super3_samples4.json, "
+                    "aa_super2.json).")
     where = parser.add_mutually_exclusive_group()
     where.add_argument("--out", metavar="DIR", help="write the scenes into DIR (created if needed)")
     where.add_argument("--write-testbench", action="store_true",
@@ -272,10 +329,15 @@ def main(argv=None):
     write("zfight_offset.json", zfight())
     write("states.json", states())
     write("lines_random.json", lines_random())
-    print(f"wrote 6 scenes to {OUT}")
+    write("points_wireframe.json", points_wireframe())
+    write("aa_samples2.json", antialiased(2, 1, 2002, "rgba16f", "float32"))
+    write("aa_samples8.json", antialiased(8, 1, 8008))
+    write("aa_samples16.json", antialiased(16, 1, 1616, "rgba8", "unorm16"))
+    write("aa_super3_samples4.json", antialiased(4, 3, 3434))
+    write("aa_super2.json", antialiased(1, 2, 2020, "rgba16f", "unorm24"))
+    print(f"wrote 12 scenes to {OUT}")
     return 0
 
 
 if __name__ == "__main__":
     sys.exit(main())
-    write("points_wireframe.json", points_wireframe())

@@ -13,9 +13,11 @@
 //
 // Driving the real SystemC modules costs a kernel run per frame, so the GPUs
 // are elaborated once per process (a SystemC context cannot elaborate twice)
-// and reused: four instances with different framebuffers (1x1, 13x7, 64x48,
-// 8192x2; every colour and depth format) and configurations (units, tile and
-// stamp sizes, FIFO depths, caches), one chosen by the input's first byte.
+// and reused: nine instances with different framebuffers (1x1, 13x7, 64x48,
+// 8192x2; every colour and depth format; and five small antialiased ones
+// covering 1, 2, 4, 8 and 16 samples and supersampling 1, 2 and 3) and
+// configurations (units, tile and stamp sizes, FIFO depths, caches, samples
+// per pass), one chosen by the input's first byte (mod 9).
 // Between frames only the frame's registers (draws, clear values) and the
 // memory image change, as a driver would program them; the framebuffer's
 // size and formats are fixed per instance. The model keeps no state across
@@ -99,14 +101,18 @@ class ByteReader {
 class DiffInstance {
  public:
   DiffInstance(const std::string& name, int width, int height, ColorFormat cf, DepthFormat df,
-               const GpuConfig& config)
+               const GpuConfig& config, unsigned samples = 1, unsigned supersample = 1)
       : m_config(config) {
-    m_frame.framebuffer.width = width;
-    m_frame.framebuffer.height = height;
-    m_frame.framebuffer.color_format = cf;
-    m_frame.framebuffer.depth_format = df;
+    m_output.width = width;
+    m_output.height = height;
+    m_output.color_format = cf;
+    m_output.depth_format = df;
+    m_output.samples = samples;
+    m_output.supersample = supersample;
     Scene empty;
-    empty.framebuffer = m_frame.framebuffer;
+    empty.framebuffer = m_output;
+    // The render target (supersample times the output on each side): its
+    // size and sample count decide the netlist (a Resolve stage or none).
     m_frame = load_frame(empty).frame;
     m_gpu = std::make_unique<Gpu>(name.c_str(), m_config, m_frame, uint64_t{1} << 20);
     // No watchdog (testbench/sim/watchdog.h): frames are simulated until
@@ -114,7 +120,9 @@ class DiffInstance {
     m_host = std::make_unique<Host>((name + "_host").c_str(), *m_gpu);
   }
 
-  const FramebufferDesc& framebuffer() const { return m_frame.framebuffer; }
+  // The scene's framebuffer (the output; the render target is
+  // supersample times larger).
+  const FramebufferDesc& framebuffer() const { return m_output; }
 
   // Renders `scene` (its framebuffer must be this instance's) with both
   // models: "" when they agree, else the first difference.
@@ -143,7 +151,7 @@ class DiffInstance {
       counts[item.key()] = item.value().get<uint64_t>() - before[item.key()].get<uint64_t>();
     }
     const golden::Result want = golden::render(scene);
-    const Framebuffer got = read_framebuffer();
+    const Framebuffer got = read_framebuffer(m_gpu->memory(), m_frame);
     std::ostringstream os;
     if (counts != want.stats.to_json()) {
       os << "counters differ: cycle model " << counts.dump() << ", golden "
@@ -194,28 +202,8 @@ class DiffInstance {
     Gpu& m_gpu;
   };
 
-  Framebuffer read_framebuffer() {
-    const FramebufferDesc& d = m_frame.framebuffer;
-    Framebuffer fb(d.width, d.height, d.color_format, d.depth_format);
-    const size_t pixels = static_cast<size_t>(d.width) * d.height;
-    const unsigned cb = color_bytes_per_pixel(d.color_format),
-                   db = depth_bytes_per_pixel(d.depth_format);
-    const uint8_t* c = m_gpu->memory().data(m_frame.color_address, pixels * cb);
-    const uint8_t* z = m_gpu->memory().data(m_frame.depth_address, pixels * db);
-    for (size_t p = 0; p < pixels; ++p) {
-      for (int k = 0; k < 4; ++k) {
-        fb.color[p * 4 + k] =
-            cb == 4 ? c[p * 4 + k]
-                    : static_cast<ColorChannel>(c[p * 8 + k * 2] | c[p * 8 + k * 2 + 1] << 8);
-      }
-      DepthValue v = z[p * db] | DepthValue{z[p * db + 1]} << 8;
-      if (db == 4) v |= DepthValue{z[p * db + 2]} << 16 | DepthValue{z[p * db + 3]} << 24;
-      fb.depth[p] = v;
-    }
-    return fb;
-  }
-
   GpuConfig m_config;
+  FramebufferDesc m_output;
   FrameState m_frame;
   std::unique_ptr<Gpu> m_gpu;
   std::unique_ptr<Host> m_host;
@@ -251,6 +239,25 @@ inline std::vector<std::unique_ptr<DiffInstance>>& diff_instances() {
                                                DepthFormat::unorm16, c));
     v.push_back(std::make_unique<DiffInstance>("fuzz_gpu3", 8192, 2, ColorFormat::rgba16f,
                                                DepthFormat::unorm24, d));
+    // Antialiased frames (docs/pipeline-spec.md, section 14), small: every
+    // sample count, supersampling 2 and 3, alone and with multisampling.
+    GpuConfig e = b;
+    e.samples_per_pass = 3;
+    GpuConfig f;
+    f.units = 4;
+    f.tile_size = 8;
+    f.stamp = {4, 2};
+    f.samples_per_pass = 16;
+    v.push_back(std::make_unique<DiffInstance>("fuzz_gpu4", 24, 16, ColorFormat::rgba8,
+                                               DepthFormat::unorm24, a, 4, 1));
+    v.push_back(std::make_unique<DiffInstance>("fuzz_gpu5", 13, 7, ColorFormat::rgba16f,
+                                               DepthFormat::float32, e, 2, 3));
+    v.push_back(std::make_unique<DiffInstance>("fuzz_gpu6", 11, 9, ColorFormat::rgba8,
+                                               DepthFormat::unorm16, f, 8, 1));
+    v.push_back(std::make_unique<DiffInstance>("fuzz_gpu7", 9, 6, ColorFormat::rgba16f,
+                                               DepthFormat::unorm24, c, 16, 2));
+    v.push_back(std::make_unique<DiffInstance>("fuzz_gpu8", 10, 6, ColorFormat::rgba8,
+                                               DepthFormat::float32, d, 1, 3));
     // Run the initialisation phase, so every host waits for `go` before the
     // first frame notifies it.
     sc_core::sc_start(sc_core::SC_ZERO_TIME);

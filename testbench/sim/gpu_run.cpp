@@ -137,6 +137,8 @@ void inject_faults(const Topology& netlist, const GpuRunOptions& options, const 
   }
 }
 
+}  // namespace
+
 // The frame written out: the resolve's output image, or the colour buffer
 // itself with one sample and no supersampling; the depth of sample 0 of each
 // output pixel's lower-left render-target pixel (docs/pipeline-spec.md,
@@ -180,8 +182,6 @@ Framebuffer read_framebuffer(Memory& memory, const FrameState& frame) {
   }
   return fb;
 }
-
-}  // namespace
 
 LoadedFrame load_frame(const Scene& scene) {
   LoadedFrame out;

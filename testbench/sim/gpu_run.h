@@ -34,6 +34,10 @@ struct LoadedFrame {
   std::vector<uint8_t> memory;  // byte 0 = GPU address 0
 };
 LoadedFrame load_frame(const Scene& scene);
+// The output frame in `memory` after `frame` (a load_frame result) ran: the
+// resolved colour (or the colour buffer with one sample and no
+// supersampling) and sample 0's depth, at the scene's width x height.
+Framebuffer read_framebuffer(Memory& memory, const FrameState& frame);
 
 struct GpuRunOptions {
   bool record_last_writer = false;  // per-pixel primitive id, for --check

@@ -45,11 +45,18 @@ GpuConfig config_for(const MatrixRow& r) {
   return c;
 }
 
-void expect_same_frame(const Framebuffer& got, const Framebuffer& want,
+// The output frames (width x height) must agree; the last-writer vectors
+// are per render-target pixel (k * width x k * height with supersample k),
+// so a difference at output pixel (x, y) reports render pixel (k x, k y).
+void expect_same_frame(const Framebuffer& got, const Framebuffer& want, int supersample,
                        const std::vector<int64_t>& got_writer,
                        const std::vector<int64_t>& want_writer) {
   ASSERT_EQ(got.width, want.width);
   ASSERT_EQ(got.height, want.height);
+  const int k = supersample;
+  const size_t render_pixels = static_cast<size_t>(k * got.width) * (k * got.height);
+  ASSERT_EQ(got_writer.size(), render_pixels);
+  ASSERT_EQ(want_writer.size(), render_pixels);
   long long differing = 0;
   std::ostringstream first;
   for (int y = 0; y < got.height; ++y) {
@@ -60,13 +67,15 @@ void expect_same_frame(const Framebuffer& got, const Framebuffer& want,
           got.depth[p] == want.depth[p];
       if (same) continue;
       if (differing++ == 0) {
+        const size_t w = static_cast<size_t>(k * y) * (k * got.width) + static_cast<size_t>(k * x);
         first << "first at x=" << x << " y=" << y << ": cycle model colour "
               << got.color_at(x, y)[0] << "," << got.color_at(x, y)[1] << ","
               << got.color_at(x, y)[2] << "," << got.color_at(x, y)[3] << " depth " << got.depth[p]
-              << " (primitive " << got_writer[p] << "), golden " << want.color_at(x, y)[0] << ","
+              << " (render pixel (" << k * x << ", " << k * y << ") last written by primitive "
+              << got_writer[w] << "), golden " << want.color_at(x, y)[0] << ","
               << want.color_at(x, y)[1] << "," << want.color_at(x, y)[2] << ","
               << want.color_at(x, y)[3] << " depth " << want.depth[p] << " (primitive "
-              << want_writer[p] << ")";
+              << want_writer[w] << ")";
       }
     }
   }
@@ -106,7 +115,9 @@ TEST_P(BitExact, FrameAndCountersEqualGolden) {
   const GpuRunResult got = run_gpu(scene, config, options);
   ASSERT_TRUE(got.completed) << "stopped at cycle " << got.cycles;
   const golden::Result want = golden::render(scene);
-  expect_same_frame(got.framebuffer, want.framebuffer, got.last_writer, want.last_writer);
+  expect_same_frame(got.framebuffer, want.framebuffer,
+                    static_cast<int>(scene.framebuffer.supersample), got.last_writer,
+                    want.last_writer);
   EXPECT_EQ(got.counts, want.stats.to_json());
   // The same pixels are written by the same primitives.
   EXPECT_EQ(got.last_writer, want.last_writer);
@@ -124,7 +135,9 @@ INSTANTIATE_TEST_SUITE_P(
     Scenes, BitExact,
     ::testing::Combine(::testing::Values("default", "spider", "quad_clipspace", "tiny_triangles",
                                          "shared_edges", "clipping", "zfight_offset", "states",
-                                         "lines_random", "points_wireframe", "lines_points"),
+                                         "lines_random", "points_wireframe", "lines_points",
+                                         "aa_samples2", "aa_samples8", "aa_samples16",
+                                         "aa_super3_samples4", "aa_super2"),
                        ::testing::Range(0, 18)),
     case_name);
 

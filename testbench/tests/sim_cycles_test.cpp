@@ -125,6 +125,85 @@ TEST(Cycles, UnitsDivideTheRasterizerCycles) {
   }
 }
 
+TEST(Cycles, SamplesMultiplyTheStampCostsAndTheTileBytes) {
+  // The giant triangle over a 256x256 render target with the depth test on,
+  // on one unit, fill-bound (memory latency 0, 64 KiB per cycle, every tile
+  // cached), samples_per_pass = 4 (the default). Spec section 14 and the
+  // cost model (hw/gpu_config.h, stages/*.h): a stamp of N samples costs
+  // ii * ceil(N / 4) in the rasterizer, depth test and ROP, so with ii = 1
+  // and 256 accepted tiles of 16 stamps the rasterizer is busy
+  // 256 * (1 + 16 * ceil(N / 4)) + 2 (control tokens):
+  //   N = 1: 4354,  N = 4: 4354,  N = 8: 256 * 33 + 2 = 8450.
+  // The depth and colour tiles hold N samples per pixel (4 bytes each for
+  // unorm24 and rgba8): with fast clears and every tile cached nothing is
+  // read and the end-of-frame write-back writes 65536 * 4 * N bytes each.
+  // The run at (N = 4, supersample 2) renders a 128x128 frame into the same
+  // 256x256 render target, so its raster figures equal N = 4's.
+  struct Case {
+    unsigned samples, supersample;
+    uint64_t raster_busy;
+  };
+  for (const Case c : {Case{1, 1, 4354}, Case{4, 1, 4354}, Case{8, 1, 8450}, Case{4, 2, 4354}}) {
+    const int k = static_cast<int>(c.supersample);
+    Scene s = clip_space_scene(256 / k, 256 / k);
+    s.framebuffer.samples = c.samples;
+    s.framebuffer.supersample = c.supersample;
+    s.draws.push_back(giant_triangle(true));
+    const GpuConfig config = fill_bound(1);
+    ASSERT_EQ(config.samples_per_pass, 4u);
+    ASSERT_EQ(config.stage("tile_rasterizer").ii, 1u);
+    ASSERT_EQ(config.stage("depth_test").ii, 1u);
+    ASSERT_EQ(config.stage("rop").ii, 1u);
+    ASSERT_EQ(config.stage("resolve").ii, 1u);
+    const GpuRunResult r = run(s, config);
+    const std::string what =
+        std::to_string(c.samples) + " samples, supersample " + std::to_string(c.supersample);
+    EXPECT_EQ(stage_counter(r, "tile_rasterizer_0", "busy_cycles"), c.raster_busy) << what;
+    EXPECT_EQ(stage_counter(r, "tile_rasterizer_0", "tiles_accepted"), 256u) << what;
+    EXPECT_EQ(stage_counter(r, "tile_rasterizer_0", "stamps_emitted"), 4096u) << what;
+    const uint64_t bytes = 65536u * 4u * c.samples;
+    for (const char* stage : {"depth_test_0", "rop_0"}) {
+      EXPECT_EQ(stage_counter(r, stage, "bytes_read"), 0u) << what << " " << stage;
+      EXPECT_EQ(stage_counter(r, stage, "bytes_written"), bytes) << what << " " << stage;
+    }
+    EXPECT_EQ(stage_counter(r, "rop_0", "samples_written"), 65536u * c.samples) << what;
+    if (c.samples == 1 && c.supersample == 1) {
+      // No resolve stage in a single-sample frame.
+      EXPECT_FALSE(r.timing.at("stages").contains("resolve")) << what;
+      continue;
+    }
+    // The resolve: output W x H = 256/k square in 16x16 tiles of 16 4x4
+    // stamps, n = k^2 N samples per output pixel, ceil(n / 4) passes.
+    const uint64_t side = 256u / c.supersample, tiles = (side / 16) * (side / 16);
+    const uint64_t n = c.supersample * c.supersample * c.samples;
+    EXPECT_EQ(stage_counter(r, "resolve", "tiles"), tiles) << what;
+    EXPECT_EQ(stage_counter(r, "resolve", "pixels"), side * side) << what;
+    EXPECT_EQ(stage_counter(r, "resolve", "samples"), side * side * n) << what;
+    // Its cycles. The memory cannot hold it up beyond the bus itself: every
+    // request (at most 2 * 16 * 4 * 4 = 512 bytes) takes exactly one bus cycle
+    // (hw/memory.h), latency 0. The ROPs' write-backs are complete when
+    // the resolve gets end_of_frame, so the bus is free. Per tile the
+    // resolve reads R = 16 k render-target rows (one request each) and
+    // waits for them; the first tile's reads take R cycles. It then filters
+    // for 16 stamps * passes cycles and posts its 16 output rows to arrive
+    // when it finishes, i.e. when the next tile's reads are issued: those
+    // reads queue behind the 16 writes reserved in an earlier round, so
+    // every later tile waits 16 + R. After the last tile it waits for its
+    // 16 writes. Plus ii = 1 for the clear token:
+    //   busy = 1 + R + (tiles - 1) (16 + R) + tiles * 16 * passes + 16.
+    //   N = 4:        1 + 16 + 255 * 32 + 256 * 16 + 16  = 12289
+    //   N = 8:        1 + 16 + 255 * 32 + 256 * 32 + 16  = 16385
+    //   N = 4, k = 2: 1 + 32 + 63 * 48  + 64 * 16 * 4 + 16 = 7169
+    const uint64_t rows = 16u * c.supersample, passes = (n + 3) / 4;
+    const uint64_t stall = rows + (tiles - 1) * (16 + rows) + 16;
+    EXPECT_EQ(stage_counter(r, "resolve", "memory_stall_cycles"), stall) << what;
+    EXPECT_EQ(stage_counter(r, "resolve", "busy_cycles"), 1 + stall + tiles * 16 * passes) << what;
+    const uint64_t expected[] = {12289, 16385, 7169};
+    const int index = c.supersample == 2 ? 2 : c.samples == 8 ? 1 : 0;
+    EXPECT_EQ(stage_counter(r, "resolve", "busy_cycles"), expected[index]) << what;
+  }
+}
+
 // `count` copies of a triangle inside pixel (8, 8) of a 256x256 screen.
 Scene tiny_triangles(int count) {
   Scene s = clip_space_scene();
