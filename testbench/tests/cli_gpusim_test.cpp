@@ -678,7 +678,9 @@ TEST_F(Cli, ProgressOffATerminalNamesPhasesAndShowsTheSimulationMoving) {
   bool tail_moved = false;
   for (size_t i = 0; i < states.size(); ++i) {
     EXPECT_EQ(states[i][1], stats.at("stats").at("triangles_in").get<uint64_t>());
-    if (i + 1 < states.size()) EXPECT_EQ(states[i][2], (i + 1) * 100000);
+    if (i + 1 < states.size()) {
+      EXPECT_EQ(states[i][2], (i + 1) * 100000);
+    }
     if (i == 0) continue;
     EXPECT_GE(states[i][0], states[i - 1][0]) << err;
     EXPECT_GT(states[i][2], states[i - 1][2]) << err;
