@@ -121,6 +121,12 @@ void read_stage_stats(const nlohmann::json& timing_stages, std::vector<StageLoad
   }
 }
 
+std::optional<double> memory_utilization(const nlohmann::json& timing) {
+  const auto it = timing.find("memory");
+  if (it == timing.end() || !it->is_object()) return std::nullopt;
+  return number_at(*it, "utilization");
+}
+
 Bottleneck find_bottleneck(const TraceManifest& netlist, const std::vector<StageLoad>& stages,
                            uint64_t span, std::optional<double> memory_utilization) {
   // A kind is as busy as its busiest unit: the frame waits for the slowest
@@ -164,7 +170,10 @@ Bottleneck find_bottleneck(const TraceManifest& netlist, const std::vector<Stage
 }
 
 std::vector<UnitLoad> unit_loads(const TraceManifest& netlist, const std::vector<StageLoad>& stages,
-                                 const nlohmann::json& timing_units) {
+                                 const nlohmann::json& timing) {
+  const auto found = timing.find("units");
+  const nlohmann::json timing_units =
+      found != timing.end() && found->is_array() ? *found : nlohmann::json::array();
   std::vector<UnitLoad> out;
   for (unsigned u = 0; u < netlist.units; ++u) {
     UnitLoad unit;

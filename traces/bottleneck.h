@@ -72,6 +72,9 @@ std::string percent(double share);
 // memory_stall from stats.json's timing.stages.
 void read_stage_stats(const nlohmann::json& timing_stages, std::vector<StageLoad>& stages);
 
+// stats.json's timing.memory.utilization, when it has one.
+std::optional<double> memory_utilization(const nlohmann::json& timing);
+
 // The bottleneck among `stages` (non-empty), shares over `span` cycles.
 Bottleneck find_bottleneck(const TraceManifest& netlist, const std::vector<StageLoad>& stages,
                            uint64_t span, std::optional<double> memory_utilization);
@@ -79,7 +82,7 @@ Bottleneck find_bottleneck(const TraceManifest& netlist, const std::vector<Stage
 // Per unit of the netlist: stats.json timing.units' counts and the unit's
 // stages' busy cycles from `stages`.
 std::vector<UnitLoad> unit_loads(const TraceManifest& netlist, const std::vector<StageLoad>& stages,
-                                 const nlohmann::json& timing_units);
+                                 const nlohmann::json& timing);
 
 // The utilization table's rows (after a heading the caller prints): per
 // stage its busy, stalled and starved shares of `span` and its busy cycles.

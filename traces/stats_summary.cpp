@@ -155,9 +155,7 @@ StatsSummary::StatsSummary(const nlohmann::json& stats, const std::string& path)
   read_stage_stats(stages, m_stages);
 
   const nlohmann::json& memory = object_at(timing, "memory");
-  if (memory.contains("utilization") && memory["utilization"].is_number()) {
-    m_memory_utilization = memory["utilization"].get<double>();
-  }
+  m_memory_utilization = memory_utilization(timing);
   m_memory_busy = cycles_at(memory, "busy_cycles");
   m_bytes_per_cycle = cycles_at(memory, "bytes_per_cycle");
   for (const auto& item : object_at(memory, "clients").items()) {
@@ -191,10 +189,7 @@ StatsSummary::StatsSummary(const nlohmann::json& stats, const std::string& path)
   }
 
   m_bottleneck = find_bottleneck(m_manifest, m_stages, m_manifest.cycles, m_memory_utilization);
-  const auto units = timing.find("units");
-  m_units =
-      unit_loads(m_manifest, m_stages,
-                 units != timing.end() && units->is_array() ? *units : nlohmann::json::array());
+  m_units = unit_loads(m_manifest, m_stages, timing);
 }
 
 std::string StatsSummary::text() const {

@@ -47,13 +47,8 @@ TraceSummary::TraceSummary(const TraceReader& reader)
   const nlohmann::json stats = reader.stats();
   read_stats(stats);
   const nlohmann::json timing = stats.value("timing", nlohmann::json::object());
-  std::optional<double> memory_utilization;
-  if (timing.contains("memory") && timing["memory"].is_object() &&
-      timing["memory"].contains("utilization") && timing["memory"]["utilization"].is_number()) {
-    memory_utilization = timing["memory"]["utilization"].get<double>();
-  }
-  m_bottleneck = find_bottleneck(m_manifest, m_stages, m_end - m_start, memory_utilization);
-  m_units = unit_loads(m_manifest, m_stages, timing.value("units", nlohmann::json::array()));
+  m_bottleneck = find_bottleneck(m_manifest, m_stages, m_end - m_start, memory_utilization(timing));
+  m_units = unit_loads(m_manifest, m_stages, timing);
 }
 
 double TraceSummary::share(uint64_t cycles) const {

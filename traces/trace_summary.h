@@ -6,7 +6,9 @@
 // the busiest unit, with the stages it stalls upstream and starves
 // downstream, and whether the memory bus is what makes it busy; each FIFO's
 // time-weighted occupancy histogram; and each raster unit's share of the
-// work. text() is for people, json() for scripts.
+// work. text() is for people, json() for scripts. The bottleneck analysis
+// and the tables it shares with `gpusim stats summary` are in
+// traces/bottleneck.h.
 #pragma once
 
 #include <cstdint>
