@@ -366,12 +366,14 @@ TEST_F(Cli, CommandLineMistakesNameTheWordAtFault) {
     EXPECT_EQ(r.out, "gpusim: " + want + "\n") << args;
   };
   expect_message("render scene.json",
-                 "unknown command 'render'; commands: golden, run, info, compare, trace; see "
-                 "gpusim --help");
+                 "unknown command 'render'; commands: golden, run, info, compare, trace, stats; "
+                 "see gpusim --help");
   expect_message("rn scene.json",
                  "unknown command 'rn' (did you mean run?); commands: golden, run, info, "
-                 "compare, trace; see gpusim --help");
-  expect_message("", "a command is required: golden, run, info, compare, trace; see gpusim --help");
+                 "compare, trace, stats; see gpusim --help");
+  expect_message("",
+                 "a command is required: golden, run, info, compare, trace, stats; see gpusim "
+                 "--help");
   expect_message("run " + scene + " --tile-size 32",
                  "run: unknown option --tile-size (tile_size is a GPU configuration key: set it in "
                  "the --config file, docs/gpu-config.md); see gpusim run --help");
@@ -383,6 +385,9 @@ TEST_F(Cli, CommandLineMistakesNameTheWordAtFault) {
   expect_message("trace sumary dir",
                  "trace: unknown command 'sumary' (did you mean summary?); commands: summary, "
                  "follow; see gpusim trace --help");
+  expect_message("stats sumary stats.json",
+                 "stats: unknown command 'sumary' (did you mean summary?); commands: summary, "
+                 "diff; see gpusim stats --help");
   expect_message("trace follow dir --prm 3",
                  "trace follow: unknown option --prm (did you mean --prim?); see gpusim trace "
                  "follow --help");
