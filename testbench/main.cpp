@@ -32,6 +32,7 @@
 #include "testbench/sim/gpu_run.h"
 #include "testbench/sim/memory_budget.h"
 #include "testbench/sim/progress.h"
+#include "traces/stats_summary.h"
 #include "traces/trace_follow.h"
 #include "traces/trace_reader.h"
 #include "traces/trace_summary.h"
@@ -663,6 +664,27 @@ int run_trace_follow(const TraceArgs& args, bool by_prim) {
   return 0;
 }
 
+// `gpusim stats summary STATS.json [--json]` and `gpusim stats diff A B
+// [--json]` (docs/stats.md): read what `run --out DIR` wrote in DIR/stats.json.
+struct StatsArgs {
+  std::string a, b;
+  bool json = false;
+};
+
+int run_stats_summary(const StatsArgs& args) {
+  const StatsSummary summary(read_stats_file(args.a, true), args.a);
+  std::cout << (args.json ? summary.json().dump(2) + "\n" : summary.text());
+  return 0;
+}
+
+int run_stats_diff(const StatsArgs& args) {
+  const nlohmann::json a = read_stats_file(args.a, false);
+  const nlohmann::json b = read_stats_file(args.b, false);
+  const StatsDiff diff(a, args.a, b, args.b);
+  std::cout << (args.json ? diff.json().dump(2) + "\n" : diff.text());
+  return 0;
+}
+
 // ---------------------------------------------------------------- messages
 
 // Levenshtein distance, for "did you mean" suggestions.
@@ -919,6 +941,21 @@ int main_with_errors(int argc, char** argv) {
       "X,Y (window coordinates, origin lower left): every fragment that touched the pixel");
   prim_option->excludes(pixel_option);
 
+  StatsArgs stats_args;
+  CLI::App* stats = app.add_subcommand("stats", "Read a run's stats.json without a trace");
+  stats->require_subcommand(1);
+  CLI::App* stats_summary = stats->add_subcommand(
+      "summary",
+      "Per-stage utilization, the bottleneck, rates, memory and unit load balance of a stats.json");
+  stats_summary->add_option("stats", stats_args.a, "stats.json of gpusim run --out DIR")
+      ->required();
+  stats_summary->add_flag("--json", stats_args.json, "Print JSON instead of text");
+  CLI::App* stats_diff = stats->add_subcommand(
+      "diff", "Every number that differs between two stats.json, largest relative change first");
+  stats_diff->add_option("a", stats_args.a, "First stats.json")->required();
+  stats_diff->add_option("b", stats_args.b, "Second stats.json")->required();
+  stats_diff->add_flag("--json", stats_args.json, "Print JSON instead of text");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -938,6 +975,8 @@ int main_with_errors(int argc, char** argv) {
   if (info->parsed()) return run_info(info_scene);
   if (compare->parsed()) return run_compare(cmp);
   if (trace_summary->parsed()) return run_trace_summary(trace_args);
+  if (stats_summary->parsed()) return run_stats_summary(stats_args);
+  if (stats_diff->parsed()) return run_stats_diff(stats_args);
   if (trace_follow->parsed()) {
     if (prim_option->count() == 0 && pixel_option->count() == 0) {
       throw InputError("trace follow: give --prim N or --pixel X,Y");

@@ -366,12 +366,14 @@ TEST_F(Cli, CommandLineMistakesNameTheWordAtFault) {
     EXPECT_EQ(r.out, "gpusim: " + want + "\n") << args;
   };
   expect_message("render scene.json",
-                 "unknown command 'render'; commands: golden, run, info, compare, trace; see "
-                 "gpusim --help");
+                 "unknown command 'render'; commands: golden, run, info, compare, trace, stats; "
+                 "see gpusim --help");
   expect_message("rn scene.json",
                  "unknown command 'rn' (did you mean run?); commands: golden, run, info, "
-                 "compare, trace; see gpusim --help");
-  expect_message("", "a command is required: golden, run, info, compare, trace; see gpusim --help");
+                 "compare, trace, stats; see gpusim --help");
+  expect_message("",
+                 "a command is required: golden, run, info, compare, trace, stats; see gpusim "
+                 "--help");
   expect_message("run " + scene + " --tile-size 32",
                  "run: unknown option --tile-size (tile_size is a GPU configuration key: set it in "
                  "the --config file, docs/gpu-config.md); see gpusim run --help");
@@ -383,6 +385,9 @@ TEST_F(Cli, CommandLineMistakesNameTheWordAtFault) {
   expect_message("trace sumary dir",
                  "trace: unknown command 'sumary' (did you mean summary?); commands: summary, "
                  "follow; see gpusim trace --help");
+  expect_message("stats sumary stats.json",
+                 "stats: unknown command 'sumary' (did you mean summary?); commands: summary, "
+                 "diff; see gpusim stats --help");
   expect_message("trace follow dir --prm 3",
                  "trace follow: unknown option --prm (did you mean --prim?); see gpusim trace "
                  "follow --help");
@@ -747,6 +752,137 @@ TEST_F(Cli, ProgressQuietAndTheirConflict) {
   EXPECT_EQ(quiet.status, 0) << quiet.out;
   EXPECT_EQ(quiet.out.find('\r' + std::string("load")), std::string::npos) << quiet.out;
   EXPECT_EQ(quiet.out.rfind("run: ", 0), 0u) << quiet.out;
+}
+
+nlohmann::json read_json(const fs::path& p) {
+  return nlohmann::json::parse(slurp(p));
+}
+
+// `stats summary` and `stats diff` on the default scene at 1 and 4 units:
+// the figures recomputed here from stats.json, the bottleneck the trace
+// summary names for the same run, the documented JSON keys.
+TEST_F(Cli, StatsSummaryAndDiffReadRunsStatsJson) {
+  const std::string scene = kScenes + "/default.json";
+  const fs::path one = dir_ / "one", four = dir_ / "four", trace = dir_ / "trace";
+  ASSERT_EQ(run("run " + scene + " --units 1 --quiet --out " + one.string()).status, 0);
+  ASSERT_EQ(run("run " + scene + " --units 4 --quiet --out " + four.string() + " --trace " +
+                trace.string())
+                .status,
+            0);
+  const nlohmann::json traced =
+      nlohmann::json::parse(run("trace summary " + trace.string() + " --json").out);
+
+  for (const fs::path& out : {one, four}) {
+    const std::string stats_path = (out / "stats.json").string();
+    const nlohmann::json stats = read_json(out / "stats.json");
+    const nlohmann::json& timing = stats["timing"];
+    const double cycles = timing["cycles"].get<double>();
+    const CommandResult r = run("stats summary " + stats_path + " --json");
+    ASSERT_EQ(r.status, 0) << r.out;
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    // The keys docs/stats.md promises.
+    for (const char* key : {"cycles", "simulated_seconds", "units", "clock_mhz", "stages",
+                            "bottleneck", "bound", "rates", "memory", "load_balance"}) {
+      EXPECT_TRUE(j.contains(key)) << key;
+    }
+    EXPECT_EQ(j["cycles"], timing["cycles"]);
+    EXPECT_NEAR(j["simulated_seconds"].get<double>(), cycles / 1e9, 1e-15);  // 1000 MHz
+    ASSERT_EQ(j["stages"].size(), timing["stages"].size());
+    std::string busiest;
+    double most = -1.0;
+    for (const nlohmann::json& st : j["stages"]) {
+      const nlohmann::json& c = timing["stages"][st["name"].get<std::string>()];
+      const double busy = c["busy_cycles"].get<double>();
+      EXPECT_DOUBLE_EQ(st["busy"].get<double>(), busy / cycles);
+      EXPECT_DOUBLE_EQ(st["stalled"].get<double>(), c["stalled_cycles"].get<double>() / cycles);
+      EXPECT_DOUBLE_EQ(st["starved"].get<double>(), c["starved_cycles"].get<double>() / cycles);
+      if (busy > most) most = busy, busiest = st["name"];
+    }
+    EXPECT_EQ(j["bottleneck"]["busiest"], busiest);
+    const nlohmann::json& rates = timing["rates"];
+    EXPECT_DOUBLE_EQ(j["rates"]["raster_pixels_per_clock"]["achieved"].get<double>(),
+                     stats["stats"]["fragments_generated"].get<double>() / cycles);
+    EXPECT_DOUBLE_EQ(j["rates"]["raster_pixels_per_clock"]["peak"].get<double>(),
+                     rates["raster_pixels_per_clock_peak"].get<double>());
+    EXPECT_DOUBLE_EQ(j["rates"]["setup_triangles_per_clock"]["peak"].get<double>(),
+                     rates["setup_triangles_per_clock_peak"].get<double>());
+    EXPECT_NEAR(j["memory"]["utilization"].get<double>(),
+                timing["memory"]["busy_cycles"].get<double>() / cycles, 1e-12);
+    EXPECT_EQ(j["load_balance"].size(), stats["config"]["units"].get<size_t>());
+    const std::string bound = j["bound"];
+    EXPECT_TRUE(bound == "memory" || bound == j["bottleneck"]["kind"]) << bound;
+    if (out == four) {
+      EXPECT_EQ(j["bottleneck"]["kind"], traced["bottleneck"]["kind"]);
+      EXPECT_EQ(j["bottleneck"]["busiest"], traced["bottleneck"]["busiest"]);
+      EXPECT_EQ(j["bound"], traced["bottleneck"]["bound"]);
+    }
+    const CommandResult text = run("stats summary " + stats_path);
+    EXPECT_EQ(text.status, 0);
+    EXPECT_NE(text.out.find("Bottleneck: " + j["bottleneck"]["kind"].get<std::string>()),
+              std::string::npos)
+        << text.out;
+  }
+
+  // Diff: timing.cycles with its change, identical counters left out.
+  const nlohmann::json a = read_json(one / "stats.json"), b = read_json(four / "stats.json");
+  const CommandResult d = run("stats diff " + (one / "stats.json").string() + " " +
+                              (four / "stats.json").string() + " --json");
+  ASSERT_EQ(d.status, 0) << d.out;
+  const nlohmann::json diff = nlohmann::json::parse(d.out);
+  const double ca = a["timing"]["cycles"].get<double>(), cb = b["timing"]["cycles"].get<double>();
+  bool cycles_listed = false;
+  for (const nlohmann::json& e : diff["differences"]) {
+    EXPECT_NE(e["key"], "stats.triangles_in");  // the same scene: the same counters
+    EXPECT_NE(e["key"], "config.clock_mhz");
+    if (e["key"] == "timing.cycles") {
+      cycles_listed = true;
+      EXPECT_DOUBLE_EQ(e["a"].get<double>(), ca);
+      EXPECT_DOUBLE_EQ(e["b"].get<double>(), cb);
+      EXPECT_DOUBLE_EQ(e["relative"].get<double>(), (cb - ca) / ca);
+    }
+    if (e["key"] == "timing.stages.rop_3.busy_cycles") EXPECT_EQ(e["missing"], "a");
+  }
+  EXPECT_TRUE(cycles_listed) << d.out;
+  const CommandResult dt =
+      run("stats diff " + (one / "stats.json").string() + " " + (four / "stats.json").string());
+  char change[64];
+  std::snprintf(change, sizeof change, "%+.2f%%", 100.0 * (cb - ca) / ca);
+  EXPECT_TRUE(std::regex_search(
+      dt.out,
+      std::regex("\n  timing\\.cycles +" + std::to_string(static_cast<long long>(ca)) + " +" +
+                 std::to_string(static_cast<long long>(cb)) + " +[-+][0-9]+ +\\" + change + "\n")))
+      << dt.out;
+  const CommandResult same =
+      run("stats diff " + (one / "stats.json").string() + " " + (one / "stats.json").string());
+  EXPECT_EQ(same.status, 0);
+  EXPECT_NE(same.out.find(": identical (all "), std::string::npos) << same.out;
+}
+
+TEST_F(Cli, StatsBadInputIsOneLineAndExitTwo) {
+  const fs::path golden = dir_ / "golden";
+  ASSERT_EQ(run("golden " + kScenes + "/default.json --quiet --out " + golden.string()).status, 0);
+  std::ofstream(dir_ / "bad.json") << "{\"stats\": ";
+  std::ofstream(dir_ / "other.json") << "{\"frames\": 3}";
+  const std::string g = (golden / "stats.json").string();
+  const std::pair<std::string, std::string> cases[] = {
+      {"stats summary " + (dir_ / "none.json").string(), "none.json: cannot open"},
+      {"stats summary " + (dir_ / "bad.json").string(), "bad.json: not valid JSON"},
+      {"stats summary " + (dir_ / "other.json").string(), "other.json: not a gpusim stats.json"},
+      {"stats summary " + golden.string(), "is a directory"},
+      {"stats summary " + g, "the golden model's stats.json has no cycles"},
+      {"stats diff " + g + " " + (dir_ / "other.json").string(),
+       "other.json: not a gpusim stats.json"},
+      {"stats diff " + g, "b is required"},
+  };
+  for (const auto& [args, message] : cases) {
+    const CommandResult r = run(args);
+    EXPECT_EQ(r.status, 2) << args << "\n" << r.out;
+    EXPECT_NE(r.out.find(message), std::string::npos) << args << "\n" << r.out;
+    EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << args << "\n" << r.out;
+  }
+  // Two golden stats.json (no timing) compare their counters.
+  const CommandResult r = run("stats diff " + g + " " + g);
+  EXPECT_EQ(r.status, 0) << r.out;
 }
 
 }  // namespace
