@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <regex>
 #include <sstream>
 #include <stdexcept>
@@ -27,13 +28,22 @@ bool is_power_of_two(uint64_t v) {
   return v != 0 && (v & (v - 1)) == 0;
 }
 
+// A validation error, with the JSON path at fault and the problem apart so
+// that gpu_config_with_overrides can name the override responsible.
+class ConfigError : public InputError {
+ public:
+  ConfigError(const std::string& source, const std::string& path, const std::string& problem)
+      : InputError(source + ": " + path + ": " + problem), path(path), problem(problem) {}
+  std::string path, problem;
+};
+
 // Walks one JSON document, carrying the source name for error messages.
 class Reader {
  public:
   explicit Reader(const std::string& source) : m_source(source) {}
 
   [[noreturn]] void fail(const std::string& path, const std::string& problem) const {
-    throw InputError(m_source + ": " + (path.empty() ? "(root)" : path) + ": " + problem);
+    throw ConfigError(m_source, path.empty() ? "(root)" : path, problem);
   }
 
   static std::string join(const std::string& path, const std::string& key) {
@@ -280,28 +290,35 @@ GpuConfig gpu_config_from_json(const nlohmann::json& j, const std::string& sourc
   return c;
 }
 
-GpuConfig load_gpu_config(const std::string& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) {
-    throw InputError(path + ": is a directory, not a configuration file");
-  }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open file");
+nlohmann::json load_gpu_config_json(const std::string& path) {
+  // "-": standard input, named so in messages.
+  const bool from_stdin = path == "-";
+  const std::string name = from_stdin ? "standard input" : path;
   std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw InputError(path + ": read error");
+  if (from_stdin) {
+    text << std::cin.rdbuf();
+    if (std::cin.bad()) throw InputError(name + ": read error");
+  } else {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) {
+      throw InputError(path + ": is a directory, not a configuration file");
+    }
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(path + ": cannot open file");
+    text << in.rdbuf();
+    if (in.bad()) throw InputError(path + ": read error");
+  }
   const std::string& t = text.str();
   if (t.size() >= 2 && ((t[0] == '\xFE' && t[1] == '\xFF') || (t[0] == '\xFF' && t[1] == '\xFE'))) {
-    throw InputError(path + ": is UTF-16 encoded; configuration files are UTF-8 JSON");
+    throw InputError(name + ": is UTF-16 encoded; configuration files are UTF-8 JSON");
   }
   const size_t nul = t.find('\0');
   if (nul != std::string::npos) {
-    throw InputError(path + ": byte " + std::to_string(nul) + " is NUL: not a JSON text file");
+    throw InputError(name + ": byte " + std::to_string(nul) + " is NUL: not a JSON text file");
   }
-  nlohmann::json j;
   try {
-    j = nlohmann::json::parse(text.str(), nullptr, /*allow_exceptions=*/true,
-                              /*ignore_comments=*/true);
+    return nlohmann::json::parse(t, nullptr, /*allow_exceptions=*/true,
+                                 /*ignore_comments=*/true);
   } catch (const nlohmann::json::parse_error& e) {
     // nlohmann's message reads "[json.exception.parse_error.101] parse error at
     // line L, column C: <message>"; keep the position and the message.
@@ -309,12 +326,89 @@ GpuConfig load_gpu_config(const std::string& path) {
     std::smatch m;
     const std::string what = e.what();
     if (std::regex_search(what, m, pattern)) {
-      throw InputError(path + ": line " + m[1].str() + ", column " + m[2].str() + ": " +
+      throw InputError(name + ": line " + m[1].str() + ", column " + m[2].str() + ": " +
                        m[3].str());
     }
-    throw InputError(path + ": byte " + std::to_string(e.byte) + ": " + what);
+    throw InputError(name + ": byte " + std::to_string(e.byte) + ": " + what);
   }
-  return gpu_config_from_json(j, path);
+}
+
+GpuConfig load_gpu_config(const std::string& path) {
+  return gpu_config_from_json(load_gpu_config_json(path), path == "-" ? "standard input" : path);
+}
+
+namespace {
+
+// KEY=VALUE's key split at the dots; empty when malformed.
+std::vector<std::string> override_key(const std::string& key) {
+  std::vector<std::string> parts;
+  size_t start = 0;
+  for (;;) {
+    const size_t dot = key.find('.', start);
+    parts.push_back(key.substr(start, dot == std::string::npos ? std::string::npos : dot - start));
+    if (parts.back().empty()) return {};
+    if (dot == std::string::npos) return parts;
+    start = dot + 1;
+  }
+}
+
+// Whether an error at JSON path `error` (stages.clipper.ii, stamp[0]) is
+// about the value set at dotted key `key`: the same, inside it, or one of
+// the objects on its way.
+bool override_concerns(const std::string& key, const std::string& error) {
+  const auto starts = [](const std::string& s, const std::string& prefix) {
+    return s.compare(0, prefix.size(), prefix) == 0;
+  };
+  return error == key || starts(error, key + ".") || starts(error, key + "[") ||
+         starts(key, error + ".");
+}
+
+}  // namespace
+
+void apply_config_override(nlohmann::json& j, const std::string& assignment,
+                           const std::string& source) {
+  const size_t eq = assignment.find('=');
+  if (eq == std::string::npos) {
+    throw InputError(source + ": expected KEY=VALUE, e.g. stages.triangle_setup.ii=2");
+  }
+  const std::string key = assignment.substr(0, eq);
+  const std::string text = assignment.substr(eq + 1);
+  const std::vector<std::string> parts = override_key(key);
+  if (parts.empty()) {
+    throw InputError(source + ": expected KEY=VALUE with KEY a dotted configuration key, e.g. " +
+                     "stages.triangle_setup.ii=2");
+  }
+  nlohmann::json value = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
+  if (value.is_discarded()) value = text;  // not JSON: a string
+  nlohmann::json* at = &j;
+  for (size_t i = 0; i + 1 < parts.size(); ++i) {
+    if (!at->is_object()) *at = nlohmann::json::object();
+    at = &(*at)[parts[i]];
+  }
+  if (!at->is_object()) *at = nlohmann::json::object();
+  (*at)[parts.back()] = std::move(value);
+}
+
+GpuConfig gpu_config_with_overrides(nlohmann::json base,
+                                    const std::vector<ConfigOverride>& overrides) {
+  if (!base.is_object()) base = nlohmann::json::object();
+  for (const ConfigOverride& o : overrides) {
+    apply_config_override(base, o.assignment, o.source);
+  }
+  try {
+    return gpu_config_from_json(base, "overrides");
+  } catch (const ConfigError& e) {
+    std::string source;
+    for (const ConfigOverride& o : overrides) {
+      if (override_concerns(o.assignment.substr(0, o.assignment.find('=')), e.path)) {
+        source = o.source;
+      }
+    }
+    if (source.empty()) {
+      for (const ConfigOverride& o : overrides) source += (source.empty() ? "" : " ") + o.source;
+    }
+    throw InputError(source + ": " + e.path + ": " + e.problem);
+  }
 }
 
 nlohmann::json to_json(const GpuConfig& c) {

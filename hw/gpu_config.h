@@ -102,7 +102,36 @@ GpuConfig gpu_config_from_json(const nlohmann::json& j, const std::string& sourc
 
 // Reads and validates a file. Malformed JSON throws InputError
 // "<path>: line L, column C: <message>". Comments (// and /* */) are allowed.
+// The path "-" reads standard input, named "standard input" in messages.
 GpuConfig load_gpu_config(const std::string& path);
+
+// The parsed JSON of a configuration file (the same reading and errors as
+// load_gpu_config, without the validation).
+nlohmann::json load_gpu_config_json(const std::string& path);
+
+// One command-line override, `KEY=VALUE` (gpusim run --set): KEY is a dotted
+// path into the configuration object (stages.triangle_setup.ii), VALUE is
+// JSON when it parses as JSON, else a string. Sets the value in `j`, creating
+// the objects on the way (an intermediate value that is not an object is
+// replaced by one; validation then reports it). A malformed assignment (no
+// '=', an empty key or key segment) throws InputError "<source>: <problem>".
+void apply_config_override(nlohmann::json& j, const std::string& assignment,
+                           const std::string& source);
+
+// The file's JSON (`base`, already valid) with each override applied in
+// order, validated: an invalid result throws InputError
+// "<source>: <json path>: <problem>" where <source> is the override whose
+// key is the JSON path at fault or holds it ("--set stages.clipper.ii=0"),
+// the last of them when several are, else every override given ("--set a=1
+// --set b=2", as together they made the configuration invalid). Each
+// override is "--set KEY=VALUE" or any other source name paired with its
+// assignment (the --units shorthand is {"--units 2", "units=2"}).
+struct ConfigOverride {
+  std::string source;      // "--set units=2", "--units 2"
+  std::string assignment;  // "units=2"
+};
+GpuConfig gpu_config_with_overrides(nlohmann::json base,
+                                    const std::vector<ConfigOverride>& overrides);
 
 // Every value resolved: all stages and the depth of every FIFO.
 nlohmann::json to_json(const GpuConfig& c);

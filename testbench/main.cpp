@@ -33,6 +33,7 @@
 #include "testbench/sim/memory_budget.h"
 #include "testbench/sim/progress.h"
 #include "traces/stats_summary.h"
+#include "traces/trace_filter.h"
 #include "traces/trace_follow.h"
 #include "traces/trace_reader.h"
 #include "traces/trace_summary.h"
@@ -81,6 +82,12 @@ std::string printable(const std::string& s) {
       ++i;
     }
   }
+  return out;
+}
+
+std::string join(const std::vector<std::string>& words, const std::string& sep) {
+  std::string out;
+  for (const std::string& w : words) out += (out.empty() ? "" : sep) + w;
   return out;
 }
 
@@ -306,15 +313,36 @@ int run_golden(const std::string& scene_path, const std::string& out_dir, uint64
 
 struct RunArgs {
   std::string scene;
-  std::string config;
+  std::string config;             // --config FILE ("-": standard input)
+  std::vector<std::string> sets;  // --set KEY=VALUE, in the order given
   unsigned units = 0;
-  bool units_given = false;  // --units overrides the configuration's
+  bool units_given = false;  // --units N: --set units=N after every --set
   std::string out_dir = "out";
   bool check = false;
   uint64_t memory_mib = 0;  // 0: the machine's
   // --trace DIR and its filters (docs/traces.md); empty: not traced.
   std::string trace_dir, trace_stages, trace_window, trace_prims;
+  std::string trace_formats;  // --trace-formats; empty: every format
 };
+
+// The GPU configuration of `run`: the --config file (or the defaults), then
+// each --set in order, then --units, validated as a file is; an error names
+// the file or the option at fault (docs/gpu-config.md).
+GpuConfig resolve_config(const RunArgs& args) {
+  nlohmann::json base = nlohmann::json::object();
+  GpuConfig config;
+  if (!args.config.empty()) {
+    base = load_gpu_config_json(args.config);
+    config = gpu_config_from_json(base, args.config == "-" ? "standard input" : args.config);
+  }
+  std::vector<ConfigOverride> overrides;
+  for (const std::string& s : args.sets) overrides.push_back({"--set " + s, s});
+  if (args.units_given) {
+    const std::string n = std::to_string(args.units);
+    overrides.push_back({"--units " + n, "units=" + n});
+  }
+  return overrides.empty() ? config : gpu_config_with_overrides(base, overrides);
+}
 
 std::string pixel_text(const Framebuffer& fb, int x, int y) {
   const ColorChannel* c = fb.color_at(x, y);
@@ -372,12 +400,8 @@ int run_cycle_model(const RunArgs& args, const ProgressArgs& progress_args) {
   Progress progress = make_progress(progress_args);
   const Scene scene = load_scene_shown(args.scene, progress);
   note_auto_camera(scene);
-  GpuConfig config = args.config.empty() ? GpuConfig{} : load_gpu_config(args.config);
-  if (args.units_given) {
-    nlohmann::json j = to_json(config);
-    j["units"] = args.units;
-    config = gpu_config_from_json(j, "--units");
-  }
+  const GpuConfig config = resolve_config(args);
+  const TraceFormats trace_formats = TraceFormats::parse(args.trace_formats);
   check_scene_limits(scene);
   check_memory(estimate_cycle_memory(scene, config, args.check), memory_limit(args.memory_mib),
                args.scene);
@@ -393,6 +417,7 @@ int run_cycle_model(const RunArgs& args, const ProgressArgs& progress_args) {
   options.trace_stages = args.trace_stages;
   options.trace_window = args.trace_window;
   options.trace_prims = args.trace_prims;
+  options.trace_formats = args.trace_formats;
   GpuRunResult result;
   try {
     result = run_gpu(scene, config, options);
@@ -436,10 +461,9 @@ int run_cycle_model(const RunArgs& args, const ProgressArgs& progress_args) {
   std::printf("  frame: %s/frame.exr, %s/frame.png, %s/stats.json\n", args.out_dir.c_str(),
               args.out_dir.c_str(), args.out_dir.c_str());
   if (!args.trace_dir.empty()) {
-    std::printf(
-        "  trace: %s (manifest.json, signals.vcd, signals.gtkw, timeline.json, transactions.bin, "
-        "fragments.bin)\n",
-        args.trace_dir.c_str());
+    std::vector<std::string> files = trace_formats.files();
+    files.insert(files.begin(), "manifest.json");
+    std::printf("  trace: %s (%s)\n", args.trace_dir.c_str(), join(files, ", ").c_str());
   }
   std::printf("  wall: %s\n", progress.wall_summary().c_str());
   std::fflush(stdout);
@@ -731,12 +755,6 @@ std::string command_path(const CLI::App* app) {
   return path;
 }
 
-std::string join(const std::vector<std::string>& words, const std::string& sep) {
-  std::string out;
-  for (const std::string& w : words) out += (out.empty() ? "" : sep) + w;
-  return out;
-}
-
 // One line for a command-line error CLI11 reported, naming the word at fault,
 // in the order it was typed, and the help to read.
 std::string parse_error_message(const CLI::App& app, const CLI::ParseError& e, int argc,
@@ -776,9 +794,8 @@ std::string parse_error_message(const CLI::App& app, const CLI::ParseError& e, i
         std::string key = name.substr(name.find_first_not_of('-'));
         std::replace(key.begin(), key.end(), '-', '_');
         if (path == "run" && to_json(GpuConfig{}).contains(key)) {
-          hint = " (" + key +
-                 " is a GPU configuration key: set it in the --config file, "
-                 "docs/gpu-config.md)";
+          hint = " (" + key + " is a GPU configuration key: --set " + key +
+                 "=VALUE, or in the --config file; docs/gpu-config.md)";
         }
         return prefix + "unknown option " + name + hint + "; " + help;
       }
@@ -827,9 +844,18 @@ int main_with_errors(int argc, char** argv) {
   RunArgs run;
   CLI::App* run_cmd = app.add_subcommand("run", "Simulate the cycle-modeled GPU on a scene");
   run_cmd->add_option("scene", run.scene, "Scene file (JSON, docs/scene-format.md)")->required();
-  run_cmd->add_option("--config", run.config, "GPU configuration (JSON, docs/gpu-config.md)");
+  run_cmd->add_option("--config", run.config,
+                      "GPU configuration (JSON, docs/gpu-config.md); - reads standard input");
+  run_cmd
+      ->add_option("--set", run.sets,
+                   "Set one configuration key by its dotted path, after --config: KEY=VALUE, "
+                   "VALUE JSON or else a string (stages.triangle_setup.ii=2, stamp=[8,8]); "
+                   "repeatable, in order")
+      ->allow_extra_args(false)
+      ->take_all()
+      ->expected(1);
   CLI::Option* units_option = run_cmd->add_option(
-      "--units", run.units, "Tile rasterizer units (overrides the configuration)");
+      "--units", run.units, "Tile rasterizer units: --set units=N, applied after every --set");
   run_cmd->add_option("--out", run.out_dir, "Output directory for frame.exr, frame.png, stats.json")
       ->capture_default_str();
   run_cmd->add_flag(
@@ -853,6 +879,11 @@ int main_with_errors(int argc, char** argv) {
   run_cmd
       ->add_option("--trace-prims", run.trace_prims,
                    "Trace only items and fragments of primitives A to B (inclusive): A:B")
+      ->needs(trace_option);
+  run_cmd
+      ->add_option("--trace-formats", run.trace_formats,
+                   "Write only these trace files: comma-separated of vcd (signals.vcd and "
+                   "signals.gtkw), timeline, transactions, fragments (default: all)")
       ->needs(trace_option);
 
   std::string info_scene;

@@ -1,7 +1,9 @@
 // An output file written through a large buffer: the trace writers stream
 // millions of small records, so each write is a copy into memory and the
 // file sees one fwrite per megabyte. Memory stays bounded however long the
-// run. Errors throw InputError "<path>: cannot write: <reason>".
+// run. Errors throw InputError "<path>: cannot write: <reason>". An empty
+// path opens no file and discards what is written (a trace format not
+// chosen with --trace-formats).
 #pragma once
 
 #include <algorithm>

@@ -21,6 +21,53 @@ bool parse_number(const std::string& s, uint64_t& v) {
 
 }  // namespace
 
+const std::vector<std::string>& TraceFormats::all() {
+  static const std::vector<std::string> names{"vcd", "timeline", "transactions", "fragments"};
+  return names;
+}
+
+TraceFormats TraceFormats::parse(const std::string& list) {
+  if (list.empty()) return TraceFormats{};
+  TraceFormats f;
+  f.vcd = f.timeline = f.transactions = f.fragments = false;
+  for (size_t a = 0, b; a <= list.size(); a = b + 1) {
+    b = list.find(',', a);
+    if (b == std::string::npos) b = list.size();
+    const std::string name = list.substr(a, b - a);
+    bool* chosen = name == "vcd"            ? &f.vcd
+                   : name == "timeline"     ? &f.timeline
+                   : name == "transactions" ? &f.transactions
+                   : name == "fragments"    ? &f.fragments
+                                            : nullptr;
+    if (chosen == nullptr) {
+      throw InputError(
+          "--trace-formats " + list + ": " +
+          (name.empty() ? std::string("empty format name") : "unknown format '" + name + "'") +
+          " (allowed: vcd, timeline, transactions, fragments)");
+    }
+    *chosen = true;
+  }
+  return f;
+}
+
+std::vector<std::string> TraceFormats::names() const {
+  std::vector<std::string> n;
+  if (vcd) n.push_back("vcd");
+  if (timeline) n.push_back("timeline");
+  if (transactions) n.push_back("transactions");
+  if (fragments) n.push_back("fragments");
+  return n;
+}
+
+std::vector<std::string> TraceFormats::files() const {
+  std::vector<std::string> n;
+  if (vcd) n.insert(n.end(), {"signals.vcd", "signals.gtkw"});
+  if (timeline) n.push_back("timeline.json");
+  if (transactions) n.push_back("transactions.bin");
+  if (fragments) n.push_back("fragments.bin");
+  return n;
+}
+
 TraceFilter TraceFilter::parse(const std::string& stages, const std::string& window,
                                const std::string& prims) {
   TraceFilter f;

@@ -1,6 +1,7 @@
-// The --trace-stages, --trace-window and --trace-prims filters
-// (docs/traces.md, "Options"): parsed before the run, so bad syntax fails
-// before anything is simulated or written, and applied to every record.
+// The --trace-stages, --trace-window and --trace-prims filters and the
+// --trace-formats choice (docs/traces.md, "Options"): parsed before the run,
+// so bad syntax fails before anything is simulated or written; the filters
+// are applied to every record.
 #pragma once
 
 #include <cstdint>
@@ -12,6 +13,26 @@
 #include "hw/trace_probe.h"
 
 namespace gpusim {
+
+// Which of a trace's files are written (--trace-formats): manifest.json,
+// frame.exr and stats.json always are.
+struct TraceFormats {
+  bool vcd = true;           // signals.vcd and signals.gtkw
+  bool timeline = true;      // timeline.json
+  bool transactions = true;  // transactions.bin
+  bool fragments = true;     // fragments.bin
+
+  // The format names, in this order.
+  static const std::vector<std::string>& all();
+  // "vcd,timeline": comma-separated names of all(); empty: every format.
+  // Throws InputError with one line naming the option on an unknown or
+  // empty name.
+  static TraceFormats parse(const std::string& list);
+  // The names chosen, in the order of all().
+  std::vector<std::string> names() const;
+  // The files they write, in the order of all() ("signals.vcd", "signals.gtkw", ...).
+  std::vector<std::string> files() const;
+};
 
 class TraceFilter {
  public:

@@ -123,6 +123,20 @@ TraceManifest parse_manifest(const std::string& file) {
                           std::to_string(kManifestVersion) + ")");
   }
   m.scene = p.string(p.field(j, "", "scene"), "scene");
+  // Optional: traces written before --trace-formats have every format.
+  if (j.is_object() && j.contains("formats")) {
+    const nlohmann::json& formats = p.array(j, "", "formats");
+    for (size_t i = 0; i < formats.size(); ++i) {
+      const std::string where = "formats[" + std::to_string(i) + "]";
+      const std::string f = p.string(formats[i], where);
+      if (f != "vcd" && f != "timeline" && f != "transactions" && f != "fragments") {
+        p.fail(where, "\"" + f + "\" is not vcd, timeline, transactions or fragments");
+      }
+      m.formats.push_back(f);
+    }
+  } else {
+    m.formats = {"vcd", "timeline", "transactions", "fragments"};
+  }
   m.config = p.field(j, "", "config");
   m.clock_mhz = p.number(p.field(j, "", "clock_mhz"), "clock_mhz");
   m.cycle_ps = p.unsigned_int(p.field(j, "", "cycle_ps"), "cycle_ps");
@@ -417,9 +431,28 @@ TraceReader::TraceReader(const std::string& dir) : m_dir(dir) {
   while (m_dir.size() > 1 && m_dir.back() == '/') m_dir.pop_back();
   check_trace_directory(m_dir);
   m_manifest = parse_manifest(path("manifest.json"));
-  check_record_file(path("transactions.bin"), "GPUSIMTX", kTransactionBytes,
-                    m_manifest.transaction_records);
-  check_record_file(path("fragments.bin"), "GPUSIMFR", kFragmentBytes, m_manifest.fragment_records);
+  if (m_manifest.recorded("transactions")) {
+    check_record_file(path("transactions.bin"), "GPUSIMTX", kTransactionBytes,
+                      m_manifest.transaction_records);
+  }
+  if (m_manifest.recorded("fragments")) {
+    check_record_file(path("fragments.bin"), "GPUSIMFR", kFragmentBytes,
+                      m_manifest.fragment_records);
+  }
+}
+
+bool TraceManifest::recorded(const std::string& format) const {
+  return std::find(formats.begin(), formats.end(), format) != formats.end();
+}
+
+void TraceReader::require(const std::string& format) const {
+  if (m_manifest.recorded(format)) return;
+  const std::string file = format == "vcd"        ? "signals.vcd"
+                           : format == "timeline" ? "timeline.json"
+                                                  : format + ".bin";
+  throw InputError(m_dir + ": " + file + " was not recorded (--trace-formats " +
+                   join(m_manifest.formats, ",") + "); rerun gpusim run --trace with " + format +
+                   " in --trace-formats");
 }
 
 void TraceReader::for_each_record(const std::string& file, uint64_t count, size_t size,
@@ -440,6 +473,7 @@ void TraceReader::for_each_record(const std::string& file, uint64_t count, size_
 
 void TraceReader::for_each_transaction(
     const std::function<void(const TransactionRecord&)>& fn) const {
+  require("transactions");
   const std::string file = path("transactions.bin");
   const size_t stages = m_manifest.stages.size();
   for_each_record(
@@ -462,6 +496,7 @@ void TraceReader::for_each_transaction(
 }
 
 void TraceReader::for_each_fragment(const std::function<void(const FragmentRecord&)>& fn) const {
+  require("fragments");
   const std::string file = path("fragments.bin");
   for_each_record(file, m_manifest.fragment_records, kFragmentBytes,
                   [&](const uint8_t* p, uint64_t i) {

@@ -56,6 +56,9 @@ struct TraceFilters {
 
 struct TraceManifest {
   std::string scene;
+  // The formats written (--trace-formats), of vcd, timeline, transactions,
+  // fragments; all four in traces written before the choice existed.
+  std::vector<std::string> formats;
   nlohmann::json config;
   double clock_mhz = 0.0;
   uint64_t cycle_ps = 0;
@@ -73,6 +76,7 @@ struct TraceManifest {
     std::string primitive, polygon_mode;
   };
   std::vector<Draw> draws;
+  bool recorded(const std::string& format) const;
   uint64_t transaction_records = 0;
   uint64_t fragment_records = 0;
 
@@ -137,15 +141,23 @@ struct FragmentRecord {
 class TraceReader {
  public:
   // Reads manifest.json and checks the headers and lengths of
-  // transactions.bin and fragments.bin; throws InputError on any problem.
+  // transactions.bin and fragments.bin, those recorded; throws InputError on
+  // any problem.
   explicit TraceReader(const std::string& dir);
 
   const std::string& dir() const { return m_dir; }
   std::string path(const std::string& file) const { return m_dir + "/" + file; }
   const TraceManifest& manifest() const { return m_manifest; }
 
+  // Throws InputError when the trace was recorded without `format` (one of
+  // vcd, timeline, transactions, fragments): "<dir>: fragments.bin was not
+  // recorded (--trace-formats vcd,timeline); rerun gpusim run --trace with
+  // fragments in --trace-formats".
+  void require(const std::string& format) const;
+
   // Every record in file order (transactions: by cycle_out). A record naming
-  // a stage the manifest does not have is an InputError.
+  // a stage the manifest does not have is an InputError, as is a trace
+  // recorded without the file (require).
   void for_each_transaction(const std::function<void(const TransactionRecord&)>& fn) const;
   void for_each_fragment(const std::function<void(const FragmentRecord&)>& fn) const;
 

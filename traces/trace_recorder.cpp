@@ -70,6 +70,9 @@ TraceRecorder::TraceRecorder(const NetlistTables& tables, const GpuConfig& confi
       m_cycle_value(std::max<uint64_t>(1, config.cycle().value())),
       m_cycle_ps(picoseconds(config)),
       m_kept(filter.stages_kept(tables)),
+      m_write_vcd(!paths.vcd.empty()),
+      m_write_timeline(!paths.timeline.empty()),
+      m_write_transactions(!paths.transactions.empty()),
       m_vcd(paths.vcd, m_cycle_ps, filter.window_start(), filter.window_end()),
       m_timeline(paths.timeline, m_cycle_ps,
                  nlohmann::json({{"format", "gpusim-trace"},
@@ -93,7 +96,9 @@ TraceRecorder::TraceRecorder(const NetlistTables& tables, const GpuConfig& confi
     s.tid = static_cast<int>(i);
     if (t.unit >= 0 && t.kind == "depth_test") m_depth_stage[t.unit] = static_cast<int>(i);
     if (t.unit >= 0 && t.kind == "rop") m_rop_stage[t.unit] = static_cast<int>(i);
-    if (s.kept && (t.kind == "depth_test" || t.kind == "rop")) m_fragments_traced = true;
+    if (s.kept && !paths.fragments.empty() && (t.kind == "depth_test" || t.kind == "rop")) {
+      m_fragments_traced = true;
+    }
   }
   m_fifos.resize(tables.fifos.size());
   for (size_t i = 0; i < tables.fifos.size(); ++i) {
@@ -107,8 +112,8 @@ TraceRecorder::TraceRecorder(const NetlistTables& tables, const GpuConfig& confi
   }
   declare_signals();
   m_vcd.begin();
-  write_save_file(paths.gtkw);
-  write_metadata();
+  if (m_write_vcd) write_save_file(paths.gtkw);
+  if (m_write_timeline) write_metadata();
 }
 
 void TraceRecorder::declare_signals() {
@@ -238,6 +243,7 @@ FifoProbe<ControlToken>* TraceRecorder::fifo_probe(size_t fifo, ProbeTag<Control
 void TraceRecorder::set_state(Stage& s, State state) {
   if (s.state == state) return;
   s.state = state;
+  if (!m_write_vcd) return;
   m_vcd.set(s.signal + busy, state == busy);
   m_vcd.set(s.signal + stalled, state == stalled);
   m_vcd.set(s.signal + starved, state == starved);
@@ -290,7 +296,7 @@ void TraceRecorder::occupancy(size_t fifo, size_t items, uint64_t now) {
   Fifo& f = m_fifos[fifo];
   if (!f.kept || f.value == items) return;
   f.value = items;
-  m_vcd.set(f.signal, items);
+  if (m_write_vcd) m_vcd.set(f.signal, items);
   if (!f.dirty) {
     f.dirty = true;
     m_dirty_fifos.push_back(fifo);
@@ -329,11 +335,11 @@ void TraceRecorder::close_item(size_t stage) {
 }
 
 void TraceRecorder::end_cycle(uint64_t next) {
-  m_vcd.end_cycle(m_now);
+  if (m_write_vcd) m_vcd.end_cycle(m_now);
   // FIFO counters: like the VCD, the values at the window's start first.
   if (!m_dirty_fifos.empty()) {
     std::sort(m_dirty_fifos.begin(), m_dirty_fifos.end());
-    if (m_filter.cycle_in_window(m_now)) {
+    if (m_write_timeline && m_filter.cycle_in_window(m_now)) {
       if (!m_counters_started) {
         m_counters_started = true;
         const uint64_t start = m_filter.window_start();
@@ -377,7 +383,8 @@ void append(std::string& s, int64_t v) {
 
 void TraceRecorder::write_item(const Finished& f) {
   const TransactionRecord& r = f.record;
-  m_transactions.write(r);
+  if (m_write_transactions) m_transactions.write(r);
+  if (!m_write_timeline) return;
   const Stage& s = m_stages[r.stage];
   const ItemInfo& i = f.item;
   // m_name and m_args keep their storage from item to item.
@@ -522,6 +529,11 @@ void TraceRecorder::write_manifest(uint64_t cycles) {
          {"unit", f.unit < 0 ? json(nullptr) : json(f.unit)}});
   }
   json draws = json::array();
+  json formats = json::array();
+  if (m_write_vcd) formats.push_back("vcd");
+  if (m_write_timeline) formats.push_back("timeline");
+  if (m_write_transactions) formats.push_back("transactions");
+  if (!m_paths.fragments.empty()) formats.push_back("fragments");
   for (const DrawState& d : m_frame.draws) {
     draws.push_back({{"first_primitive_id", d.first_primitive_id},
                      {"primitives", primitive_count(d.primitive, d.buffers.slot_count)},
@@ -532,6 +544,7 @@ void TraceRecorder::write_manifest(uint64_t cycles) {
       {"format", "gpusim-trace"},
       {"version", 2},
       {"scene", m_scene},
+      {"formats", formats},
       {"config", json::parse(to_json(m_config).dump())},
       {"clock_mhz", m_config.clock_mhz},
       {"cycle_ps", m_cycle_ps},
@@ -550,8 +563,8 @@ void TraceRecorder::write_manifest(uint64_t cycles) {
       {"records",
        {{"transactions", m_transactions.records()},
         {"fragments", m_fragment_file.records()},
-        {"timeline_events", m_timeline.events()},
-        {"vcd_changes", m_vcd.changes()}}},
+        {"timeline_events", m_write_timeline ? m_timeline.events() : 0},
+        {"vcd_changes", m_write_vcd ? m_vcd.changes() : 0}}},
   };
   std::ofstream out(m_paths.manifest, std::ios::binary);
   out << manifest.dump(2) << "\n";

@@ -29,7 +29,10 @@ namespace gpusim {
 
 class TraceRecorder : public TraceProbes, public FragmentProbe {
  public:
-  // Where each file goes (temporary names; the caller renames them).
+  // Where each file goes (temporary names; the caller renames them). An
+  // empty path: that format is not written (--trace-formats; vcd and gtkw go
+  // together) and the recorder skips its work; manifest.json's "formats"
+  // lists the ones written.
   struct Paths {
     std::string manifest, vcd, gtkw, timeline, transactions, fragments;
   };
@@ -137,6 +140,8 @@ class TraceRecorder : public TraceProbes, public FragmentProbe {
   std::vector<Shown> m_shown;                   // in declaration order
   std::vector<int> m_depth_stage, m_rop_stage;  // per unit: stage index
   bool m_fragments_traced = false;
+  // The formats written (Paths not empty).
+  bool m_write_vcd = true, m_write_timeline = true, m_write_transactions = true;
   bool m_counters_started = false;
   uint64_t m_now = 0;
   std::vector<Finished> m_finished;  // items finished in m_now

@@ -57,6 +57,7 @@ double TraceSummary::share(uint64_t cycles) const {
 }
 
 void TraceSummary::read_signals(const TraceReader& reader) {
+  reader.require("vcd");
   const VcdReader vcd(reader.path("signals.vcd"), m_manifest.cycle_ps);
   // Signals by (innermost scope, name): a stage's wires are in a scope named
   // as the stage, "<stage>_busy" (traces written before units were grouped:

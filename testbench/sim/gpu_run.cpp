@@ -241,6 +241,7 @@ GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOp
   static_assert(sizeof(glm::vec4) == 16 && sizeof(glm::vec3) == 12, "packed attributes");
   const bool tracing = !options.trace_dir.empty();
   TraceFilter trace_filter;
+  TraceFormats trace_formats;
   if (tracing) {
     if (!kTraceHooks) {
       throw InputError(
@@ -249,6 +250,7 @@ GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOp
     if (options.trace_files == nullptr) throw std::invalid_argument("run_gpu: trace_files not set");
     trace_filter =
         TraceFilter::parse(options.trace_stages, options.trace_window, options.trace_prims);
+    trace_formats = TraceFormats::parse(options.trace_formats);
   }
   Progress* progress = options.progress;
   if (progress) {
@@ -293,11 +295,14 @@ GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOp
     OutputFiles& files = *options.trace_files;
     TraceRecorder::Paths paths;
     paths.manifest = files.add(dir + "/manifest.json");
-    paths.vcd = files.add(dir + "/signals.vcd");
-    paths.gtkw = files.add(dir + "/signals.gtkw");
-    paths.timeline = files.add(dir + "/timeline.json");
-    paths.transactions = files.add(dir + "/transactions.bin");
-    paths.fragments = files.add(dir + "/fragments.bin");
+    // Formats not chosen keep empty paths: not written.
+    if (trace_formats.vcd) {
+      paths.vcd = files.add(dir + "/signals.vcd");
+      paths.gtkw = files.add(dir + "/signals.gtkw");
+    }
+    if (trace_formats.timeline) paths.timeline = files.add(dir + "/timeline.json");
+    if (trace_formats.transactions) paths.transactions = files.add(dir + "/transactions.bin");
+    if (trace_formats.fragments) paths.fragments = files.add(dir + "/fragments.bin");
     recorder = std::make_unique<TraceRecorder>(tables, config, loaded.frame, trace_filter, paths,
                                                options.trace_scene);
     gpu.attach_trace(*recorder);

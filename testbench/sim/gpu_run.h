@@ -62,6 +62,7 @@ struct GpuRunOptions {
   OutputFiles* trace_files = nullptr;
   std::string trace_scene;  // the scene's path, for manifest.json
   std::string trace_stages, trace_window, trace_prims;
+  std::string trace_formats;  // --trace-formats: "vcd,timeline"; empty: every format
 
   // Test-only fault injection (docs/robustness.md, "Watchdog"): production
   // runs leave these at their defaults. FIFOs by name, as in stats.json.

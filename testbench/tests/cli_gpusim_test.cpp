@@ -375,8 +375,9 @@ TEST_F(Cli, CommandLineMistakesNameTheWordAtFault) {
                  "a command is required: golden, run, info, compare, trace, stats; see gpusim "
                  "--help");
   expect_message("run " + scene + " --tile-size 32",
-                 "run: unknown option --tile-size (tile_size is a GPU configuration key: set it in "
-                 "the --config file, docs/gpu-config.md); see gpusim run --help");
+                 "run: unknown option --tile-size (tile_size is a GPU configuration key: --set "
+                 "tile_size=VALUE, or in the --config file; docs/gpu-config.md); see gpusim run "
+                 "--help");
   expect_message("run " + scene + " --unit 2",
                  "run: unknown option --unit (did you mean --units?); see gpusim run --help");
   expect_message("run " + scene + " extra.json",
@@ -752,6 +753,185 @@ TEST_F(Cli, ProgressQuietAndTheirConflict) {
   EXPECT_EQ(quiet.status, 0) << quiet.out;
   EXPECT_EQ(quiet.out.find('\r' + std::string("load")), std::string::npos) << quiet.out;
   EXPECT_EQ(quiet.out.rfind("run: ", 0), 0u) << quiet.out;
+}
+
+// --set KEY=VALUE reaches the resolved configuration in stats.json; --units,
+// its shorthand, is applied after every --set.
+TEST_F(Cli, RunSetOverridesConfigurationKeys) {
+  const std::string out = (dir_ / "out").string();
+  const CommandResult r =
+      run("run " + kScenes + "/quad_clipspace.json --out " + out +
+          " --set stages.triangle_setup.ii=1 --set fifo_depths.clipper_to_setup=4"
+          " --set 'stamp=[8,8]' --set memory.bytes_per_cycle=64 --units 2 --set units=8");
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("quad_clipspace.json on 2 units: "), std::string::npos) << r.out;
+  const nlohmann::json stats = nlohmann::json::parse(slurp(dir_ / "out/stats.json"));
+  const nlohmann::json& c = stats.at("config");
+  // The values given; triangle_setup keeps its default latency (16).
+  EXPECT_EQ(c.at("stages").at("triangle_setup"), nlohmann::json::parse(R"({"ii":1,"latency":16})"));
+  EXPECT_EQ(c.at("fifo_depths").at("clipper_to_setup"), 4);
+  EXPECT_EQ(c.at("fifo_depths").at("setup_to_distributor"), 16);
+  EXPECT_EQ(c.at("stamp"), nlohmann::json::parse("[8,8]"));
+  EXPECT_EQ(c.at("memory").at("bytes_per_cycle"), 64);
+  EXPECT_EQ(c.at("units"), 2);
+  // The model ran with them: the FIFO's depth, and two units' stages.
+  EXPECT_EQ(stats.at("timing").at("fifos").at("clipper_to_setup").at("depth"), 4);
+  EXPECT_TRUE(stats.at("timing").at("stages").contains("rop_1"));
+  EXPECT_FALSE(stats.at("timing").at("stages").contains("rop_2"));
+}
+
+TEST_F(Cli, RunSetErrorsNameTheOption) {
+  const std::string args =
+      "run " + kScenes + "/quad_clipspace.json --out " + (dir_ / "out").string();
+  const auto expect_message = [&](const std::string& options, const std::string& want) {
+    const CommandResult r = run(args + " " + options);
+    EXPECT_EQ(r.status, 2) << options << "\n" << r.out;
+    EXPECT_EQ(r.out, "gpusim: " + want + "\n") << options;
+  };
+  expect_message("--set stages.triangle_setup.ii=0",
+                 "--set stages.triangle_setup.ii=0: stages.triangle_setup.ii: 0 is out of range "
+                 "1..1000000");
+  expect_message("--set units=2 --set fifo_depths.clipper_to_setp=4",
+                 "--set fifo_depths.clipper_to_setp=4: fifo_depths.clipper_to_setp: unknown key "
+                 "(allowed: commands, command_to_fetch, fetch_to_shader, shader_to_clipper, "
+                 "clipper_to_setup, setup_to_distributor, distributor_to_rasterizer, "
+                 "rasterizer_to_depth, depth_to_interpolator, interpolator_to_rop, "
+                 "rop_to_resolve)");
+  expect_message("--set tile_sise=32",
+                 "--set tile_sise=32: tile_sise: unknown key (allowed: clock_mhz, units, "
+                 "tile_size, stamp, fifo_depth, fifo_depths, stages, memory, "
+                 "vertex_cache_entries, tile_cache_entries, samples_per_pass, watchdog_cycles)");
+  expect_message("--set units=four", "--set units=four: units: expected an integer, got string");
+  expect_message("--set 'stamp=[8,3]'", "--set stamp=[8,3]: stamp[1]: 3 is not a power of two");
+  expect_message("--set units", "--set units: expected KEY=VALUE, e.g. stages.triangle_setup.ii=2");
+  expect_message("--units 0", "--units 0: units: 0 is out of range 1..64");
+  EXPECT_FALSE(fs::exists(dir_ / "out"));
+}
+
+// --config - reads standard input: the same configuration as the file.
+TEST_F(Cli, RunConfigFromStandardInput) {
+  fs::create_directories(dir_);
+  const fs::path config = dir_ / "gpu.json";
+  std::ofstream(config) << "{\"units\": 2, // comment\n \"stages\": {\"rop\": {\"ii\": 3}}}\n";
+  const std::string scene = kScenes + "/quad_clipspace.json";
+  const CommandResult from_file =
+      run("run " + scene + " --out " + (dir_ / "a").string() + " --config " + config.string());
+  ASSERT_EQ(from_file.status, 0) << from_file.out;
+  const CommandResult from_stdin =
+      run("run " + scene + " --out " + (dir_ / "b").string() + " --config - < " + config.string());
+  ASSERT_EQ(from_stdin.status, 0) << from_stdin.out;
+  const nlohmann::json a = nlohmann::json::parse(slurp(dir_ / "a/stats.json"));
+  const nlohmann::json b = nlohmann::json::parse(slurp(dir_ / "b/stats.json"));
+  EXPECT_EQ(a.at("config"), b.at("config"));
+  EXPECT_EQ(b.at("config").at("units"), 2);
+  EXPECT_EQ(b.at("config").at("stages").at("rop"),
+            nlohmann::json::parse(R"({"ii":3,"latency":4})"));
+  EXPECT_EQ(a.at("timing").at("cycles"), b.at("timing").at("cycles"));
+  // --set applies on top of standard input's configuration.
+  const CommandResult set = run("run " + scene + " --out " + (dir_ / "c").string() +
+                                " --config - --set stages.rop.latency=9 < " + config.string());
+  ASSERT_EQ(set.status, 0) << set.out;
+  EXPECT_EQ(nlohmann::json::parse(slurp(dir_ / "c/stats.json")).at("config").at("stages").at("rop"),
+            nlohmann::json::parse(R"({"ii":3,"latency":9})"));
+  // Errors name standard input.
+  const CommandResult bad =
+      shell("echo '{\"units\": 0}' | " + kGpusim + " run " + scene + " --config -");
+  EXPECT_EQ(bad.status, 2) << bad.out;
+  EXPECT_EQ(bad.out, "gpusim: standard input: units: 0 is out of range 1..64\n");
+  const CommandResult empty = shell(kGpusim + " run " + scene + " --config - < /dev/null");
+  EXPECT_EQ(empty.status, 2) << empty.out;
+  EXPECT_EQ(empty.out.rfind("gpusim: standard input: line 1, column 1: ", 0), 0u) << empty.out;
+}
+
+// --trace-formats vcd writes the waveform only; the tools say what is missing.
+TEST_F(Cli, TraceFormatsWriteOnlyTheChosenFiles) {
+  const fs::path trace = dir_ / "trace";
+  const std::string t = trace.string();
+  const CommandResult r = run("run " + kScenes + "/quad_clipspace.json --out " +
+                              (dir_ / "out").string() + " --trace " + t + " --trace-formats vcd");
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("  trace: " + t + " (manifest.json, signals.vcd, signals.gtkw)\n"),
+            std::string::npos)
+      << r.out;
+  std::vector<std::string> files;
+  for (const auto& e : fs::directory_iterator(trace)) files.push_back(e.path().filename());
+  std::sort(files.begin(), files.end());
+  EXPECT_EQ(files, (std::vector<std::string>{"frame.exr", "manifest.json", "signals.gtkw",
+                                             "signals.vcd", "stats.json"}));
+  const nlohmann::json manifest = nlohmann::json::parse(slurp(trace / "manifest.json"));
+  EXPECT_EQ(manifest.at("formats"), nlohmann::json::parse(R"(["vcd"])"));
+  EXPECT_EQ(manifest.at("records").at("transactions"), 0);
+  EXPECT_EQ(manifest.at("records").at("fragments"), 0);
+  EXPECT_EQ(manifest.at("records").at("timeline_events"), 0);
+  EXPECT_GT(manifest.at("records").at("vcd_changes").get<uint64_t>(), 0u);
+
+  // The files written are those of a trace of every format, byte for byte.
+  const std::string full = (dir_ / "full").string();
+  ASSERT_EQ(run("run " + kScenes + "/quad_clipspace.json --out " + (dir_ / "out").string() +
+                " --trace " + full)
+                .status,
+            0);
+  for (const char* f : {"signals.vcd", "signals.gtkw"}) {
+    EXPECT_EQ(slurp(trace / f), slurp(dir_ / "full" / f)) << f;
+  }
+  EXPECT_EQ(nlohmann::json::parse(slurp(dir_ / "full/manifest.json")).at("formats"),
+            nlohmann::json::parse(R"(["vcd", "timeline", "transactions", "fragments"])"));
+
+  // summary needs only the VCD and stats.json.
+  const CommandResult summary = run("trace summary " + t);
+  EXPECT_EQ(summary.status, 0) << summary.out;
+  EXPECT_NE(summary.out.find("Bottleneck: "), std::string::npos) << summary.out;
+  const CommandResult pixel = run("trace follow " + t + " --pixel 1,1");
+  EXPECT_EQ(pixel.status, 2) << pixel.out;
+  EXPECT_EQ(pixel.out, "gpusim: " + t +
+                           ": fragments.bin was not recorded (--trace-formats vcd); rerun gpusim "
+                           "run --trace with fragments in --trace-formats\n");
+  const CommandResult prim = run("trace follow " + t + " --prim 0");
+  EXPECT_EQ(prim.status, 2) << prim.out;
+  EXPECT_EQ(prim.out, "gpusim: " + t +
+                          ": transactions.bin was not recorded (--trace-formats vcd); rerun "
+                          "gpusim run --trace with transactions in --trace-formats\n");
+
+  // The binary files without the VCD: follow works, summary says why not.
+  const std::string t2 = (dir_ / "trace2").string();
+  const CommandResult r2 =
+      run("run " + kScenes + "/quad_clipspace.json --out " + (dir_ / "out").string() + " --trace " +
+          t2 + " --trace-formats fragments,transactions");
+  ASSERT_EQ(r2.status, 0) << r2.out;
+  EXPECT_FALSE(fs::exists(dir_ / "trace2/signals.vcd"));
+  EXPECT_FALSE(fs::exists(dir_ / "trace2/timeline.json"));
+  EXPECT_EQ(nlohmann::json::parse(slurp(dir_ / "trace2/manifest.json")).at("formats"),
+            nlohmann::json::parse(R"(["transactions", "fragments"])"));
+  const CommandResult follow = run("trace follow " + t2 + " --pixel 64,64");
+  EXPECT_EQ(follow.status, 0) << follow.out;
+  EXPECT_NE(follow.out.find("fragment record"), std::string::npos) << follow.out;
+  EXPECT_EQ(run("trace follow " + t2 + " --prim 0").status, 0);
+  for (const char* f : {"transactions.bin", "fragments.bin"}) {
+    EXPECT_EQ(slurp(dir_ / "trace2" / f), slurp(dir_ / "full" / f)) << f;
+  }
+  const CommandResult no_vcd = run("trace summary " + t2);
+  EXPECT_EQ(no_vcd.status, 2) << no_vcd.out;
+  EXPECT_EQ(no_vcd.out, "gpusim: " + t2 +
+                            ": signals.vcd was not recorded (--trace-formats "
+                            "transactions,fragments); rerun gpusim run --trace with vcd in "
+                            "--trace-formats\n");
+}
+
+TEST_F(Cli, TraceFormatsRejectsUnknownNames) {
+  const std::string args = "run " + kScenes + "/quad_clipspace.json --out " +
+                           (dir_ / "out").string() + " --trace " + (dir_ / "trace").string();
+  const CommandResult bad = run(args + " --trace-formats vcd,wave");
+  EXPECT_EQ(bad.status, 2) << bad.out;
+  EXPECT_EQ(bad.out,
+            "gpusim: --trace-formats vcd,wave: unknown format 'wave' (allowed: vcd, timeline, "
+            "transactions, fragments)\n");
+  const CommandResult empty = run(args + " --trace-formats vcd,");
+  EXPECT_EQ(empty.status, 2) << empty.out;
+  EXPECT_EQ(empty.out,
+            "gpusim: --trace-formats vcd,: empty format name (allowed: vcd, timeline, "
+            "transactions, fragments)\n");
+  EXPECT_FALSE(fs::exists(dir_ / "trace"));
+  EXPECT_FALSE(fs::exists(dir_ / "out"));
 }
 
 nlohmann::json read_json(const fs::path& p) {

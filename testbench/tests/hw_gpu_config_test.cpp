@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "hw/gpu_config.h"
 
@@ -282,6 +283,105 @@ TEST(GpuConfig, DefaultFileHoldsEveryDefault) {
   std::ifstream in(path);
   ASSERT_TRUE(in);
   EXPECT_EQ(json::parse(in), to_json(GpuConfig()));
+}
+
+// --set KEY=VALUE: each override as "--set <assignment>".
+std::vector<ConfigOverride> sets(const std::vector<std::string>& assignments) {
+  std::vector<ConfigOverride> o;
+  for (const std::string& a : assignments) o.push_back({"--set " + a, a});
+  return o;
+}
+
+std::string override_error(const json& base, const std::vector<ConfigOverride>& overrides) {
+  try {
+    gpu_config_with_overrides(base, overrides);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST(GpuConfigOverrides, SetNestedKeysOnTheDefaults) {
+  const GpuConfig c = gpu_config_with_overrides(
+      json::object(),
+      sets({"units=8", "stages.triangle_setup.ii=1", "fifo_depths.clipper_to_setup=4",
+            "memory.bytes_per_cycle=64", "stamp=[8,8]"}));
+  // Expected: the defaults with exactly these five values changed.
+  GpuConfig want;
+  want.units = 8;
+  want.stages["triangle_setup"].ii = 1;  // latency keeps its default, 16
+  want.fifo_depths["clipper_to_setup"] = 4;
+  want.memory.bytes_per_cycle = 64;
+  want.stamp = {8, 8};
+  EXPECT_EQ(c, want);
+  EXPECT_EQ(c.stage("triangle_setup").latency, 16u);
+  EXPECT_EQ(c.fifo_depth_of("clipper_to_setup"), 4u);
+  EXPECT_EQ(c.fifo_depth_of("setup_to_distributor"), 16u);
+}
+
+TEST(GpuConfigOverrides, AppliedOnTheFileInOrder) {
+  // The file's values stay unless set; a later --set wins over an earlier.
+  const json file = json::parse(R"({"units": 2, "fifo_depth": 8,
+                                    "stages": {"clipper": {"ii": 3, "latency": 11}}})");
+  const GpuConfig c = gpu_config_with_overrides(
+      file, sets({"stages.clipper.ii=5", "units=3", "units=6", "fifo_depth=32"}));
+  EXPECT_EQ(c.units, 6u);
+  EXPECT_EQ(c.stage("clipper").ii, 5u);
+  EXPECT_EQ(c.stage("clipper").latency, 11u);  // the file's, not the default 8
+  // fifo_depth applies to every FIFO without its own depth, as in a file.
+  EXPECT_EQ(c.fifo_depth_of("rasterizer_to_depth"), 32u);
+  // A whole object replaces the file's: its absent keys take the defaults.
+  const GpuConfig m =
+      gpu_config_with_overrides(json::parse(R"({"memory": {"latency": 7, "bytes_per_cycle": 8}})"),
+                                sets({R"(memory={"latency":5})"}));
+  EXPECT_EQ(m.memory.latency, 5u);
+  EXPECT_EQ(m.memory.bytes_per_cycle, 32u);
+  // A value that is not JSON is a string.
+  nlohmann::json j = json::object();
+  apply_config_override(j, "units=eight", "--set units=eight");
+  EXPECT_EQ(j, json::parse(R"({"units": "eight"})"));
+  apply_config_override(j, "a.b.c=true", "s");
+  EXPECT_EQ(j["a"], json::parse(R"({"b": {"c": true}})"));
+}
+
+TEST(GpuConfigOverrides, ErrorsNameTheOverride) {
+  EXPECT_EQ(override_error(json::object(), sets({"units=4", "stages.triangle_setup.ii=0"})),
+            "--set stages.triangle_setup.ii=0: stages.triangle_setup.ii: 0 is out of range "
+            "1..1000000");
+  EXPECT_EQ(override_error(json::object(), sets({"units=eight"})),
+            "--set units=eight: units: expected an integer, got string");
+  EXPECT_EQ(override_error(json::object(), sets({"unitz=4"})),
+            "--set unitz=4: unitz: unknown key (allowed: clock_mhz, units, tile_size, stamp, "
+            "fifo_depth, fifo_depths, stages, memory, vertex_cache_entries, tile_cache_entries, "
+            "samples_per_pass, watchdog_cycles)");
+  // An unknown stage is reported at the stage, which the key leads through.
+  EXPECT_EQ(override_error(json::object(), sets({"stages.setup.ii=1"})),
+            "--set stages.setup.ii=1: stages.setup: unknown key (allowed: command_processor, "
+            "vertex_fetch, vertex_shader, clipper, triangle_setup, tile_distributor, "
+            "tile_rasterizer, depth_test, interpolator, rop, resolve)");
+  // A key below a value that is not an object.
+  EXPECT_EQ(override_error(json::object(), sets({"units.x=1"})),
+            "--set units.x=1: units: expected an integer, got object");
+  // Inside a whole array set.
+  EXPECT_EQ(override_error(json::object(), sets({"stamp=[32,2]"})),
+            "--set stamp=[32,2]: stamp[0]: 32 exceeds tile_size 16");
+  // A constraint between keys, at a path no override leads to: all named.
+  EXPECT_EQ(override_error(json::parse(R"({"tile_size": 32, "stamp": [32, 2]})"),
+                           sets({"tile_size=16", "units=2"})),
+            "--set tile_size=16 --set units=2: stamp[0]: 32 exceeds tile_size 16");
+  // The --units shorthand, named as given.
+  EXPECT_EQ(
+      override_error(json::object(), {{"--set units=2", "units=2"}, {"--units 0", "units=0"}}),
+      "--units 0: units: 0 is out of range 1..64");
+  // Malformed assignments.
+  EXPECT_EQ(override_error(json::object(), sets({"units"})),
+            "--set units: expected KEY=VALUE, e.g. stages.triangle_setup.ii=2");
+  EXPECT_EQ(override_error(json::object(), sets({"=4"})),
+            "--set =4: expected KEY=VALUE with KEY a dotted configuration key, e.g. "
+            "stages.triangle_setup.ii=2");
+  EXPECT_EQ(override_error(json::object(), sets({"stages..ii=4"})),
+            "--set stages..ii=4: expected KEY=VALUE with KEY a dotted configuration key, e.g. "
+            "stages.triangle_setup.ii=2");
 }
 
 }  // namespace
