@@ -374,6 +374,7 @@ def submit_slurm(gpusim, out, points, args):
 
 def slurm_wait(out, points, job, poll):
     progress = Progress(len(points))
+    warned = False
     while True:
         q = subprocess.run(["squeue", "-h", "-j", job, "-o", "%T"], capture_output=True, text=True,
                            env=slurm_env())
@@ -388,9 +389,18 @@ def slurm_wait(out, points, job, poll):
             else:
                 failed += 1
         running = sum(1 for s in states if s == "RUNNING")
-        if q.returncode == 0 and not states:
+        # squeue lists a job while it is pending, running or completing; once
+        # Slurm has purged it, `-j JOB` is an invalid job id.
+        gone = (q.returncode == 0 and not states) or "Invalid job id" in q.stderr
+        if gone or done + failed == len(points):
+            if not gone:
+                time.sleep(poll)  # let the tasks' exits reach Slurm
             progress.show(done, 0, failed, final=True)
             return
+        if q.returncode != 0 and not warned:
+            warned = True
+            sys.stderr.write(f"sweep: squeue failed ({q.stderr.strip()}); still waiting for the points' "
+                             "status.json\n")
         progress.show(done, running, failed)
         time.sleep(poll)
 
