@@ -207,6 +207,22 @@ def test_local(gpusim, tmp):
           "the failure is reported on stderr")
     check(rows[0]["cycles"] != "" and rows[1]["cycles"] == "", "figures only for the ok points")
 
+    # A watchdog stop and a timeout are failures too.
+    wd_sweep = write_sweep(os.path.join(tmp, "watchdog.json"), {
+        "scenes": [SCENES[1]], "base": {"stages": {"vertex_shader": {"ii": 5000}}},
+        "parameters": {"watchdog_cycles": [10, 1000000]}})
+    w = os.path.join(tmp, "w")
+    r = run([gpusim, "sweep", wd_sweep, "--out", w])
+    rows = rows_of(os.path.join(w, "results.csv"))
+    check(r.returncode == 1 and [x["status"] for x in rows] == ["failed", "ok"]
+          and "watchdog: no item moved" in rows[0]["error"], "a watchdog stop: that point failed, with its error")
+    t_sweep = write_sweep(os.path.join(tmp, "timeout.json"), {"scenes": [SCENES[0]], "parameters": {"units": [1]}})
+    t = os.path.join(tmp, "t")
+    r = run([gpusim, "sweep", t_sweep, "--out", t, "--timeout", "0.001"])
+    rows = rows_of(os.path.join(t, "results.csv"))
+    check(r.returncode == 1 and rows[0]["status"] == "failed" and rows[0]["error"] == "timed out after 0.001 s (--timeout)",
+          f"--timeout: the point failed as timed out ({rows[0]['error']})")
+
     # zip: the i-th values together.
     zip_sweep = write_sweep(os.path.join(tmp, "zip.json"), {
         "scenes": [SCENES[1]], "combine": "zip",
