@@ -610,7 +610,7 @@ def plot(out):
 
     kinds = [c[:-len(".busy")] for c in res["columns"] if c.endswith(".busy")]
     if rows and kinds:
-        fig, axes = plt.subplots(len(kinds), 1, figsize=(max(6, 0.45 * len(rows) + 2), 1.6 * len(kinds)),
+        fig, axes = plt.subplots(len(kinds), 1, figsize=(min(30, max(6, 0.45 * len(rows) + 2)), 1.6 * len(kinds)),
                                  sharex=True, squeeze=False)
         xs = range(len(rows))
         colours = {"busy": "#2a7fd4", "stalled": "#e0543a", "starved": "#c8c8c8"}
@@ -625,7 +625,8 @@ def plot(out):
             ax.tick_params(axis="y", labelsize=7)
         axes[0, 0].legend(loc="upper right", fontsize=7, ncol=3)
         axes[0, 0].set_title("stage utilization per point (% of cycles, mean over units)")
-        axes[-1, 0].set_xticks(list(xs), [f"{r['point']}" for r in rows], fontsize=7)
+        step = max(1, len(rows) // 60)  # at most about 60 labels
+        axes[-1, 0].set_xticks(list(xs)[::step], [f"{r['point']}" for r in rows][::step], fontsize=7)
         axes[-1, 0].set_xlabel("point (results.csv)")
         fig.tight_layout()
         fig.savefig(os.path.join(pdir, "utilization.png"), dpi=100)
