@@ -8,11 +8,13 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <functional>
 #include <iostream>
 #include <map>
@@ -824,7 +826,30 @@ std::string parse_error_message(const CLI::App& app, const CLI::ParseError& e, i
   return prefix + e.what() + "; " + help;
 }
 
+// `gpusim sweep ...` (docs/sweeps.md): the sweep runner is
+// scripts/gpusim_sweep.py; it runs every point with this very binary.
+int run_sweep(int argc, char** argv) {
+  std::string self(4096, '\0');
+  const ssize_t n = readlink("/proc/self/exe", self.data(), self.size() - 1);
+  if (n <= 0) throw InputError("sweep: cannot resolve /proc/self/exe");
+  self.resize(static_cast<size_t>(n));
+  const char* env_script = std::getenv("GPUSIM_SWEEP_SCRIPT");
+  const std::string script = env_script != nullptr
+                                 ? env_script
+                                 : std::string(GPUSIM_SOURCE_DIR) + "/scripts/gpusim_sweep.py";
+  const std::string python = "/usr/bin/python3";
+  std::vector<std::string> args = {python, script, "--gpusim", self};
+  for (int i = 2; i < argc; ++i) args.push_back(argv[i]);
+  std::vector<char*> cargs;
+  for (std::string& a : args) cargs.push_back(a.data());
+  cargs.push_back(nullptr);
+  std::cout.flush();
+  execv(python.c_str(), cargs.data());
+  throw InputError("sweep: cannot run " + python + " " + script + ": " + std::strerror(errno));
+}
+
 int main_with_errors(int argc, char** argv) {
+  if (argc >= 2 && std::string(argv[1]) == "sweep") return run_sweep(argc, argv);
   CLI::App app{"gpusim: a fixed-function GPU modeled in SystemC, and its golden model"};
   app.require_subcommand(1);
 
@@ -954,6 +979,11 @@ int main_with_errors(int argc, char** argv) {
       "an EXR compares the channels both have (R, G, B, and A if the PNG has alpha); two EXRs "
       "must have the same channels (else exit 3). PSNR = 20 log10(1 / RMS error), for data in "
       "[0, 1].");
+
+  // Listed for --help only: main_with_errors() hands `sweep` to run_sweep().
+  app.add_subcommand("sweep",
+                     "Run a design-space sweep of scenes x configurations, locally or on Slurm "
+                     "(docs/sweeps.md); sweep collect DIR, sweep plot DIR");
 
   TraceArgs trace_args;
   CLI::App* trace = app.add_subcommand("trace", "Inspect a trace written by run --trace");
