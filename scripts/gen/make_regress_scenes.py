@@ -198,29 +198,36 @@ def fan_pinwheel():
     return {"framebuffer": {"width": w, "height": h, "clear_color": [0, 0, 0, 0]}, "draws": draws}
 
 
+def slivers(rng, size, count, max_length, wide, thin, framebuffer):
+    """count random slivers (one vertex almost on the opposite edge) and
+    needles (long, under a pixel wide) in every direction over a size x size
+    frame: lengths 4..max_length, widths from `wide` (odd i) or `thin` (even
+    i), Gouraud colours, depth lequal."""
+    w = h = size
+    pos, col = [], []
+    for i in range(count):
+        cx, cy = rng.uniform(0, w), rng.uniform(0, h)
+        length = rng.uniform(4, max_length)
+        a = rng.uniform(0, 2 * math.pi)
+        dx, dy = math.cos(a) * length / 2, math.sin(a) * length / 2
+        width = rng.uniform(*wide) if i % 2 else rng.uniform(*thin)
+        t = rng.uniform(0.1, 0.9)
+        ox, oy = -math.sin(a) * width, math.cos(a) * width
+        for (x, y) in ((cx - dx, cy - dy), (cx + dx, cy + dy),
+                       (cx - dx + 2 * t * dx + ox, cy - dy + 2 * t * dy + oy)):
+            pos.append([r(clip_x(x, w)), r(clip_x(y, h)), r(rng.uniform(-0.9, 0.9)), 1])
+            col.append(rcol(rng))
+    return {"framebuffer": dict({"width": w, "height": h}, **framebuffer),
+            "draws": [{"primitive": "triangles", "positions": pos, "colors": col,
+                       "state": {"depth_test": "lequal"}}]}
+
+
 @scene("slivers_needles", "fill rule", "6, 7, 8",
        "600 random slivers (one vertex almost on the opposite edge) and needles (long, under a "
        "pixel wide) in every direction, Gouraud colours, depth lequal, unorm24")
 def slivers_needles():
-    rng = random.Random(21)
-    w = h = 160
-    pos, col = [], []
-    for i in range(600):
-        cx, cy = rng.uniform(0, w), rng.uniform(0, h)
-        length = rng.uniform(4, 120)
-        a = rng.uniform(0, 2 * math.pi)
-        dx, dy = math.cos(a) * length / 2, math.sin(a) * length / 2
-        width = rng.uniform(0.01, 1.2) if i % 2 else rng.uniform(0.0005, 0.05)
-        t = rng.uniform(0.1, 0.9)
-        ox, oy = -math.sin(a) * width, math.cos(a) * width
-        pts = [(cx - dx, cy - dy), (cx + dx, cy + dy),
-               (cx - dx + 2 * t * dx + ox, cy - dy + 2 * t * dy + oy)]
-        for (x, y) in pts:
-            pos.append([r(clip_x(x, w)), r(clip_x(y, h)), r(rng.uniform(-0.9, 0.9)), 1])
-            col.append(rcol(rng))
-    return {"framebuffer": {"width": w, "height": h, "clear_color": [0, 0, 0, 1]},
-            "draws": [{"primitive": "triangles", "positions": pos, "colors": col,
-                       "state": {"depth_test": "lequal"}}]}
+    return slivers(random.Random(21), 160, 600, 120, (0.01, 1.2), (0.0005, 0.05),
+                   {"clear_color": [0, 0, 0, 1]})
 
 
 @scene("tiny_subpixel", "fill rule", "6, 7, 8",
@@ -1238,24 +1245,8 @@ def msaa_sunburst():
        "4 samples: 300 slivers and needles (under a pixel wide, some under 1/100) in every "
        "direction, Gouraud colours, depth lequal per sample, unorm24")
 def msaa_slivers():
-    rng = random.Random(1401)
-    w = h = 112
-    pos, col = [], []
-    for i in range(300):
-        cx, cy = rng.uniform(0, w), rng.uniform(0, h)
-        length = rng.uniform(4, 80)
-        a = rng.uniform(0, 2 * math.pi)
-        dx, dy = math.cos(a) * length / 2, math.sin(a) * length / 2
-        width = rng.uniform(0.05, 1.2) if i % 2 else rng.uniform(0.002, 0.05)
-        t = rng.uniform(0.1, 0.9)
-        ox, oy = -math.sin(a) * width, math.cos(a) * width
-        for (x, y) in ((cx - dx, cy - dy), (cx + dx, cy + dy),
-                       (cx - dx + 2 * t * dx + ox, cy - dy + 2 * t * dy + oy)):
-            pos.append([r(clip_x(x, w)), r(clip_x(y, h)), r(rng.uniform(-0.9, 0.9)), 1])
-            col.append(rcol(rng))
-    return {"framebuffer": {"width": w, "height": h, "samples": MSAA, "clear_color": [0, 0, 0, 1]},
-            "draws": [{"primitive": "triangles", "positions": pos, "colors": col,
-                       "state": {"depth_test": "lequal"}}]}
+    return slivers(random.Random(1401), 112, 300, 80, (0.05, 1.2), (0.002, 0.05),
+                   {"samples": MSAA, "clear_color": [0, 0, 0, 1]})
 
 
 @scene("msaa_grid_shared_edges", "multisampling", "7, 8, 14",
