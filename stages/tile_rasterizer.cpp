@@ -38,7 +38,8 @@ TileRasterizer::TileRasterizer(sc_core::sc_module_name name, const GpuConfig& co
       m_tile_shift(log2_side(config.tile_size)),
       m_stamp_w_shift(log2_side(config.stamp[0])),
       m_stamp_h_shift(log2_side(config.stamp[1])),
-      m_full_mask(m_stamp_pixels == 64 ? ~uint64_t{0} : (uint64_t{1} << m_stamp_pixels) - 1) {
+      m_full_mask(m_stamp_pixels == 64 ? ~uint64_t{0} : (uint64_t{1} << m_stamp_pixels) - 1),
+      m_owner(unit) {
   if (unit >= config.units) {
     throw std::invalid_argument("TileRasterizer: unit " + std::to_string(unit) + " of " +
                                 std::to_string(config.units));
@@ -209,7 +210,7 @@ void TileRasterizer::walk_line(const std::shared_ptr<const RasterPrimitive>& tri
     for (int64_t nt = n_min >> m_tile_shift; n_min <= n_max && nt <= n_max >> m_tile_shift && !mine;
          ++nt) {
       const int tx = static_cast<int>(x_major ? mt : nt), ty = static_cast<int>(x_major ? nt : mt);
-      mine = tile_owner(tx, ty, m_config.units) == m_unit;
+      mine = tile_owner(tx, ty, m_config.units) == m_owner;
     }
     ++m_line_spans;
     m_pending_cycles += 1;  // the span test
@@ -229,7 +230,7 @@ void TileRasterizer::walk_line(const std::shared_ptr<const RasterPrimitive>& tri
       const int64_t pm = ma + sm * i, pn = na + sn * k;
       for (int64_t j = std::max(pn - lo, box_n0); j <= std::min(pn - lo + w - 1, box_n1); ++j) {
         const int x = static_cast<int>(x_major ? pm : j), y = static_cast<int>(x_major ? j : pm);
-        if (tile_owner(x >> m_tile_shift, y >> m_tile_shift, m_config.units) != m_unit) continue;
+        if (tile_owner(x >> m_tile_shift, y >> m_tile_shift, m_config.units) != m_owner) continue;
         const int sx = x & ~(sw - 1), sy = y & ~(sh - 1);
         const int tile_n = static_cast<int>(j >> m_tile_shift);
         const int bit = (y - sy) * sw + (x - sx);
@@ -312,7 +313,7 @@ void TileRasterizer::rasterize_edges(const std::shared_ptr<const RasterPrimitive
   const int ty0 = t.y0 >> m_tile_shift, ty1 = t.y1 >> m_tile_shift;
   for (int ty = ty0; ty <= ty1; ++ty) {
     for (int tx = tx0; tx <= tx1; ++tx) {
-      if (tile_owner(tx, ty, m_config.units) != m_unit) continue;
+      if (tile_owner(tx, ty, m_config.units) != m_owner) continue;
       ++m_tiles_visited;
       m_pending_cycles += 1;  // the tile test
 

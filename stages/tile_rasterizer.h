@@ -160,6 +160,7 @@ class TileRasterizer : public PipelineStage {
   // pixel p of a stamp is (p & (w - 1), p >> m_stamp_w_shift).
   const int m_tile_shift, m_stamp_w_shift, m_stamp_h_shift;
   const uint64_t m_full_mask;
+  const unsigned m_owner;  // this unit, as tile_owner() names units
 
   // Per-triangle edge-core constants: the steps of each edge's value by one
   // pixel in x and in y (a * 256, b * 256), and the offset of pixel
