@@ -1017,7 +1017,7 @@ TEST(BackEndTiming, StagesAloneMatchTheCostModel) {
   });
   sc_core::sc_spawn([&] {
     in_d.write(shaded);
-    in_d.write(ShadedStampBatch{PacketKind::end_of_frame, nullptr, {}, {}});
+    in_d.write(ShadedStampBatch{PacketKind::end_of_frame, nullptr, {}, {}, {}});
   });
   sc_core::sc_spawn([&] {
     sc_core::wait(rop_d.frame_done_event());

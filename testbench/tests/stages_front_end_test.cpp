@@ -739,10 +739,6 @@ Scene clip_space_scene(std::vector<Draw> draws) {
   return s;
 }
 
-float window_x(float x, float w) {
-  return (x * (1.0f / w) + 1.0f) * (0.5f * kSide);
-}
-
 // Runs the front end on `scene`; returns the work primitives it wrote and
 // the clipper's counters.
 struct FrontEndRun {
