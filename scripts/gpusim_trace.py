@@ -23,6 +23,9 @@ FORMAT = "gpusim-trace"
 VERSION = 1  # of the binary record files
 MANIFEST_VERSION = 2  # of manifest.json: stages list their "inputs", FIFOs their "kind"
 
+# The formats `gpusim run --trace-formats` can write (docs/traces.md).
+ALL_FORMATS = ("vcd", "timeline", "transactions", "fragments")
+
 # transactions.bin record, little endian, 48 bytes.
 TX_DTYPE = np.dtype([
     ("cycle_in", "<u8"),
@@ -164,6 +167,8 @@ class Trace:
         self.manifest = m
         self.filters = m.get("filters") or {}
         self.records = m.get("records") or {}
+        # What `run --trace-formats` wrote; traces written before it have all.
+        self.formats = list(m.get("formats") or ALL_FORMATS)
         self._stats = None
         self._tx = None
         self._fr = None
@@ -171,6 +176,15 @@ class Trace:
 
     def path(self, name):
         return os.path.join(self.dir, name)
+
+    def _recorded(self, fmt, name):
+        """The path of `name`, or a TraceError in gpusim's words when the run
+        left format `fmt` out."""
+        if fmt not in self.formats:
+            raise TraceError(f"{self.dir}: {name} was not recorded (--trace-formats "
+                             f"{','.join(self.formats)}); rerun gpusim run --trace with {fmt} in "
+                             f"--trace-formats")
+        return self.path(name)
 
     # -- manifest helpers ---------------------------------------------------
 
@@ -245,7 +259,7 @@ class Trace:
     def transactions(self):
         """Structured array (TX_DTYPE), memory-mapped."""
         if self._tx is None:
-            tx = _read_records(self.path("transactions.bin"), TX_MAGIC, TX_DTYPE,
+            tx = _read_records(self._recorded("transactions", "transactions.bin"), TX_MAGIC, TX_DTYPE,
                                self.records.get("transactions"))
             if len(tx) and int(tx["stage"].max()) >= len(self.stages):
                 raise TraceError(f"{self.path('transactions.bin')}: a record names stage "
@@ -256,13 +270,14 @@ class Trace:
     def fragments(self):
         """Structured array (FR_DTYPE), memory-mapped."""
         if self._fr is None:
-            self._fr = _read_records(self.path("fragments.bin"), FR_MAGIC, FR_DTYPE,
+            self._fr = _read_records(self._recorded("fragments", "fragments.bin"), FR_MAGIC, FR_DTYPE,
                                      self.records.get("fragments"))
         return self._fr
 
     def vcd(self):
         if self._vcd is None:
-            self._vcd = read_vcd(self.path("signals.vcd"), int(self.manifest.get("cycle_ps") or 0))
+            self._vcd = read_vcd(self._recorded("vcd", "signals.vcd"),
+                                 int(self.manifest.get("cycle_ps") or 0))
         return self._vcd
 
 

@@ -586,6 +586,22 @@ def check_not_a_trace(tmp, gpusim):
           f"trace summary: an empty directory is not a trace, without the --out hint ({r.stderr.strip()!r})")
 
 
+def check_partial_formats(tmp, gpusim, scene):
+    """Issue #15 item 5: a trace recorded with --trace-formats vcd has no
+    transactions.bin; the Python tools say so in gpusim's words, exit 2."""
+    trace = os.path.join(tmp, "trace_vcd_only")
+    must([gpusim, "run", scene, "--out", os.path.join(tmp, "out"), "--trace", trace,
+          "--trace-formats", "vcd"])
+    want = (f"{trace}: transactions.bin was not recorded (--trace-formats vcd); rerun gpusim run "
+            f"--trace with transactions in --trace-formats")
+    for name, cmd in (("trace_plots", [os.path.join(HERE, "trace_plots"), trace]),
+                      ("report", [os.path.join(HERE, "report"), trace, "--gpusim", gpusim])):
+        r = run(cmd)
+        lines = r.stderr.strip().splitlines()
+        check(r.returncode == 2 and len(lines) == 1 and lines[0].endswith(want),
+              f"{name}: a vcd-only trace exits 2 naming the missing format ({r.stderr.strip()!r})")
+
+
 def check_bad_input(tmp, trace):
     for script in ("trace_plots", "report"):
         r = run([os.path.join(HERE, script), os.path.join(tmp, "no_such_dir")])
@@ -678,6 +694,7 @@ def main():
 
         check_bad_input(tmp, trace)
         check_not_a_trace(tmp, gpusim)
+        check_partial_formats(tmp, gpusim, args.scene)
     finally:
         if not args.keep:
             shutil.rmtree(tmp, ignore_errors=True)
