@@ -238,18 +238,54 @@ Written by scripts/gen/make_lesson_scenes.py.
         })
 
 
+def polygon_offset(out):
+    # A grey floor and a red decal on the same plane y = -1, the decal drawn
+    # second with `less`: its depths, interpolated over other triangles, come
+    # out a rounding above or below the floor's, pixel by pixel.
+    def floor_quad(x0, x1, z0, z1, color):
+        return {"primitive": "triangle_strip",
+                "positions": [[x0, -1, z0], [x1, -1, z0], [x0, -1, z1], [x1, -1, z1]],
+                "colors": [color] * 4}
+
+    for name, offset, what in (("offset_none", [0, 0], "without polygon offset"),
+                               ("offset_pulled", [-1, -1], "with polygon offset [-1, -1]")):
+        floor = floor_quad(-4, 4, -2, -14, [0.5, 0.5, 0.5, 1])
+        floor["name"] = "floor"
+        red = [1, 0.25, 0.25, 1]
+        decal = {"name": "decal", "primitive": "triangle_fan",
+                 "positions": [[0, 0, 3.5], [2.5, 0, 0], [0, 0, -3.5], [-2.5, 0, 0]],
+                 "colors": [red] * 4,
+                 "transform": {"rotate": [20, 0, 1, 0], "translate": [0, -1, -6.5]}}
+        decal["state"] = {"depth_test": "less", "polygon_offset": offset}
+        write(out, f"{name}.json", f"""
+Lesson "polygon offset against z-fighting" (docs/lessons.md): a grey floor
+and a red decal on the same plane (y = -1), the decal drawn second with
+depth test `less`, {what}.
+Written by scripts/gen/make_lesson_scenes.py.
+""", {
+            "framebuffer": {"width": 128, "height": 96},
+            "camera": {"type": "perspective", "fovy": 60, "near": 1, "far": 20},
+            "draws": [floor, decal],
+        })
+
+
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--out", help="write the scenes into this directory")
-    ap.add_argument("--write-testbench", action="store_true",
-                    help="rewrite the committed scenes in testbench/scenes/lessons/")
+    ap = argparse.ArgumentParser(description="Write the lesson scenes of testbench/scenes/lessons/ "
+                                 "(docs/lessons.md).")
+    where = ap.add_mutually_exclusive_group()
+    where.add_argument("--out", metavar="DIR", help="write the scenes into DIR (created if needed)")
+    where.add_argument("--write-testbench", action="store_true",
+                       help="rewrite the committed scenes in testbench/scenes/lessons/")
     args = ap.parse_args()
-    if not args.out and not args.write_testbench:
-        ap.print_usage()
+    if args.out is None and not args.write_testbench:
+        ap.print_usage(sys.stderr)
+        print(f"{ap.prog}: error: give --out DIR, or --write-testbench to rewrite "
+              "testbench/scenes/lessons/", file=sys.stderr)
         return 2
-    out = args.out or LESSONS
+    out = LESSONS if args.write_testbench else args.out
     os.makedirs(out, exist_ok=True)
-    for make in (depth_nonlinear, depth_precision, cull_cube, needles, shared_edges, antialias):
+    for make in (depth_nonlinear, depth_precision, cull_cube, needles, shared_edges, antialias,
+                 polygon_offset):
         make(out)
     return 0
 
