@@ -10,7 +10,9 @@ Writes only where told: `--out DIR` writes into DIR, `--write-testbench`
 rewrites the committed copies in testbench/scenes/lessons/."""
 import argparse
 import json
+import math
 import os
+import random
 import sys
 
 LESSONS = os.path.normpath(
@@ -178,7 +180,6 @@ Written by scripts/gen/make_lesson_scenes.py.
 def shared_edges(out):
     # A grid of 8x6 quads over the whole frame with moved inner corners, and a
     # fan of 12 triangles around a point, each adding 0.25 (blend one, one).
-    import random
     rng = random.Random(14)
     nx, ny = 8, 6
     w, h = 96, 72
@@ -196,7 +197,6 @@ def shared_edges(out):
         for i in range(nx):
             a = j * (nx + 1) + i
             idx += [a, a + 1, a + nx + 2, a, a + nx + 2, a + nx + 1]
-    import math
     fan = [[0.1, 0.05, 0.5]]
     for k in range(13):
         t = 2 * math.pi * (k % 12) / 12 + 0.3
