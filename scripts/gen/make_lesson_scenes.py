@@ -264,7 +264,8 @@ depth test `less`, {what}.
 Written by scripts/gen/make_lesson_scenes.py.
 """, {
             "framebuffer": {"width": 128, "height": 96},
-            "camera": {"type": "perspective", "fovy": 60, "near": 1, "far": 20},
+            "camera": {"type": "perspective", "fovy": 60, "near": 1, "far": 20, "eye": [0, 3, 0],
+                       "target": [0, -1, -7]},
             "draws": [floor, decal],
         })
 
