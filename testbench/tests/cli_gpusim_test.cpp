@@ -603,7 +603,8 @@ TEST_F(Cli, SceneGeneratorsWriteOnlyWhereTold) {
     return shell("cd " + dir_.string() + " && /usr/bin/python3 " +
                  GPUSIM_SOURCE_DIR "/scripts/gen/" + script + " " + args);
   };
-  for (const std::string script : {"make_test_scenes.py", "make_regress_scenes.py"}) {
+  for (const std::string script :
+       {"make_test_scenes.py", "make_regress_scenes.py", "make_lesson_scenes.py"}) {
     const CommandResult help = python(script, "--help");
     EXPECT_EQ(help.status, 0) << script << "\n" << help.out;
     EXPECT_EQ(help.out.rfind("usage: " + script, 0), 0u) << help.out;
@@ -623,6 +624,12 @@ TEST_F(Cli, SceneGeneratorsWriteOnlyWhereTold) {
   EXPECT_EQ(out.status, 0) << out.out;
   for (const char* name : {"tiny_triangles.json", "clipping.json", "lines_random.json"}) {
     EXPECT_EQ(slurp(dir_ / "gen" / name), slurp(fs::path(scenes) / name)) << name;
+  }
+  const CommandResult lessons = python("make_lesson_scenes.py", "--out lessons");
+  EXPECT_EQ(lessons.status, 0) << lessons.out;
+  for (const auto& e : fs::directory_iterator(fs::path(scenes) / "lessons")) {
+    if (e.path().filename() == "lessons.json") continue;  // the manifest, written by hand
+    EXPECT_EQ(slurp(dir_ / "lessons" / e.path().filename()), slurp(e.path())) << e.path();
   }
 }
 

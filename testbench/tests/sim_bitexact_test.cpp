@@ -6,6 +6,7 @@
 // a SystemC model elaborates once per process.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <set>
 #include <sstream>
@@ -126,8 +127,12 @@ TEST_P(BitExact, FrameAndCountersEqualGolden) {
 std::string case_name(const ::testing::TestParamInfo<Case>& info) {
   const MatrixRow r = matrix_row(std::get<1>(info.param));
   std::ostringstream os;
-  os << std::get<0>(info.param) << "_u" << r.units << "_f" << r.fifo_depth << "_t" << r.tile_size
-     << "_s" << r.stamp << "x" << r.stamp;
+  // Test names take letters, digits and '_': "lessons/needle_diagonal" ->
+  // "lessons_needle_diagonal".
+  std::string scene = std::get<0>(info.param);
+  std::replace(scene.begin(), scene.end(), '/', '_');
+  os << scene << "_u" << r.units << "_f" << r.fifo_depth << "_t" << r.tile_size << "_s" << r.stamp
+     << "x" << r.stamp;
   return os.str();
 }
 
@@ -139,6 +144,19 @@ INSTANTIATE_TEST_SUITE_P(
                                          "aa_samples2", "aa_samples8", "aa_samples16",
                                          "aa_super3_samples4", "aa_super2"),
                        ::testing::Range(0, 18)),
+    case_name);
+
+// The scenes of docs/lessons.md (testbench/scenes/lessons/; scripts/lessons
+// renders them with the golden model, the needles with the cycle model).
+INSTANTIATE_TEST_SUITE_P(
+    Lessons, BitExact,
+    ::testing::Combine(
+        ::testing::Values("lessons/depth_nonlinear", "lessons/depth_precision_unorm16",
+                          "lessons/depth_precision_unorm24", "lessons/cull_cube_depth",
+                          "lessons/cull_cube_culled", "lessons/needle_horizontal",
+                          "lessons/needle_diagonal", "lessons/shared_edges", "lessons/antialias_1x",
+                          "lessons/antialias_4x", "lessons/offset_none", "lessons/offset_pulled"),
+        ::testing::Range(0, 18)),
     case_name);
 
 }  // namespace
