@@ -30,6 +30,22 @@ struct FramebufferDesc {
   float clear_depth = 1.0f;
 };
 
+// A clear in the middle of a frame's draw list (docs/pipeline-spec.md,
+// section 15): every sample of the colour buffer, the depth buffer or both
+// (at least one) takes the value, converted as the frame's clear converts
+// it, after draws [0, before_draw) and before the rest.
+struct ClearState {
+  bool color = false;
+  bool depth = false;
+  glm::vec4 color_value{0.0f, 0.0f, 0.0f, 1.0f};
+  float depth_value = 1.0f;
+  uint32_t before_draw = 0;
+  bool operator==(const ClearState& o) const {
+    return color == o.color && depth == o.depth && color_value == o.color_value &&
+           depth_value == o.depth_value && before_draw == o.before_draw;
+  }
+};
+
 enum class LightType : uint8_t { directional, point };
 
 // A fixed-function light, already transformed into eye space.
@@ -103,12 +119,23 @@ struct FrameState {
   glm::vec4 global_ambient{0.2f, 0.2f, 0.2f, 1.0f};
   std::vector<Light> lights;
   std::vector<DrawState> draws;
+  // The draw list's clears, in order (before_draw non-decreasing). The
+  // command stream's clear tokens carry no value: a frame's n-th clear token
+  // executes clear(n), the frame clear for n = 0 (docs/architecture.md,
+  // "Clears").
+  std::vector<ClearState> clears;
   uint64_t color_address = 0;  // N samples per pixel, adjacent
   uint64_t depth_address = 0;  // likewise
   // Multisampled or supersampled frames: where the resolve writes the
   // output image (width / supersample x height / supersample pixels, one
   // sample each, in the colour format).
   uint64_t resolve_address = 0;
+  // Clear token n of the frame: 0 is the frame clear (both buffers, the
+  // framebuffer's clear values), n > 0 is clears[n - 1].
+  ClearState clear(size_t n) const {
+    if (n > 0) return clears.at(n - 1);
+    return ClearState{true, true, framebuffer.clear_color, framebuffer.clear_depth, 0};
+  }
   bool needs_resolve() const { return framebuffer.samples > 1 || framebuffer.supersample > 1; }
 };
 

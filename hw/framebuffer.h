@@ -39,11 +39,18 @@ struct Framebuffer {
   const ColorChannel* color_at(int x, int y) const { return &color[pixel_index(x, y) * 4]; }
 
   void clear(const float rgba[4], float z) {
+    clear_color(rgba);
+    clear_depth(z);
+  }
+  // Every sample of one buffer (a mid-frame clear may clear either).
+  void clear_color(const float rgba[4]) {
     ColorChannel c[4];
     for (int i = 0; i < 4; ++i) c[i] = encode_color(color_format, rgba[i]);
     for (size_t p = 0; p < depth.size(); ++p) {
       for (int i = 0; i < 4; ++i) color[p * 4 + i] = c[i];
     }
+  }
+  void clear_depth(float z) {
     std::fill(depth.begin(), depth.end(), encode_depth(depth_format, z));
   }
 

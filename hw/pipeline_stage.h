@@ -110,6 +110,19 @@ class PipelineStage : public sc_core::sc_module {
 
   void retire() { ++m_tokens_out; }
 
+  // The frame's clear token n (counted from 0 at the frame's start), as
+  // FrameState::clear gives it; more tokens than the frame has clears is a
+  // driver bug.
+  ClearState next_clear(size_t n) const {
+    if (n > m_frame.clears.size()) {
+      SC_REPORT_ERROR("gpusim/clear",
+                      (std::string(name()) + ": clear token " + std::to_string(n) +
+                       " of a frame with " + std::to_string(m_frame.clears.size() + 1) + " clears")
+                          .c_str());
+    }
+    return m_frame.clear(n);
+  }
+
   const GpuConfig& m_config;
   const FrameState& m_frame;
   const StageCost m_cost;

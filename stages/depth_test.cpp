@@ -106,19 +106,23 @@ void DepthTest::run() {
         forward = !batch.stamps.empty();
         break;
       case PacketKind::clear: {
+        const ClearState c = next_clear(m_clears_seen++);
+        if (!c.depth) break;                                 // a colour clear: only forwarded
         std::vector<uint8_t> value(layout.bytes_per_pixel);  // every sample of a pixel
         const unsigned bytes = depth_bytes_per_pixel(fb.depth_format);
         for (unsigned s = 0; s < fb.samples; ++s) {
           store_depth(value.data() + s * bytes, bytes,
-                      encode_depth(fb.depth_format, fb.clear_depth));
+                      encode_depth(fb.depth_format, c.depth_value));
         }
         m_cache.clear(value.data());
+        ++m_depth_clears;
         break;
       }
       case PacketKind::end_of_frame:
         t = ready_after;
         m_cache.flush(t);
         ready_after = sc_core::SC_ZERO_TIME;
+        m_clears_seen = 0;
         break;
     }
     uint64_t stall = stall_cycles(t);

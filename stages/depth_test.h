@@ -73,6 +73,7 @@ class DepthTest : public PipelineStage {
   }
 
   uint64_t fragments_passed() const { return m_fragments_passed; }
+  uint64_t depth_clears() const { return m_depth_clears; }
   uint64_t samples_passed() const { return m_samples_passed; }
 
  private:
@@ -112,6 +113,10 @@ class DepthTest : public PipelineStage {
   bool m_offset_valid = false;
   std::array<size_t, 64> m_pixel_offset{};
 
+  size_t m_clears_seen = 0;  // this frame's clear tokens so far (FrameState::clear)
+
+  uint64_t& m_depth_clears =
+      m_stats.counter("depth_clears", "clears", "depth clears executed (fast clears)");
   uint64_t& m_stamps = m_stats.counter("stamps", "stamps", "stamps tested");
   uint64_t& m_stamps_passed =
       m_stats.counter("stamps_passed", "stamps", "stamps with a pixel left");

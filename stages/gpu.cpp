@@ -105,6 +105,10 @@ nlohmann::json Gpu::pipeline_counts() const {
   counts["samples_generated"] = fragments.samples_generated;
   counts["samples_passed_depth"] = fragments.samples_passed_depth;
   counts["samples_written"] = fragments.samples_written;
+  // Every unit executes every clear on the tiles it owns: one unit's count
+  // is the frame's.
+  counts["color_clears"] = m_units.front().rop->color_clears();
+  counts["depth_clears"] = m_units.front().depth->depth_clears();
   return counts;
 }
 

@@ -199,20 +199,25 @@ void Rop::run() {
         blend(batch, t);
         break;
       case PacketKind::clear: {
+        const ClearState c = next_clear(m_clears_seen++);
+        if (!c.color) break;                                 // a depth clear: nothing to do here
         std::vector<uint8_t> value(layout.bytes_per_pixel);  // every sample of a pixel
         const bool half = fb.color_format == ColorFormat::rgba16f;
         for (unsigned s = 0; s < fb.samples; ++s) {
           for (int k = 0; k < 4; ++k) {
             store_channel(value.data() + s * bytes, half, k,
-                          encode_color(fb.color_format, fb.clear_color[k]));
+                          encode_color(fb.color_format, c.color_value[k]));
           }
         }
         m_cache.clear(value.data());
+        forget_last_writers();
+        ++m_color_clears;
         break;
       }
       case PacketKind::end_of_frame:
         t = m_latency;
         m_cache.flush(t);
+        m_clears_seen = 0;
         break;
     }
     uint64_t stall = (t.value() + m_cycle - 1) / m_cycle;
@@ -231,6 +236,20 @@ void Rop::run() {
       ++m_frames;
       m_frame_done = true;
       m_frame_done_event.notify(sc_core::SC_ZERO_TIME);
+    }
+  }
+}
+
+// Testbench instrumentation: the pixels of this unit's tiles were cleared, so
+// no primitive wrote them since.
+void Rop::forget_last_writers() {
+  if (!m_last_writer) return;
+  const FramebufferDesc& fb = m_frame.framebuffer;
+  const int tile = static_cast<int>(m_config.tile_size);
+  for (int y = 0; y < fb.height; ++y) {
+    for (int x = 0; x < fb.width; ++x) {
+      if (tile_owner(x / tile, y / tile, m_config.units) == static_cast<unsigned>(m_unit))
+        (*m_last_writer)[static_cast<size_t>(y) * fb.width + x] = -1;
     }
   }
 }

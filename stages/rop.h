@@ -79,12 +79,14 @@ class Rop : public PipelineStage {
   }
 
   uint64_t fragments_written() const { return m_fragments_written; }
+  uint64_t color_clears() const { return m_color_clears; }
   uint64_t samples_written() const { return m_samples_written; }
 
  private:
   void run();
   void blend(const ShadedStampBatch& batch, sc_core::sc_time& t);
   void check_pixel(int x, int y, const FramebufferDesc& fb) const;
+  void forget_last_writers();
   // Calls write(colour, stored bytes) for every covered sample of the
   // batch, in order, with the checks, cache lookups, last-writer record and
   // trace around it; returns the number of colours (pixels) consumed.
@@ -100,6 +102,10 @@ class Rop : public PipelineStage {
   std::vector<int64_t>* m_last_writer = nullptr;
   FragmentProbe* m_probe = nullptr;
 
+  size_t m_clears_seen = 0;  // this frame's clear tokens so far (FrameState::clear)
+
+  uint64_t& m_color_clears =
+      m_stats.counter("color_clears", "clears", "colour clears executed (fast clears)");
   uint64_t& m_stamps = m_stats.counter("stamps", "stamps", "stamps received");
   uint64_t& m_fragments_in = m_stats.counter("fragments_in", "fragments", "pixels received");
   uint64_t& m_fragments_written =

@@ -570,6 +570,17 @@ int run_info(const std::string& scene_path) {
         vec_text(m["diffuse"]).c_str(), vec_text(m["specular"]).c_str(),
         vec_text(m["emission"]).c_str(), m["shininess"].get<double>());
   }
+  if (r.contains("clears")) {
+    // Placed by the number of draws before them (docs/scene-format.md, "Clears").
+    std::printf("clears: %zu\n", r["clears"].size());
+    for (const nlohmann::json& c : r["clears"]) {
+      std::printf("  after %llu draw%s:", c["before_draw"].get<unsigned long long>(),
+                  c["before_draw"] == 1 ? "" : "s");
+      if (c.contains("color")) std::printf(" colour %s", vec_text(c["color"]).c_str());
+      if (c.contains("depth")) std::printf(" depth %g", c["depth"].get<double>());
+      std::printf("\n");
+    }
+  }
   return 0;
 }
 

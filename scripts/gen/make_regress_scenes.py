@@ -492,6 +492,81 @@ def clear_only():
             "draws": []}
 
 
+# ---------------------------------------------------------------- clears
+
+def perspective_clip(fovy_deg, aspect, near, far):
+    """GL's perspective projection as a function of an eye-space point: the
+    clip coordinates, so that a scene can use several projections."""
+    f = 1.0 / math.tan(math.radians(fovy_deg) / 2)
+
+    def clip(p):
+        x, y, z = p
+        return [r(f / aspect * x), r(f * y),
+                r((far + near) / (near - far) * z + 2 * far * near / (near - far)), r(-z)]
+    return clip
+
+
+def eye_rect(x0, y0, x1, y1, z):
+    return [(x0, y0, z), (x1, y0, z), (x0, y1, z), (x1, y1, z)]
+
+
+@scene("clear_depth_partition", "clears", "11, 15",
+       "the depth-partition trick in unorm16: eye distances 0.5 to 9000, where one projection "
+       "cannot tell surfaces 100 apart at 6000; far pass (projection 100..10000), depth clear, "
+       "near pass (0.5..100), whose depths exceed the far pass's")
+def clear_depth_partition():
+    w, h = 160, 120
+    far = perspective_clip(60, w / h, 100, 10000)
+    near = perspective_clip(60, w / h, 0.5, 100)
+
+    def quad(clip, corners, color, name):
+        return {"name": name, "primitive": "triangle_strip",
+                "positions": [clip(c) for c in corners], "colors": [color] * 4}
+    draws = [
+        quad(far, eye_rect(-9000, -4000, 9000, 1500, -9000), [0.35, 0.3, 0.25, 1],
+             "far: ground plate"),
+        # Front to back, so the back one fails where they overlap.
+        quad(far, eye_rect(-2500, -1500, 800, 2000, -5900), [0.85, 0.2, 0.15, 1],
+             "far: red at 5900"),
+        quad(far, eye_rect(-800, -2500, 2500, 1000, -6000), [0.15, 0.3, 0.85, 1],
+             "far: blue at 6000"),
+        {"clear": {"depth": 1}},
+        # Window z 0.995 here against the red quad's 0.993: it fails without the clear.
+        quad(near, eye_rect(-30, -25, 10, 5, -50), [0.9, 0.8, 0.2, 1], "near: yellow at 50"),
+        {"name": "near: green triangle from 1.5 to 3", "primitive": "triangles",
+         "positions": [near((-0.9, -0.6, -1.5)), near((1.6, -0.2, -3)), near((0.2, 1.1, -2.2))],
+         "colors": [[0.2, 0.8, 0.3, 1], [0.1, 0.6, 0.2, 1], [0.3, 0.9, 0.4, 1]]},
+    ]
+    return {"framebuffer": {"width": w, "height": h, "depth_format": "unorm16",
+                            "clear_color": [0.5, 0.7, 0.9, 1]},
+            "draws": draws}
+
+
+@scene("clear_color_between_draws", "clears", "11, 12, 15",
+       "a colour-only clear between draws: the first triangle's depth stays and hides the "
+       "full-screen quad drawn after the clear, so the clear colour shows its shape; a "
+       "translucent triangle blends over both")
+def clear_color_between_draws():
+    def tri(p, color, name, state=None):
+        d = {"name": name, "primitive": "triangles", "positions": p, "colors": [color] * 3}
+        if state:
+            d["state"] = state
+        return d
+    return {
+        "framebuffer": {"width": 128, "height": 128, "clear_color": [0, 0, 0, 1]},
+        "draws": [
+            tri([[-0.9, -0.8, -0.5], [0.4, -0.7, -0.4], [-0.5, 0.8, -0.6]], [1, 1, 1, 1],
+                "hidden: its depth stays, its colour is cleared"),
+            {"clear": {"color": [0.2, 0.4, 0.6, 1]}},
+            {"name": "full-screen quad behind the hidden triangle", "primitive": "triangle_strip",
+             "positions": quad_strip(-1, -1, 1, 1), "colors": [[0.9, 0.5, 0.1, 1]] * 4},
+            tri([[-0.2, -0.95, -0.9], [0.95, 0.1, -0.9], [-0.6, 0.6, -0.9]],
+                [0.1, 0.9, 0.3, 0.5], "translucent, over both",
+                {"blend": {"src": "src_alpha", "dst": "one_minus_src_alpha"}}),
+        ],
+    }
+
+
 # ---------------------------------------------------------------- clipping
 
 @scene("near_plane", "clipping", "4, 5, 9",

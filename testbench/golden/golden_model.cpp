@@ -203,6 +203,8 @@ class Renderer {
     const glm::vec4& c = scene.framebuffer.clear_color;
     const float rgba[4] = {c.x, c.y, c.z, c.w};
     m_fb.clear(rgba, scene.framebuffer.clear_depth);
+    ++m_stats.color_clears;
+    ++m_stats.depth_clears;
     m_last_writer.assign(static_cast<size_t>(m_fb.width) * m_fb.height, -1);
     for (unsigned i = 0; i < m_samples; ++i) {
       const SampleOffset o = sample_offset(m_samples, i);
@@ -218,11 +220,36 @@ class Renderer {
   }
 
   Result run() {
-    for (const Draw& draw : m_scene.draws) render_draw(draw);
+    // Section 15: the draw list's clears at their places among the draws.
+    size_t next_clear = 0;
+    for (size_t i = 0; i <= m_scene.draws.size(); ++i) {
+      for (; next_clear < m_scene.clears.size() && m_scene.clears[next_clear].before_draw == i;
+           ++next_clear) {
+        clear(m_scene.clears[next_clear]);
+      }
+      if (i < m_scene.draws.size()) render_draw(m_scene.draws[i]);
+    }
     return Result{resolve(m_fb, m_k), std::move(m_last_writer), m_stats};
   }
 
  private:
+  // Every sample of the render target (supersampled: the whole of it), in
+  // the buffer formats, as the frame clear converts the values. A colour
+  // clear also forgets the pixels' last writers: no primitive wrote them
+  // since.
+  void clear(const ClearState& c) {
+    if (c.color) {
+      const float rgba[4] = {c.color_value.x, c.color_value.y, c.color_value.z, c.color_value.w};
+      m_fb.clear_color(rgba);
+      std::fill(m_last_writer.begin(), m_last_writer.end(), -1);
+      ++m_stats.color_clears;
+    }
+    if (c.depth) {
+      m_fb.clear_depth(c.depth_value);
+      ++m_stats.depth_clears;
+    }
+  }
+
   void render_draw(const Draw& draw) {
     // Supersampling: widths and sizes keep their size in output pixels.
     RenderState state = draw.state;
@@ -1079,7 +1106,9 @@ Framebuffer resolve(const Framebuffer& target, unsigned k) {
 }
 
 nlohmann::json Stats::to_json() const {
-  return {{"triangles_in", triangles_in},
+  return {{"color_clears", color_clears},
+          {"depth_clears", depth_clears},
+          {"triangles_in", triangles_in},
           {"triangles_invalid", triangles_invalid},
           {"triangles_clipped_away", triangles_clipped_away},
           {"triangles_clipped", triangles_clipped},

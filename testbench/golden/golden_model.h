@@ -155,6 +155,10 @@ LineRectangle line_rectangle(int64_t ax, int64_t ay, int64_t bx, int64_t by, flo
 Framebuffer resolve(const Framebuffer& target, unsigned k);
 
 struct Stats {
+  // Clears executed that wrote the colour (depth) buffer: the frame clear
+  // and the draw list's (section 15).
+  uint64_t color_clears = 0;
+  uint64_t depth_clears = 0;
   uint64_t triangles_in = 0;            // assembled
   uint64_t triangles_invalid = 0;       // non-finite position or out-of-range index
   uint64_t triangles_clipped_away = 0;  // entirely outside the clip volume
@@ -195,7 +199,8 @@ struct Result {
   Stats stats;
 };
 
-// Render the scene: clear, then every draw in order, then resolve.
+// Render the scene: clear, then every draw and clear of the draw list in
+// order, then resolve.
 Result render(const Scene& scene);
 
 }  // namespace gpusim::golden

@@ -963,7 +963,13 @@ struct GlReference::Impl {
     // Untimed for render_seconds: the spec's vertex stage on the CPU and the
     // upload of every draw call's vertices and indices, finished.
     const Clock::time_point prepare_start = Clock::now();
-    for (const Draw& draw : scene.draws) prepare_draw(scene, draw);
+    // Batches [first_batch[i], first_batch[i + 1]) draw scene.draws[i].
+    std::vector<size_t> first_batch;
+    for (const Draw& draw : scene.draws) {
+      first_batch.push_back(batches.size());
+      prepare_draw(scene, draw);
+    }
+    first_batch.push_back(batches.size());
     gl.glFinish();
     result.prepare_seconds = seconds_since(prepare_start);
 
@@ -979,7 +985,31 @@ struct GlReference::Impl {
       gl.glClearDepth(desc.clear_depth);
       gl.glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
       check("clear");
-      for (const Batch& b : batches) draw_batch(b);
+      // The draw list's clears with glClear at their places (spec section
+      // 15): every sample of the buffer, whatever the draws' masks were.
+      size_t next_clear = 0;
+      for (size_t i = 0; i <= scene.draws.size(); ++i) {
+        for (; next_clear < scene.clears.size() && scene.clears[next_clear].before_draw == i;
+             ++next_clear) {
+          const ClearState& mid = scene.clears[next_clear];
+          GLbitfield bits = 0;
+          if (mid.color) {
+            gl.glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+            const glm::vec4& v = mid.color_value;
+            gl.glClearColor(v.r, v.g, v.b, v.a);
+            bits |= GL_COLOR_BUFFER_BIT;
+          }
+          if (mid.depth) {
+            gl.glDepthMask(GL_TRUE);
+            gl.glClearDepth(mid.depth_value);
+            bits |= GL_DEPTH_BUFFER_BIT;
+          }
+          gl.glClear(bits);
+          check("mid-frame clear");
+        }
+        if (i == scene.draws.size()) break;
+        for (size_t b = first_batch[i]; b < first_batch[i + 1]; ++b) draw_batch(batches[b]);
+      }
       gl.glFinish();
       result.render_seconds.push_back(seconds_since(start));
     }

@@ -68,6 +68,12 @@ struct Scene {
   glm::vec4 global_ambient{0.2f, 0.2f, 0.2f, 1.0f};
   std::vector<Light> lights;
   std::vector<Draw> draws;
+  // Clear entries of the file's draw list, in order, each placed by its
+  // before_draw (the number of Draws before it; a mesh entry may give
+  // several). Every consumer that executes the draws executes these at
+  // their places: the frame clear first, then, before draw i, every clear
+  // with before_draw == i, and those with before_draw == draws.size() last.
+  std::vector<ClearState> clears;
   // The scene's settings with every default filled in, dumped into stats.json.
   nlohmann::json resolved;
 };

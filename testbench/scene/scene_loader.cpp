@@ -181,6 +181,7 @@ class SceneReader {
   Light read_light(const At& a, Out& resolved);
   void place_lights(Scene& scene) const;
   void read_draw(const At& a, Scene& scene);
+  void read_clear(const At& a, Scene& scene);
   glm::mat4 read_transform(const At& a) const;
   Material read_material(const At& a) const;
   RenderState read_state(const At& a) const;
@@ -367,7 +368,14 @@ Scene SceneReader::read_text(const std::string& text) {
   if (has(root, "draws")) {
     const At draws = member(root, "draws");
     if (!draws.v.is_array()) fail_value(draws, "expected an array of draws");
-    for (size_t i = 0; i < draws.v.size(); ++i) read_draw(element(draws, i), scene);
+    for (size_t i = 0; i < draws.v.size(); ++i) {
+      const At entry = element(draws, i);
+      if (entry.v.is_object() && has(entry, "clear")) {
+        read_clear(entry, scene);
+      } else {
+        read_draw(entry, scene);
+      }
+    }
   }
   if (scene.auto_camera) frame_meshes(scene);
   place_lights(scene);
@@ -788,6 +796,37 @@ RenderState SceneReader::read_state(const At& a) const {
   return s;
 }
 
+// {"clear": {"color": [r, g, b, a], "depth": d}}, either key or both: placed
+// after the Draws read so far. Its values are checked as the framebuffer's
+// clear_color and clear_depth are.
+void SceneReader::read_clear(const At& a, Scene& scene) {
+  check_keys(a, {"clear"});
+  const At c = member(a, "clear");
+  expect_object(c);
+  check_keys(c, {"color", "depth"});
+  if (!has(c, "color") && !has(c, "depth")) {
+    fail(c.path, "clears nothing: expected \"color\", \"depth\" or both");
+  }
+  ClearState clear;
+  clear.before_draw = static_cast<uint32_t>(scene.draws.size());
+  Out resolved = {{"before_draw", clear.before_draw}};
+  if (has(c, "color")) {
+    clear.color = true;
+    clear.color_value = color(member(c, "color"));
+    resolved["color"] = out_vec(clear.color_value);
+  }
+  if (has(c, "depth")) {
+    const At d = member(c, "depth");
+    clear.depth = true;
+    clear.depth_value = real(d);
+    if (!(clear.depth_value >= 0.0f && clear.depth_value <= 1.0f)) fail_value(d, "expected 0..1");
+    resolved["depth"] = tidy(clear.depth_value);
+  }
+  if (!scene.resolved.contains("clears")) scene.resolved["clears"] = Out::array();
+  scene.resolved["clears"].push_back(std::move(resolved));
+  scene.clears.push_back(clear);
+}
+
 void SceneReader::read_draw(const At& a, Scene& scene) {
   expect_object(a);
   const bool is_mesh = has(a, "mesh");
@@ -797,7 +836,7 @@ void SceneReader::read_draw(const At& a, Scene& scene) {
     check_keys(a, {"name", "primitive", "positions", "colors", "indices", "transform", "material",
                    "state"});
   } else {
-    fail(a.path, "expected a \"mesh\" key or a \"positions\" key");
+    fail(a.path, "expected a \"mesh\", \"positions\" or \"clear\" key");
   }
   // JSON has no comments: a name says what a draw is for, in the file and in
   // stats.json ("draws[2] wide lines").

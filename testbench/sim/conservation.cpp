@@ -73,6 +73,11 @@ struct Context {
   uint64_t points = 0;
   uint64_t control = 0;  // control tokens every stage forwards (clears + frames)
   uint64_t units = 0;
+  // The frame's clears (the frame clear and the draw list's), and of them
+  // those of the colour and of the depth buffer (spec section 15).
+  uint64_t clears = 0;
+  uint64_t color_clears = 0;
+  uint64_t depth_clears = 0;
 
   uint64_t get(const std::string& counter) const { return l.stage(name, counter); }
   // The stage writing this stage's (first) input FIFO: the one before it.
@@ -92,6 +97,7 @@ const std::map<std::string, Rule>& rules() {
          // Commands in = commands out.
          c.l.equal(c.name, "draws", c.get("draws"), "draws in the frame", c.draws);
          c.l.equal(c.name, "frames", c.get("frames"), "frames run", 1);
+         c.l.equal(c.name, "clears", c.get("clears"), "clears in the frame", c.clears);
          c.l.equal(c.name, "tokens_in", c.get("tokens_in"), "draws + clears + frames",
                    c.get("draws") + c.get("clears") + c.get("frames"));
          c.l.equal(c.name, "tokens_out", c.get("tokens_out"), "tokens_in", c.get("tokens_in"));
@@ -251,6 +257,9 @@ const std::map<std::string, Rule>& rules() {
          c.l.at_most(c.name, "fragments_passed", c.get("fragments_passed"), "fragments_in",
                      c.get("fragments_in"));
          c.l.at_most(c.name, "stamps_passed", c.get("stamps_passed"), "stamps", c.get("stamps"));
+         // Every unit executes every depth clear on its own tiles.
+         c.l.equal(c.name, "depth_clears", c.get("depth_clears"), "depth clears in the frame",
+                   c.depth_clears);
          c.l.at_most(c.name, "tokens_out", c.get("tokens_out"), "tokens_in", c.get("tokens_in"));
          c.l.at_most(c.name, "control tokens", c.control, "tokens_out", c.get("tokens_out"));
        }},
@@ -280,6 +289,8 @@ const std::map<std::string, Rule>& rules() {
          c.l.at_most(c.name, "fragments_written", c.get("fragments_written"), "fragments_in",
                      c.get("fragments_in"));
          c.l.equal(c.name, "frames", c.get("frames"), "frames run", 1);
+         c.l.equal(c.name, "color_clears", c.get("color_clears"), "colour clears in the frame",
+                   c.color_clears);
          c.l.at_most(c.name, "samples_written", c.get("samples_written"), "fragments_written x 16",
                      16 * c.get("fragments_written"));
          c.l.at_most(c.name, "fragments_written", c.get("fragments_written"), "samples_written",
@@ -342,6 +353,11 @@ std::vector<std::string> conservation_errors(const nlohmann::json& stats,
   }
   const uint64_t control =
       l.stage("command_processor", "clears") + l.stage("command_processor", "frames");
+  uint64_t color_clears = 0, depth_clears = 0;
+  for (size_t n = 0; n <= frame.clears.size(); ++n) {
+    color_clears += frame.clear(n).color;
+    depth_clears += frame.clear(n).depth;
+  }
   for (const NetlistTables::Stage& s : netlist.stages) {
     const auto rule = rules().find(s.kind);
     if (rule == rules().end()) continue;
@@ -353,6 +369,9 @@ std::vector<std::string> conservation_errors(const nlohmann::json& stats,
     c.points = assembled[static_cast<int>(PrimitiveClass::point)];
     c.control = control;
     c.units = units;
+    c.clears = frame.clears.size() + 1;
+    c.color_clears = color_clears;
+    c.depth_clears = depth_clears;
     rule->second(c);
   }
 

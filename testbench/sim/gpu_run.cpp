@@ -41,11 +41,11 @@ class Host : public sc_core::sc_module {
  public:
   SC_HAS_PROCESS(Host);
   // `progress`: where the simulate phase's state goes, or null for none.
-  Host(sc_core::sc_module_name name, Gpu& gpu, const GpuConfig& config, size_t draws,
+  Host(sc_core::sc_module_name name, Gpu& gpu, const GpuConfig& config, const FrameState& frame,
        uint64_t primitives, Progress* progress, bool withhold_end_of_frame = false)
       : sc_core::sc_module(name),
         m_gpu(gpu),
-        m_draws(draws),
+        m_frame(frame),
         m_primitives(primitives),
         m_progress(progress),
         m_withhold_end_of_frame(withhold_end_of_frame),
@@ -61,9 +61,16 @@ class Host : public sc_core::sc_module {
  private:
   void stream() {
     Fifo<Command>& q = m_gpu.command_queue();
+    // The frame clear, then the draws with the draw list's clears at their
+    // places; a clear token carries no value (FrameState::clear).
     q.write(Command{PacketKind::clear, 0});
-    for (size_t i = 0; i < m_draws; ++i)
-      q.write(Command{PacketKind::work, static_cast<uint32_t>(i)});
+    const std::vector<ClearState>& clears = m_frame.clears;
+    size_t next_clear = 0;
+    for (size_t i = 0; i <= m_frame.draws.size(); ++i) {
+      for (; next_clear < clears.size() && clears[next_clear].before_draw == i; ++next_clear)
+        q.write(Command{PacketKind::clear, 0});
+      if (i < m_frame.draws.size()) q.write(Command{PacketKind::work, static_cast<uint32_t>(i)});
+    }
     // (Fault injection: a lost end_of_frame, which the watchdog must catch.)
     if (!m_withhold_end_of_frame) q.write(Command{PacketKind::end_of_frame, 0});
     while (!m_gpu.frame_done()) sc_core::wait(m_gpu.unit_done_events());
@@ -112,7 +119,7 @@ class Host : public sc_core::sc_module {
   }
 
   Gpu& m_gpu;
-  size_t m_draws;
+  const FrameState& m_frame;
   uint64_t m_primitives;  // primitives of every kind assembled in the frame
   Progress* m_progress;
   bool m_withhold_end_of_frame;
@@ -196,6 +203,7 @@ LoadedFrame load_frame(const Scene& scene) {
   f.framebuffer.height = out_fb.height * static_cast<int>(k);
   f.global_ambient = scene.global_ambient;
   f.lights = scene.lights;
+  f.clears = scene.clears;
   const uint64_t samples =
       static_cast<uint64_t>(f.framebuffer.width) * f.framebuffer.height * out_fb.samples;
   f.color_address = 0;
@@ -309,7 +317,7 @@ GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOp
   }
   uint64_t primitives = 0;
   for (const Draw& d : scene.draws) primitives += primitive_count(d.primitive, d.vertex_count());
-  Host host("host", gpu, config, scene.draws.size(), primitives,
+  Host host("host", gpu, config, loaded.frame, primitives,
             progress && progress->shown() ? progress : nullptr,
             options.fault_withhold_end_of_frame);
   std::unique_ptr<Watchdog> watchdog;

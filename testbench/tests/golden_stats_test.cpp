@@ -138,10 +138,13 @@ TEST(GoldenStats, MixedSceneCountersAndConservation) {
   EXPECT_EQ(j.at("triangles_after_clip").get<uint64_t>(), 7u);
   EXPECT_EQ(j.at("fragments_written").get<uint64_t>(), t0 + t4);
   // 11 triangle and fragment counters, triangles_unfilled and _offscreen, 6
-  // for lines, 4 for points (spec section 13), 3 for samples (section 14);
-  // none of the lines' and points' moved in a triangle scene, and one sample
-  // per pixel makes the sample counts the fragment counts.
-  EXPECT_EQ(j.size(), 26u);
+  // for lines, 4 for points (spec section 13), 3 for samples (section 14),
+  // 2 for clears (section 15); none of the lines' and points' moved in a
+  // triangle scene, one sample per pixel makes the sample counts the
+  // fragment counts, and the frame clear is the only clear.
+  EXPECT_EQ(j.size(), 28u);
+  EXPECT_EQ(st.color_clears, 1u);
+  EXPECT_EQ(st.depth_clears, 1u);
   EXPECT_EQ(st.samples_generated, st.fragments_generated);
   EXPECT_EQ(st.samples_passed_depth, st.fragments_passed_depth);
   EXPECT_EQ(st.samples_written, st.fragments_written);

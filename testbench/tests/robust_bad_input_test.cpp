@@ -125,7 +125,7 @@ std::vector<BadCase> cases() {
   scene("unknown_light_key", R"({"lights": [{"type": "point", "position": [0,0,0], "range": 3}]})",
         {"lights[0].range: unknown key"});
   scene("neither_mesh_nor_positions", R"({"draws": [{"colors": []}]})",
-        {"draws[0]: expected a \"mesh\" key or a \"positions\" key"});
+        {"draws[0]: expected a \"mesh\", \"positions\" or \"clear\" key"});
   // Missing required keys.
   scene("camera_without_fovy", R"({"camera": {"type": "perspective", "near": 1, "far": 10}})",
         {"camera: missing key \"fovy\""});

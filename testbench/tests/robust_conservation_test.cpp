@@ -141,6 +141,10 @@ TEST_F(Doctored, EveryMismatchIsCaught) {
       {"stages", "rop_0", "fragments_in", -1, "rop_0: fragments_in"},
       {"stages", "rop_1", "fragments_written", +1000000, "rop_1: fragments_written"},
       {"stages", "rop_1", "frames", +1, "rop_1: frames"},
+      // A clear lost or executed twice (the frame clear is the scene's only one).
+      {"stages", "command_processor", "clears", +1, "command_processor: clears"},
+      {"stages", "depth_test_1", "depth_clears", -1, "depth_test_1: depth_clears"},
+      {"stages", "rop_0", "color_clears", +1, "rop_0: color_clears"},
   };
   for (const Doctoring& d : cases) {
     SCOPED_TRACE(std::string(d.section) + "." + d.name + "." + d.counter);

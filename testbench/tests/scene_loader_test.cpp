@@ -958,7 +958,7 @@ TEST_F(SceneLoaderTest, StructuralErrors) {
   EXPECT_EQ(error_of(R"({"framebuffer": {"width": 1, "width": 2}})"),
             "framebuffer.width: duplicate key");
   EXPECT_EQ(error_of(R"({"draws": [{}, {"positions": [], "colors": [[1,1,1,1]]}]})"),
-            "draws[0]: expected a \"mesh\" key or a \"positions\" key");
+            "draws[0]: expected a \"mesh\", \"positions\" or \"clear\" key");
   EXPECT_EQ(error_of(R"({"draws": [{"positions": [], "lighting": true}]})")
                 .rfind("draws[0].lighting: unknown key", 0),
             0u);
@@ -1119,6 +1119,65 @@ TEST_F(SceneLoaderTest, TypeAndRangeErrors) {
        "draws[0].state.line_stipple: unknown key (allowed: cull, front_face, depth_test, "
        "depth_write, polygon_offset, blend, color_mask, shading, line_width, point_size, "
        "line_rasterization, polygon_mode)"},
+  };
+  for (const auto& [json, want] : cases) EXPECT_EQ(error_of(json), want) << json;
+}
+
+// Clear entries of the draw list (docs/scene-format.md, "Clears"): each is
+// placed by the number of Draws before it; a mesh entry counts for the
+// Draws it gives (spider.obj: one per mesh of the file).
+TEST_F(SceneLoaderTest, ClearEntriesArePlacedAmongTheDraws) {
+  const Scene s = load(R"({"camera": {"type": "perspective", "fovy": 60, "near": 1, "far": 10},
+    "draws": [
+      {"clear": {"depth": 0.25}},
+      {"positions": [[0, 0, 0], [1, 0, 0], [0, 1, 0]]},
+      {"clear": {"color": [0.5, 0.25, 1, 0]}},
+      {"clear": {"color": [0, 0, 0, 1], "depth": 0}},
+      {"mesh": ")" + kSpider +
+                       R"("},
+      {"clear": {"depth": 1}}]})");
+  ASSERT_EQ(s.clears.size(), 4u);
+  const size_t draws = s.draws.size();
+  ASSERT_GT(draws, 2u);  // spider.obj has several meshes
+  EXPECT_EQ(s.clears[0].before_draw, 0u);
+  EXPECT_TRUE(s.clears[0].depth);
+  EXPECT_FALSE(s.clears[0].color);
+  EXPECT_EQ(s.clears[0].depth_value, 0.25f);
+  EXPECT_EQ(s.clears[1].before_draw, 1u);
+  EXPECT_TRUE(s.clears[1].color);
+  EXPECT_FALSE(s.clears[1].depth);
+  EXPECT_EQ(s.clears[1].color_value, glm::vec4(0.5f, 0.25f, 1.0f, 0.0f));
+  EXPECT_EQ(s.clears[2].before_draw, 1u);
+  EXPECT_TRUE(s.clears[2].color && s.clears[2].depth);
+  EXPECT_EQ(s.clears[2].depth_value, 0.0f);
+  EXPECT_EQ(s.clears[3].before_draw, draws);  // after the last draw
+  // The resolved settings list them with their places.
+  const nlohmann::json& resolved = s.resolved.at("clears");
+  ASSERT_EQ(resolved.size(), 4u);
+  EXPECT_EQ(resolved[1].at("before_draw"), 1);
+  EXPECT_EQ(resolved[1].at("color"), nlohmann::json::array({0.5, 0.25, 1, 0}));
+  EXPECT_FALSE(resolved[1].contains("depth"));
+  EXPECT_EQ(resolved[3].at("before_draw"), draws);
+  // No clear entries: no "clears" key, as before they existed.
+  EXPECT_FALSE(load(R"({"draws": []})").resolved.contains("clears"));
+}
+
+TEST_F(SceneLoaderTest, ClearEntryErrors) {
+  const std::pair<std::string, std::string> cases[] = {
+      {R"({"draws": [{"clear": {}}]})",
+       "draws[0].clear: clears nothing: expected \"color\", \"depth\" or both"},
+      {R"({"draws": [{"clear": true}]})", "draws[0].clear: expected an object, got true"},
+      {R"({"draws": [{"clear": {"depth": 1}, "name": "x"}]})",
+       "draws[0].name: unknown key (allowed: clear)"},
+      {R"({"draws": [{"clear": {"depth": 1, "stencil": 0}}]})",
+       "draws[0].clear.stencil: unknown key (allowed: color, depth)"},
+      {R"({"draws": [{"clear": {"depth": 1.5}}]})", "draws[0].clear.depth: expected 0..1, got 1.5"},
+      {R"({"draws": [{"clear": {"depth": "far"}}]})",
+       "draws[0].clear.depth: expected a number, got \"far\""},
+      {R"({"draws": [{"positions": []}, {"clear": {"color": [1, 0, 0]}}]})",
+       "draws[1].clear.color: expected an array of 4 numbers, got an array of 3 elements"},
+      {R"({"draws": [{"clear": {"color": [1, 0, 0, null]}}]})",
+       "draws[0].clear.color[3]: expected a number, got null"},
   };
   for (const auto& [json, want] : cases) EXPECT_EQ(error_of(json), want) << json;
 }

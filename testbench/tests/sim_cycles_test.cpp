@@ -326,7 +326,7 @@ TEST(Cycles, MemoryBandwidthCapSlowsTheWriteBackAsPredicted) {
 }
 
 TEST(Cycles, RandomStallsAtEveryFifoLeaveTheFrameUnchanged) {
-  for (const char* name : {"default", "states", "clipping", "shared_edges"}) {
+  for (const char* name : {"default", "states", "clipping", "shared_edges", "clears_samples4"}) {
     const Scene s =
         load_scene(std::string(GPUSIM_SOURCE_DIR) + "/testbench/scenes/" + name + ".json");
     GpuConfig c;
@@ -342,6 +342,118 @@ TEST(Cycles, RandomStallsAtEveryFifoLeaveTheFrameUnchanged) {
     EXPECT_GT(r.cycles, calm.cycles) << name << ": the stalls must cost time";
     EXPECT_EQ(r.framebuffer, golden::render(s).framebuffer) << name;
     EXPECT_EQ(r.counts, calm.counts) << name;
+  }
+}
+
+// Two giant triangles at window depth 0.75 (depth_func lequal, so the second
+// passes with or without a depth clear between them and the back end does
+// the same work either way), with or without a clear between the draws.
+Scene two_giant_triangles(const ClearState* between) {
+  Scene s = clip_space_scene();
+  for (int i = 0; i < 2; ++i) {
+    s.draws.push_back(giant_triangle(true));
+    s.draws.back().state.depth_func = CompareFunc::lequal;
+  }
+  if (between) s.clears.push_back(*between);
+  return s;
+}
+
+ClearState clear_between(bool color, bool depth) {
+  ClearState c;
+  c.color = color;
+  c.depth = depth;
+  c.color_value = {0.25f, 0.5f, 0.75f, 1.0f};
+  c.depth_value = 1.0f;
+  c.before_draw = 1;
+  return c;
+}
+
+TEST(Cycles, AMidFrameClearCostsOneTokenAndNoMemoryWhenTilesStayCached) {
+  // Fill-bound, one unit, every tile cached (fill_bound). The clear is a
+  // control token: ii = 1 in every stage it passes (docs/architecture.md,
+  // "Clears"), and the tile rasterizer, the bottleneck (17 cycles per tile
+  // against the back end's 16), meets it between the two triangles, so the
+  // frame is exactly that 1 cycle longer: every other stage absorbs its
+  // cycle while it waits for the rasterizer. A fast clear writes nothing: it
+  // drops the cached tiles (the second triangle overwrites them anyway) and
+  // marks them cleared, so the second triangle fills its 256 tiles from the
+  // clear value (cache_clear_fills 256 -> 512) instead of hitting, nothing
+  // is read, and the end-of-frame write-back is the same 256 tiles.
+  const GpuConfig config = fill_bound(1);
+  ASSERT_EQ(config.stage("tile_rasterizer").ii, 1u);
+  const Scene plain = two_giant_triangles(nullptr);
+  const GpuRunResult a = run(plain, config);
+  for (const bool color : {false, true}) {
+    const ClearState c = clear_between(color, !color);
+    const GpuRunResult b = run(two_giant_triangles(&c), config);
+    const char* what = color ? "colour clear" : "depth clear";
+    const char* cleared = color ? "rop_0" : "depth_test_0";
+    const char* other = color ? "depth_test_0" : "rop_0";
+    EXPECT_EQ(cycles(b) - cycles(a), 1) << what;
+    for (const char* stage :
+         {"command_processor", "tile_rasterizer_0", "depth_test_0", "interpolator_0", "rop_0"}) {
+      EXPECT_EQ(stage_counter(b, stage, "busy_cycles") - stage_counter(a, stage, "busy_cycles"), 1u)
+          << what << " " << stage;
+    }
+    EXPECT_EQ(stage_counter(a, cleared, "cache_clear_fills"), 256u) << what;
+    EXPECT_EQ(stage_counter(b, cleared, "cache_clear_fills"), 512u) << what;
+    EXPECT_EQ(stage_counter(b, other, "cache_clear_fills"), 256u) << what;
+    for (const char* stage : {"depth_test_0", "rop_0"}) {
+      EXPECT_EQ(stage_counter(b, stage, "bytes_read"), 0u) << what << " " << stage;
+      EXPECT_EQ(stage_counter(b, stage, "bytes_written"), 65536u * 4u) << what << " " << stage;
+    }
+    EXPECT_EQ(b.counts.at(color ? "color_clears" : "depth_clears").get<uint64_t>(), 2u) << what;
+    EXPECT_EQ(b.counts.at(color ? "depth_clears" : "color_clears").get<uint64_t>(), 1u) << what;
+  }
+}
+
+TEST(Cycles, AMidFrameFastClearSavesTheReadsAndTheCachedWriteBacks) {
+  // The same frames with 16-entry tile caches: the two triangles walk the
+  // 256 tiles in the same order, so under LRU the second triangle misses
+  // every tile. Without a clear it reads all 256 back (1 KiB each: 16 x 16
+  // pixels x 4 bytes), and 256 (first triangle) - 16 + 256 (second) dirty
+  // evictions plus 16 at the end write 512 tiles. With the clear the second
+  // triangle reads nothing (its tiles are cleared), and the 16 dirty tiles
+  // cached at the clear are dropped, not written: 496 tiles.
+  GpuConfig config = fill_bound(1);
+  config.tile_cache_entries = 16;
+  const uint64_t tile = 16 * 16 * 4;
+  const GpuRunResult a = run(two_giant_triangles(nullptr), config);
+  for (const bool color : {false, true}) {
+    const ClearState c = clear_between(color, !color);
+    const GpuRunResult b = run(two_giant_triangles(&c), config);
+    const char* what = color ? "colour clear" : "depth clear";
+    const char* cleared = color ? "rop_0" : "depth_test_0";
+    const char* other = color ? "depth_test_0" : "rop_0";
+    EXPECT_EQ(stage_counter(a, cleared, "bytes_read"), 256 * tile) << what;
+    EXPECT_EQ(stage_counter(a, cleared, "bytes_written"), 512 * tile) << what;
+    EXPECT_EQ(stage_counter(b, cleared, "bytes_read"), 0u) << what;
+    EXPECT_EQ(stage_counter(b, cleared, "bytes_written"), 496 * tile) << what;
+    EXPECT_EQ(stage_counter(b, cleared, "cache_writebacks"), 496u) << what;
+    // The other buffer's traffic does not change.
+    EXPECT_EQ(stage_counter(b, other, "bytes_read"), stage_counter(a, other, "bytes_read")) << what;
+    EXPECT_EQ(stage_counter(b, other, "bytes_written"), stage_counter(a, other, "bytes_written"))
+        << what;
+    EXPECT_LT(b.cycles, a.cycles) << what << ": 256 tile reads saved";
+  }
+}
+
+TEST(Cycles, ClearTokensReachEveryUnit) {
+  // Every unit executes every clear on the tiles it owns: each unit's
+  // rasterizer, depth test and ROP spend ii = 1 on it, and each unit's
+  // depth test counts it.
+  const ClearState c = clear_between(false, true);
+  for (const unsigned n : {2u, 4u}) {
+    const GpuRunResult a = run(two_giant_triangles(nullptr), fill_bound(n));
+    const GpuRunResult b = run(two_giant_triangles(&c), fill_bound(n));
+    for (unsigned u = 0; u < n; ++u) {
+      for (const std::string stage : {"tile_rasterizer_", "depth_test_", "rop_"}) {
+        const std::string name = stage + std::to_string(u);
+        EXPECT_EQ(stage_counter(b, name, "busy_cycles") - stage_counter(a, name, "busy_cycles"), 1u)
+            << n << " units, " << name;
+      }
+      EXPECT_EQ(stage_counter(b, "depth_test_" + std::to_string(u), "depth_clears"), 2u);
+    }
   }
 }
 
