@@ -40,8 +40,10 @@ struct TraceValue {
   // array elements, structure members, repr: [machine value, human value]
   std::vector<TraceValue> elements;
   // Names from the signatures, for printing and for the driver's messages:
-  // enumeration: the symbol whose value matches ("GL_TRIANGLES", empty when
-  // none does); structure: the struct's name; bitmask: unused.
+  // enumeration: the first symbol whose value matches ("GL_TRIANGLES", empty
+  // when none does); bitmask: its flags as `apitrace dump` prints them
+  // ("GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT"); structure: the struct's
+  // name. A wide string (Windows traces) is read as a UTF-8 string.
   std::string name;
   // structure: the member names, parallel to elements.
   std::vector<std::string> member_names;
@@ -63,9 +65,15 @@ struct TraceCall {
   uint32_t thread = 0;
   std::string function;                // "glVertex3f"
   std::vector<std::string> arg_names;  // from the signature, parallel to args
-  std::vector<TraceValue> args;  // in the signature's order; an argument never recorded is null
-  TraceValue ret;                // null when the function returns nothing
-  bool incomplete = false;       // its leave event never came (program killed)
+  // in the signature's order; an argument never recorded is null
+  std::vector<TraceValue> args;
+  TraceValue ret;  // null when the function returns nothing
+  // What `apitrace dump` tells apart and a null hides: which arguments and
+  // whether a return value were recorded at all (dump prints "?" and no " = ").
+  std::vector<bool> arg_recorded;
+  bool has_ret = false;
+  bool fake = false;        // emitted by the tracer, not the program (dump's "// fake")
+  bool incomplete = false;  // its leave event never came (program killed)
   bool operator==(const TraceCall&) const;
 };
 // "12 glVertex3f(x = 1, y = 2, z = 0)", as `apitrace dump` prints a call.
