@@ -16,6 +16,8 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
 #include <regex>
 #include <sstream>
 #include <string>
@@ -173,6 +175,20 @@ TEST_P(RecordedTrace, FrameEndsAsApitraceCountsThem) {
     if (ends_frame(call)) our_ends.push_back(call.number);
   EXPECT_EQ(our_ends, dump_ends);
   EXPECT_GE(our_ends.size(), 1u);
+}
+
+// scripts/replay-check's census (counted from `apitrace dump` text) is the
+// reader's count of calls per function.
+TEST_P(RecordedTrace, CensusOfReplayCheck) {
+  std::ifstream in(kTraces / "results.json");
+  ASSERT_TRUE(in) << "the gl_record_traces fixture wrote no results.json";
+  const nlohmann::json results = nlohmann::json::parse(in);
+  std::map<std::string, uint64_t> census, ours;
+  for (const auto& program : results.at("programs"))
+    if (program.at("program") == GetParam())
+      census = program.at("functions").get<std::map<std::string, uint64_t>>();
+  for (const auto& call : read_all(path())) ++ours[call.function];
+  EXPECT_EQ(ours, census);
 }
 
 TEST_P(RecordedTrace, SameFileSameCalls) {
