@@ -251,16 +251,25 @@ struct TraceReader::State {
     }
   }
 
-  // A count that will be read element by element: bounded by what could
-  // possibly follow, so a corrupt count fails as truncation instead of
-  // reserving memory for it.
+  // A count of elements, which the callers read one at a time and never
+  // reserve for: a corrupt count runs into the end of the data (truncated)
+  // instead of allocating for it.
   uint64_t count() { return uint(); }
 
+  // Appended chunk by chunk as the data comes, so a corrupt length fails as
+  // truncation without first allocating what it claims.
   void string(std::string& out) {
-    const uint64_t n = uint();
+    uint64_t n = uint();
     if (n > kMaxChunk * 16) corrupt("a string of " + std::to_string(n) + " bytes");
-    out.resize(n);
-    bytes(out.data(), n);
+    out.clear();
+    while (n) {
+      if (pos == chunk.size() && !load_chunk())
+        fail("truncated trace: the data ends inside an event");
+      const size_t take = static_cast<size_t>(std::min<uint64_t>(n, chunk.size() - pos));
+      out.append(chunk, pos, take);
+      pos += take;
+      n -= take;
+    }
   }
   std::string string() {
     std::string s;
