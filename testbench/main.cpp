@@ -569,7 +569,8 @@ int run_replay(const ReplayArgs& args, const ProgressArgs& progress_args) {
     progress.begin("render", "frame " + n + ": " + std::to_string(scene.draws.size()) +
                                  " draws through the " + args.model + " model");
     const Clock::time_point render_start = Clock::now();
-    nlohmann::json stats = {{"model", args.model}, {"trace", args.trace}};
+    nlohmann::json stats = {
+        {"model", args.model}, {"scene", args.trace + " frame " + n}, {"trace", args.trace}};
     Framebuffer fb;
     uint64_t cycles = 0;
     if (cycle) {

@@ -216,6 +216,7 @@ struct Vertex {
   glm::vec3 normal;
   glm::vec4 color;
   Material material;
+  Material back_material;  // for two-sided lighting
 };
 
 // A client array (glVertexPointer and the like): apitrace records the client
@@ -234,11 +235,13 @@ struct DrawKey {
   PrimitiveType type = PrimitiveType::triangles;
   bool lighting = false;
   Material material;
+  bool back_lit = false;  // back faces of two-sided lighting: back material, normals negated
   glm::mat4 model_view{1.0f}, projection{1.0f};
   RenderState state;
   bool operator==(const DrawKey& o) const {
     return type == o.type && lighting == o.lighting && (!lighting || same(material, o.material)) &&
-           same(model_view, o.model_view) && same(projection, o.projection) && state == o.state;
+           back_lit == o.back_lit && same(model_view, o.model_view) &&
+           same(projection, o.projection) && state == o.state;
   }
 };
 
@@ -346,10 +349,17 @@ struct GlDriver::State {
   uint32_t frame_index = 0;
   bool frame_lights_set = false;
   bool color_cleared = false, depth_cleared = false;
-  std::optional<DrawKey> open_key;  // the last draw's, when geometry may join it
-  std::vector<int64_t> remap;       // the emitting call's vertex -> the open draw's
+  // Draws later geometry may join: the last draw, or while calls are drawn
+  // in two face passes, the front and back draws of those calls (their faces
+  // never overlap where the depth test would not order them).
+  std::vector<std::pair<DrawKey, size_t>> open_draws;
+  bool open_two_pass = false;  // open_draws were made by two-pass calls
+  bool two_pass_call = false;  // the emitting call is drawn in two face passes
+  std::vector<int64_t> remap;  // the emitting call's vertex -> the open draw's
   uint64_t remap_serial = 0, emit_serial = 0;
   size_t remap_draw = 0;
+
+  bool mute_reports = false;  // while a call's second face pass repeats the first's checks
 
   std::unordered_map<std::string, Handler> handlers;
   std::unordered_map<std::string, AttribCall> attrib_calls = make_attrib_calls();
@@ -360,7 +370,9 @@ struct GlDriver::State {
     register_handlers();
   }
 
-  void unsupported(const std::string& what) { frame.features.add_unsupported(what); }
+  void unsupported(const std::string& what) {
+    if (!mute_reports) frame.features.add_unsupported(what);
+  }
   void ignored(const std::string& what) { frame.features.add_ignored(what); }
   bool is_enabled(uint32_t cap) const { return enabled.count(cap) > 0; }
   MatrixStack& current_stack() {
@@ -523,18 +535,26 @@ struct GlDriver::State {
       return;
     }
     if (capture)
-      begin_vertices.push_back({p, normal, color, front});
+      begin_vertices.push_back({p, normal, color, front, back});
     else
       ++frame.vertices;
   }
 
   // ------------------------------------------------------------ geometry
+  // Which faces a draw of triangles shows: those GL's culling leaves, or only
+  // the front or back ones (a call drawn in two passes, section "Two-sided
+  // lighting" of docs/replay.md).
+  enum class Faces { visible, front, back };
+
   // The RenderState of a draw of class `cls` from GL primitive `mode`; false
   // when GL draws nothing (triangles with GL_FRONT_AND_BACK culled).
-  bool render_state(PrimitiveClass cls, uint32_t mode, RenderState& rs) {
+  bool render_state(PrimitiveClass cls, uint32_t mode, Faces faces, RenderState& rs) {
     const bool tri = cls == PrimitiveClass::triangle;
     uint32_t poly_mode = polygon_front;
-    if (tri && is_enabled(en::CULL_FACE)) {
+    if (tri && faces != Faces::visible) {
+      rs.cull = faces == Faces::front ? CullMode::back : CullMode::front;
+      poly_mode = faces == Faces::front ? polygon_front : polygon_back;
+    } else if (tri && is_enabled(en::CULL_FACE)) {
       if (cull_face == en::FRONT_AND_BACK) return false;
       rs.cull = cull_face == en::FRONT ? CullMode::front : CullMode::back;
       poly_mode = cull_face == en::FRONT ? polygon_back : polygon_front;
@@ -660,13 +680,8 @@ struct GlDriver::State {
   }
 
   // Lighting state the GPU's equation cannot express, and the per-frame lights.
-  void check_lighting(PrimitiveClass cls, const std::vector<Vertex>& v,
-                      const glm::mat3& normal_matrix, bool singular) {
+  void check_lighting(const std::vector<Vertex>& v, const glm::mat3& normal_matrix, bool singular) {
     if (local_viewer) unsupported("GL_LIGHT_MODEL_LOCAL_VIEWER");
-    const bool backs_culled = is_enabled(en::CULL_FACE) && cull_face == en::BACK;
-    if (two_side && cls == PrimitiveClass::triangle && !backs_culled) {
-      unsupported("GL_LIGHT_MODEL_TWO_SIDE with back faces visible");
-    }
     for (int i = 0; i < kMaxLights; ++i) {
       if (is_enabled(en::LIGHT0 + static_cast<uint32_t>(i)) &&
           lights[static_cast<size_t>(i)].spot_cutoff != 180.0f &&
@@ -717,7 +732,6 @@ struct GlDriver::State {
     check_draw_state();
     DrawKey key;
     key.type = assembly->type;
-    if (!render_state(cls, mode, key.state)) return;
     key.model_view = modelview.top();
     key.projection = projection.top();
     key.lighting = is_enabled(en::LIGHTING);
@@ -725,35 +739,74 @@ struct GlDriver::State {
     const bool singular = glm::determinant(upper) == 0.0f;
     const glm::mat3 normal_matrix =
         singular ? glm::mat3(1.0f) : glm::transpose(glm::inverse(upper));
-    if (key.lighting) check_lighting(cls, v, normal_matrix, singular);
+    if (key.lighting) check_lighting(v, normal_matrix, singular);
+
+    // Two-sided lighting and different front and back polygon modes: the GPU
+    // has one material and one mode per draw, so a call showing both faces
+    // is drawn twice, front faces (back ones culled) then back faces (front
+    // ones culled) with the back material and negated normals.
+    const bool tri = cls == PrimitiveClass::triangle, cull = is_enabled(en::CULL_FACE);
+    const bool front_visible =
+        !(cull && (cull_face == en::FRONT || cull_face == en::FRONT_AND_BACK));
+    const bool back_visible = !(cull && (cull_face == en::BACK || cull_face == en::FRONT_AND_BACK));
+    const bool two_sided = tri && key.lighting && two_side;
+    std::vector<std::pair<Faces, bool>> passes;  // faces, back-lit
+    if (tri && front_visible && back_visible && (two_sided || polygon_front != polygon_back)) {
+      passes = {{Faces::front, false}, {Faces::back, two_sided}};
+      if (!is_enabled(en::DEPTH_TEST) || is_enabled(en::BLEND)) {
+        unsupported(
+            "two-sided lighting or different front and back polygon modes without a depth test "
+            "or with blending (front faces drawn before back faces)");
+      }
+    } else {
+      passes = {{Faces::visible, two_sided && !front_visible}};
+    }
+    two_pass_call = passes.size() == 2;
+    for (size_t pass = 0; pass < passes.size(); ++pass) {
+      key.state = RenderState();
+      key.back_lit = passes[pass].second;
+      mute_reports = pass > 0;
+      const bool drawn = render_state(cls, mode, passes[pass].first, key.state);
+      mute_reports = false;
+      if (drawn) emit_pass(key, *assembly, v, normal_matrix, pass == 0, c);
+    }
+  }
+
+  // One pass of emit() over the call's primitives with `key`'s state.
+  void emit_pass(DrawKey& key, const GlAssembly& assembly, const std::vector<Vertex>& v,
+                 const glm::mat3& normal_matrix, bool count, const TraceCall& c) {
+    const PrimitiveClass cls = primitive_class(assembly.type);
 
     const bool strip =
-        assembly->type == PrimitiveType::line_strip || assembly->type == PrimitiveType::line_loop;
-    const size_t per = strip                             ? assembly->indices.size()
+        assembly.type == PrimitiveType::line_strip || assembly.type == PrimitiveType::line_loop;
+    const size_t per = strip                             ? assembly.indices.size()
                        : cls == PrimitiveClass::triangle ? 3
                        : cls == PrimitiveClass::line     ? 2
                                                          : 1;
     const bool flat = shade_model == en::FLAT;
     bool mixed = false;
     ++emit_serial;
-    for (size_t first = 0; first + per <= assembly->indices.size(); first += per) {
-      const uint32_t* idx = &assembly->indices[first];
+    const auto material_of = [&](const Vertex& x) -> const Material& {
+      return key.back_lit ? x.back_material : x.material;
+    };
+    for (size_t first = 0; first + per <= assembly.indices.size(); first += per) {
+      const uint32_t* idx = &assembly.indices[first];
       const Vertex& provoking = v[idx[per - 1]];
-      key.material = provoking.material;
+      key.material = material_of(provoking);
       if (key.lighting) {
         // One material per draw: a primitive whose vertices were lit with
         // different materials (glColor with GL_COLOR_MATERIAL, glMaterial
         // between vertices) keeps its provoking vertex's, exact when flat
         // shading reads only that vertex (and for line strips, every line's).
         for (size_t k = 0; k + 1 < per; ++k) {
-          if (!same(v[idx[k]].material, provoking.material) && (!flat || strip)) mixed = true;
+          if (!same(material_of(v[idx[k]]), key.material) && (!flat || strip)) mixed = true;
         }
       }
-      frame.primitives += strip ? primitive_count(assembly->type, per) : 1;
+      if (count) frame.primitives += strip ? primitive_count(assembly.type, per) : 1;
       if (!capture) continue;
       add_primitive(key, idx, per, v, normal_matrix, !strip, c);
     }
-    if (mixed) {
+    if (mixed && count) {
       unsupported(
           "material varying within a primitive (GL_COLOR_MATERIAL or glMaterial between vertices)");
     }
@@ -763,7 +816,14 @@ struct GlDriver::State {
                      const std::vector<Vertex>& v, const glm::mat3& normal_matrix, bool batchable,
                      const TraceCall& c) {
     std::vector<Draw>& draws = frame.scene.draws;
-    if (!batchable || !open_key || !(*open_key == key)) {
+    size_t target = draws.size();  // none yet
+    if (batchable) {
+      for (const auto& [k, index] : open_draws) {
+        const bool may_join = two_pass_call ? open_two_pass : index + 1 == draws.size();
+        if (may_join && k == key) target = index;
+      }
+    }
+    if (target == draws.size()) {
       Draw d;
       d.name = "frame " + std::to_string(frame_index) + " draw " + std::to_string(draws.size()) +
                " (call " + std::to_string(c.number) + " " + c.function + ")";
@@ -777,13 +837,16 @@ struct GlDriver::State {
       d.normal_matrix = normal_matrix;
       d.state = key.state;
       draws.push_back(std::move(d));
-      open_key = batchable ? std::optional<DrawKey>(key) : std::nullopt;
+      if (!batchable || two_pass_call != open_two_pass) open_draws.clear();
+      if (open_draws.size() == 2) open_draws.erase(open_draws.begin());
+      if (batchable) open_draws.emplace_back(key, target);
+      open_two_pass = two_pass_call;
     }
-    Draw& d = draws.back();
-    if (remap_serial != emit_serial || remap_draw != draws.size()) {
+    Draw& d = draws[target];
+    if (remap_serial != emit_serial || remap_draw != target + 1) {
       remap.assign(v.size(), -1);
       remap_serial = emit_serial;
-      remap_draw = draws.size();
+      remap_draw = target + 1;
     }
     for (size_t k = 0; k < per; ++k) {
       const uint32_t i = idx[k];
@@ -791,7 +854,7 @@ struct GlDriver::State {
         remap[i] = static_cast<int64_t>(d.positions.size());
         d.positions.push_back(v[i].position);
         if (key.lighting) {
-          d.normals.push_back(v[i].normal);
+          d.normals.push_back(key.back_lit ? -v[i].normal : v[i].normal);
         } else {
           d.colors.push_back(v[i].color);
         }
@@ -1204,7 +1267,8 @@ struct GlDriver::State {
     frame.scene.path = "frame " + std::to_string(frame_index);
     frame_lights_set = false;
     color_cleared = depth_cleared = false;
-    open_key.reset();
+    open_draws.clear();
+    open_two_pass = false;
     remap_draw = 0;
   }
 
@@ -1460,7 +1524,7 @@ void GlDriver::State::register_handlers() {
     std::vector<Vertex> v;
     for (const glm::vec2 p :
          {glm::vec2(x1, y1), glm::vec2(x2, y1), glm::vec2(x2, y2), glm::vec2(x1, y2)}) {
-      v.push_back({glm::vec4(p, 0.0f, 1.0f), s.normal, s.color, s.front});
+      v.push_back({glm::vec4(p, 0.0f, 1.0f), s.normal, s.color, s.front, s.back});
     }
     if (s.capture) s.emit(en::POLYGON, v, c);
   };

@@ -357,6 +357,49 @@ TEST(GlDriver, LightingStateTranslatesToTheGpusLightsAndMaterials) {
                1.0f / 255.0f);
 }
 
+// Two-sided lighting: back faces take the back material and the negated
+// normal (OpenGL 1.5 section 2.14.1); the driver draws such calls twice, front
+// faces then back faces, each pass culling the other.
+TEST(GlDriver, TwoSidedLightingLightsBackFacesWithTheBackMaterial) {
+  Program gl;
+  gl.window(16, 8);
+  gl("glLightModeli", {ev(en::LIGHT_MODEL_TWO_SIDE), iv(1)});
+  gl("glMaterialfv", {ev(en::FRONT), ev(en::DIFFUSE), av({0.9, 0.1, 0.1, 1})});
+  gl("glMaterialfv", {ev(en::BACK), ev(en::DIFFUSE), av({0.1, 0.7, 0.2, 1})});
+  gl("glEnable", {ev(en::LIGHTING)});
+  gl("glEnable", {ev(en::LIGHT0)});  // directional, towards +z (eye space)
+  gl("glEnable", {ev(en::DEPTH_TEST)});
+  gl.clear();
+  // Both quads have the normal (0, 0, -1): lit from behind. The left quad is
+  // counter-clockwise (front facing): dark. The right one is clockwise (back
+  // facing): lit with the negated normal, full diffuse.
+  gl("glNormal3f", {fv(0), fv(0), fv(-1)});
+  gl("glBegin", {ev(en::QUADS)});
+  gl.vertex(-1, -1), gl.vertex(0, -1), gl.vertex(0, 1), gl.vertex(-1, 1);
+  gl.vertex(0, -1), gl.vertex(0, 1), gl.vertex(1, 1), gl.vertex(1, -1);
+  gl("glEnd");
+  gl("glBegin", {ev(en::QUADS)});  // the same again joins the two draws
+  gl.vertex(-1, -1), gl.vertex(0, -1), gl.vertex(0, 1), gl.vertex(-1, 1);
+  gl("glEnd");
+  const DriverFrame f = gl.swap();
+  EXPECT_FALSE(f.features.any_unsupported()) << f.to_json().dump();
+  ASSERT_EQ(f.scene.draws.size(), 2u);
+  EXPECT_EQ(f.scene.draws[0].state.cull, CullMode::back);
+  EXPECT_EQ(f.scene.draws[1].state.cull, CullMode::front);
+  EXPECT_EQ(f.primitives, 6u);
+  const golden::Result r = golden::render(f.scene);
+  const glm::vec4 ambient(0.2f, 0.2f, 0.2f, 1), none(0, 0, 0, 1), white(1);
+  const glm::vec4 front_diffuse(0.9f, 0.1f, 0.1f, 1), back_diffuse(0.1f, 0.7f, 0.2f, 1);
+  expect_color(pixel(r, 4, 4),
+               gl_lighting(ambient, none, white, white, {0, 0, 1}, ambient, front_diffuse, none,
+                           none, 0.0f, {0, 0, -1}),
+               1.0f / 255.0f);
+  expect_color(pixel(r, 12, 4),
+               gl_lighting(ambient, none, white, white, {0, 0, 1}, ambient, back_diffuse, none,
+                           none, 0.0f, {0, 0, 1}),
+               1.0f / 255.0f);
+}
+
 TEST(GlDriver, PointLightsCarryEyeSpacePositionAndAttenuation) {
   Program gl;
   gl.window(8, 8);

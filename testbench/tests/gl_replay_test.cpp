@@ -102,6 +102,11 @@ TEST_F(GlReplay, GlxgearsFrameMatchesLlvmpipe) {
               swap, 100.0 * share, pixels);
   EXPECT_GE(share, 0.995);
 
+  // --strict passes a frame without unsupported features (glxgears uses none).
+  EXPECT_EQ(run(kGpusim + " replay " + trace.string() + " --frame 2 --strict --quiet --out " +
+                (dir / "strict").string() + " > /dev/null"),
+            0);
+
   // Bad input: one line, exit 2.
   EXPECT_EQ(run(kGpusim + " replay " + (dir / "missing.trace").string() + " 2> " +
                 (dir / "err.log").string()),
