@@ -79,8 +79,8 @@ def main():
                 check((spec.width, spec.height) == (320, 240),
                       '%s: %dx%d, expected the 320x240 window' % (path, spec.width, spec.height))
                 colours = len(numpy.unique(pixels[:, :, :3].reshape(-1, 3), axis=0))
-                # The hacks clear the window black and swap once before they
-                # draw: their frame 0 may be blank; every later one is drawn.
+                # Frame 0's reference is not the program's image and may be
+                # blank (docs/replay.md, "References"); every later one is drawn.
                 check(colours > 8 or i == 0, '%s: %d colours: a blank frame' % (path, colours))
             if 'match' in p:
                 check(len(p['match']) == p['references'] - 1,
