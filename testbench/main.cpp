@@ -26,6 +26,8 @@
 
 #include "hw/gpu_config.h"
 #include "hw/input_error.h"
+#include "testbench/gl/gl_driver.h"
+#include "testbench/gl/trace_reader.h"
 #include "testbench/golden/golden_model.h"
 #include "testbench/io/image_compare.h"
 #include "testbench/io/image_files.h"
@@ -472,6 +474,173 @@ int run_cycle_model(const RunArgs& args, const ProgressArgs& progress_args) {
   print_warnings(scene, result.counts);
   if (reference && !check_against_golden(*reference, result, scene.framebuffer.supersample))
     return 1;
+  return 0;
+}
+
+// `gpusim replay TRACE`: an apitrace trace of a fixed-function OpenGL program
+// through the GL driver (testbench/gl/gl_driver.h) onto the GPU
+// (docs/replay.md).
+struct ReplayArgs {
+  std::string trace;
+  int64_t frame = -1;  // --frame N
+  std::string frames;  // --frames A:B
+  std::string model = "cycle";
+  std::string config;
+  std::string out_dir = "replay";
+  bool strict = false;
+};
+
+// The frames to render, inclusive; last = UINT32_MAX: to the end.
+std::pair<uint32_t, uint32_t> replay_range(const ReplayArgs& args) {
+  if (args.frame >= 0)
+    return {static_cast<uint32_t>(args.frame), static_cast<uint32_t>(args.frame)};
+  if (args.frames.empty()) return {0, UINT32_MAX};
+  const size_t colon = args.frames.find(':');
+  const auto parse = [&](const std::string& text, uint32_t empty) -> uint32_t {
+    if (text.empty()) return empty;
+    char* end = nullptr;
+    errno = 0;
+    const unsigned long long v = std::strtoull(text.c_str(), &end, 10);
+    if (*end != '\0' || errno != 0 || text[0] == '-' || v >= UINT32_MAX) {
+      throw InputError("replay: --frames " + printable(args.frames) +
+                       ": expected A:B, frame numbers from 0 (either side may be empty)");
+    }
+    return static_cast<uint32_t>(v);
+  };
+  if (colon == std::string::npos) {
+    throw InputError("replay: --frames " + printable(args.frames) + ": expected A:B");
+  }
+  const uint32_t a = parse(args.frames.substr(0, colon), 0);
+  const uint32_t b = parse(args.frames.substr(colon + 1), UINT32_MAX);
+  if (a > b) throw InputError("replay: --frames " + printable(args.frames) + ": A is after B");
+  return {a, b};
+}
+
+int run_replay(const ReplayArgs& args, const ProgressArgs& progress_args) {
+  using Clock = std::chrono::steady_clock;
+  const auto seconds_since = [](Clock::time_point t) {
+    return std::chrono::duration<double>(Clock::now() - t).count();
+  };
+  const auto [first, last] = replay_range(args);
+  if (args.model != "cycle" && args.model != "golden") {
+    throw InputError("replay: --model " + printable(args.model) + ": expected cycle or golden");
+  }
+  const bool cycle = args.model == "cycle";
+  GpuConfig config;
+  if (!args.config.empty()) {
+    config = gpu_config_from_json(load_gpu_config_json(args.config),
+                                  args.config == "-" ? "standard input" : args.config);
+  }
+  Progress progress = make_progress(progress_args);
+  progress.begin("driver", "reading " + printable(args.trace));
+  gl::TraceReader reader(args.trace);
+  create_output_directory(args.out_dir);
+  gl::GlDriver driver;
+  driver.set_capture(first == 0);
+  gl::FeatureReport total;
+  gl::TraceCall call;
+  uint32_t rendered = 0, frames_seen = 0;
+  double driver_seconds = 0.0, render_seconds = 0.0;
+  Clock::time_point frame_start = Clock::now();
+  std::printf("replay: %s through the %s model\n", args.trace.c_str(), cycle ? "cycle" : "golden");
+  while (reader.next(call)) {
+    if (!driver.call(call)) {
+      if ((call.number & 0xFFF) == 0) {
+        progress.update(
+            "frame " + std::to_string(frames_seen) + ", call " + std::to_string(call.number) +
+            ", " +
+            std::to_string(reader.bytes_read() * 100 / std::max<uint64_t>(reader.file_size(), 1)) +
+            "% of the trace read");
+      }
+      continue;
+    }
+    gl::DriverFrame frame = driver.take_frame();
+    ++frames_seen;
+    driver.set_capture(frame.index + 1 >= first && frame.index + 1 <= last);
+    if (frame.index < first) {
+      frame_start = Clock::now();
+      continue;
+    }
+    const double driver_s = seconds_since(frame_start);
+    driver_seconds += driver_s;
+    const Scene& scene = frame.scene;
+    check_scene_limits(scene);
+    const std::string n = std::to_string(frame.index);
+    progress.begin("render", "frame " + n + ": " + std::to_string(scene.draws.size()) +
+                                 " draws through the " + args.model + " model");
+    const Clock::time_point render_start = Clock::now();
+    nlohmann::json stats = {
+        {"model", args.model}, {"scene", args.trace + " frame " + n}, {"trace", args.trace}};
+    Framebuffer fb;
+    uint64_t cycles = 0;
+    if (cycle) {
+      GpuRunOptions options;
+      GpuRunResult result;
+      try {
+        result = run_gpu(scene, config, options);
+      } catch (const SimulationError& e) {
+        progress.interrupt();
+        return report_simulation_error(args.trace + " frame " + n, e);
+      }
+      cycles = result.cycles;
+      fb = std::move(result.framebuffer);
+      stats["config"] = to_json(config);
+      stats["stats"] = result.counts;
+      stats["timing"] = result.timing;
+    } else {
+      golden::Result result = golden::render(scene);
+      fb = std::move(result.framebuffer);
+      stats["stats"] = result.stats.to_json();
+    }
+    const double render_s = seconds_since(render_start);
+    render_seconds += render_s;
+    stats["driver"] = frame.to_json();
+    // No wall-clock figures in the stats: the same trace gives the same bytes.
+    progress.begin("write", "frame_" + n + ".exr, .png, stats_" + n + ".json");
+    OutputFiles files;
+    write_frame_exr(fb, files.add(args.out_dir + "/frame_" + n + ".exr"));
+    write_frame_png(fb, files.add(args.out_dir + "/frame_" + n + ".png"));
+    write_text_file_atomically(files.add(args.out_dir + "/stats_" + n + ".json"),
+                               stats.dump(2) + "\n");
+    files.commit();
+    progress.begin("driver", "reading " + printable(args.trace));
+    total.merge(frame.features);
+    ++rendered;
+    std::printf("  frame %s (swap at call %u): %zu draws, %llu vertices, %llu primitives",
+                n.c_str(), frame.end_call, scene.draws.size(),
+                static_cast<unsigned long long>(frame.vertices),
+                static_cast<unsigned long long>(frame.primitives));
+    if (cycle) std::printf(", %llu cycles", static_cast<unsigned long long>(cycles));
+    std::printf("; driver %.3f s, %s %.3f s%s\n", driver_s, cycle ? "simulation" : "golden",
+                render_s, frame.features.any_unsupported() ? "; uses unsupported features" : "");
+    std::fflush(stdout);
+    frame_start = Clock::now();
+    if (frame.index >= last) break;
+  }
+  progress.end();
+  if (rendered == 0 || (last != UINT32_MAX && first + rendered <= last)) {
+    throw InputError("replay: " + printable(args.trace) + " has " + std::to_string(frames_seen) +
+                     " complete frame" + (frames_seen == 1 ? "" : "s") + " (numbered from 0); " +
+                     (args.frame >= 0 ? "--frame " + std::to_string(args.frame)
+                                      : "--frames " + printable(args.frames)) +
+                     " asks for more");
+  }
+  std::printf("  %u frame%s into %s/; driver %.3f s, %s %.3f s\n", rendered,
+              rendered == 1 ? "" : "s", args.out_dir.c_str(), driver_seconds,
+              cycle ? "simulation" : "golden", render_seconds);
+  for (const auto& [what, count] : total.unsupported()) {
+    std::printf("  unsupported: %s: %llu\n", what.c_str(), static_cast<unsigned long long>(count));
+  }
+  for (const auto& [what, count] : total.ignored()) {
+    std::printf("  ignored: %s: %llu\n", what.c_str(), static_cast<unsigned long long>(count));
+  }
+  std::printf("  wall: %s\n", progress.wall_summary().c_str());
+  std::fflush(stdout);
+  if (args.strict && total.any_unsupported()) {
+    std::cerr << "gpusim: replay: " << total.unsupported().size()
+              << " unsupported feature(s) used (--strict)\n";
+    return kExitError;
+  }
   return 0;
 }
 
@@ -922,6 +1091,28 @@ int main_with_errors(int argc, char** argv) {
                    "signals.gtkw), timeline, transactions, fragments (default: all)")
       ->needs(trace_option);
 
+  ReplayArgs replay;
+  CLI::App* replay_cmd = app.add_subcommand(
+      "replay", "Replay an apitrace trace of a fixed-function OpenGL program (docs/replay.md)");
+  replay_cmd->add_option("trace", replay.trace, "apitrace trace file (.trace)")->required();
+  CLI::Option* frame_option =
+      replay_cmd->add_option("--frame", replay.frame, "Render only frame N (from 0)")
+          ->check(CLI::NonNegativeNumber);
+  replay_cmd
+      ->add_option("--frames", replay.frames,
+                   "Render frames A to B inclusive: A:B, either side may be empty (default: all)")
+      ->excludes(frame_option);
+  replay_cmd->add_option("--model", replay.model, "cycle or golden")->capture_default_str();
+  replay_cmd->add_option("--config", replay.config,
+                         "GPU configuration (JSON, docs/gpu-config.md); - reads standard input");
+  replay_cmd
+      ->add_option("--out", replay.out_dir,
+                   "Output directory for frame_N.exr, frame_N.png, stats_N.json")
+      ->capture_default_str();
+  replay_cmd->add_flag("--strict", replay.strict,
+                       "Exit 2 when a rendered frame used an unsupported feature");
+  add_progress_options(replay_cmd, progress_args);
+
   std::string info_scene;
   CLI::App* info = app.add_subcommand(
       "info", "Print a scene's framebuffer, camera, bounding boxes, primitives, materials, lights");
@@ -1044,6 +1235,7 @@ int main_with_errors(int argc, char** argv) {
     run.units_given = units_option->count() > 0;
     return run_cycle_model(run, progress_args);
   }
+  if (replay_cmd->parsed()) return run_replay(replay, progress_args);
   if (info->parsed()) return run_info(info_scene);
   if (compare->parsed()) return run_compare(cmp);
   if (trace_summary->parsed()) return run_trace_summary(trace_args);

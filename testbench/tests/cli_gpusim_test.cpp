@@ -366,16 +366,16 @@ TEST_F(Cli, CommandLineMistakesNameTheWordAtFault) {
     EXPECT_EQ(r.status, 2) << args << "\n" << r.out;
     EXPECT_EQ(r.out, "gpusim: " + want + "\n") << args;
   };
-  expect_message(
-      "render scene.json",
-      "unknown command 'render'; commands: golden, run, info, compare, sweep, trace, stats; "
-      "see gpusim --help");
+  expect_message("render scene.json",
+                 "unknown command 'render'; commands: golden, run, replay, info, compare, sweep, "
+                 "trace, stats; "
+                 "see gpusim --help");
   expect_message("rn scene.json",
-                 "unknown command 'rn' (did you mean run?); commands: golden, run, info, "
+                 "unknown command 'rn' (did you mean run?); commands: golden, run, replay, info, "
                  "compare, sweep, trace, stats; see gpusim --help");
   expect_message(
       "",
-      "a command is required: golden, run, info, compare, sweep, trace, stats; see gpusim "
+      "a command is required: golden, run, replay, info, compare, sweep, trace, stats; see gpusim "
       "--help");
   expect_message("run " + scene + " --tile-size 32",
                  "run: unknown option --tile-size (tile_size is a GPU configuration key: --set "
