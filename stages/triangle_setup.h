@@ -44,8 +44,9 @@
 // t + ii + latency(triangle_setup). A line's end tests (a handful of
 // multiply-adds per end) are part of that ii. No memory traffic.
 //
-// Primitives whose clamped box is empty (entirely off screen, too thin to
-// contain a pixel centre's row or column, or a line producing no column)
+// Primitives whose clamped box is empty (entirely off screen or outside the
+// viewport or scissor, too thin to contain a pixel centre's row or column,
+// or a line producing no column)
 // are counted as rasterized, as the golden model counts them, and also in
 // triangles_offscreen, lines_offscreen or points_offscreen; they are not
 // sent on, since no unit has work for them.
