@@ -48,26 +48,26 @@ Clipper::Clipper(sc_core::sc_module_name name, const GpuConfig& config, const Fr
   SC_THREAD(run);
 }
 
+Clipper::ViewportRegs Clipper::viewport_regs(const DrawState& d) const {
+  // The guard band keeps window x = (x/w + 1) * Vw/2 + Vx within [-L, L]
+  // for -(2(L + Vx)/Vw + 1) <= x/w <= 2(L - Vx)/Vw - 1 (likewise y).
+  const PixelRect r = viewport_of(d.state, m_frame.framebuffer.width, m_frame.framebuffer.height);
+  ViewportRegs v;
+  v.x = static_cast<float>(r.x);
+  v.y = static_cast<float>(r.y);
+  const float width = static_cast<float>(r.width), height = static_cast<float>(r.height);
+  v.gl = 2.0f * (kGuardBandPixels + v.x) / width + 1.0f;
+  v.gr = 2.0f * (kGuardBandPixels - v.x) / width - 1.0f;
+  v.gb = 2.0f * (kGuardBandPixels + v.y) / height + 1.0f;
+  v.gt = 2.0f * (kGuardBandPixels - v.y) / height - 1.0f;
+  v.half_width = 0.5f * width;
+  v.half_height = 0.5f * height;
+  v.depth_near = d.state.depth_near;
+  v.depth_scale = d.state.depth_far - d.state.depth_near;
+  return v;
+}
+
 void Clipper::run() {
-  // The frame's registers are final once the simulation runs.
-  // Per draw: the guard band keeps window x = (x/w + 1) * Vw/2 + Vx within
-  // [-L, L] for -(2(L + Vx)/Vw + 1) <= x/w <= 2(L - Vx)/Vw - 1.
-  for (const DrawState& d : m_frame.draws) {
-    const PixelRect r = viewport_of(d.state, m_frame.framebuffer.width, m_frame.framebuffer.height);
-    ViewportRegs v;
-    v.x = static_cast<float>(r.x);
-    v.y = static_cast<float>(r.y);
-    const float width = static_cast<float>(r.width), height = static_cast<float>(r.height);
-    v.gl = 2.0f * (kGuardBandPixels + v.x) / width + 1.0f;
-    v.gr = 2.0f * (kGuardBandPixels - v.x) / width - 1.0f;
-    v.gb = 2.0f * (kGuardBandPixels + v.y) / height + 1.0f;
-    v.gt = 2.0f * (kGuardBandPixels - v.y) / height - 1.0f;
-    v.half_width = 0.5f * width;
-    v.half_height = 0.5f * height;
-    v.depth_near = d.state.depth_near;
-    v.depth_scale = d.state.depth_far - d.state.depth_near;
-    m_viewports.push_back(v);
-  }
   for (;;) {
     const ShadedBatch batch = receive(in);
     m_out.clear();
@@ -88,7 +88,7 @@ uint64_t Clipper::process_batch(const ShadedBatch& batch) {
   const DrawState& draw = m_frame.draws.at(batch.draw_id);
   m_varying_count = draw.varyings.count;
   m_state = &draw.state;
-  m_vp = m_viewports[batch.draw_id];
+  m_vp = viewport_regs(draw);
   m_batch_primitives = 0;
   m_batch_extra = 0;
   Vertex v;
