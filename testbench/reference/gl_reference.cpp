@@ -1018,6 +1018,8 @@ struct GlReference::Impl {
       gl.glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
       check("clear");
       for (const Batch& b : batches) draw_batch(b);
+      // The multisample resolve's blit below honours the scissor too.
+      gl.glDisable(GL_SCISSOR_TEST);
       gl.glFinish();
       result.render_seconds.push_back(seconds_since(start));
     }
