@@ -1,5 +1,6 @@
 #include "hw/render_state.h"
 
+#include <algorithm>
 #include <tuple>
 
 namespace gpusim {
@@ -194,7 +195,8 @@ bool RenderState::operator==(const RenderState& o) const {
     return std::tie(s.cull, s.front_face, s.depth_test, s.depth_func, s.depth_write,
                     s.offset_factor, s.offset_units, s.blend, s.blend_src, s.blend_dst,
                     s.blend_equation, s.color_mask, s.shading, s.line_width, s.point_size,
-                    s.line_rasterization, s.polygon_mode);
+                    s.line_rasterization, s.polygon_mode, s.viewport, s.depth_near, s.depth_far,
+                    s.scissor);
   };
   return tie(*this) == tie(o);
 }
@@ -213,8 +215,37 @@ std::ostream& operator<<(std::ostream& os, const RenderState& s) {
   os << " mask=" << s.color_mask[0] << s.color_mask[1] << s.color_mask[2] << s.color_mask[3]
      << " shading=" << to_string(s.shading) << " line_width=" << s.line_width
      << " point_size=" << s.point_size << " line_rasterization=" << to_string(s.line_rasterization)
-     << " polygon_mode=" << to_string(s.polygon_mode) << "}";
+     << " polygon_mode=" << to_string(s.polygon_mode) << " viewport=";
+  if (s.viewport) {
+    os << *s.viewport;
+  } else {
+    os << "full";
+  }
+  os << " depth_range=[" << s.depth_near << "," << s.depth_far << "] scissor=";
+  if (s.scissor) {
+    os << *s.scissor;
+  } else {
+    os << "off";
+  }
+  os << "}";
   return os;
+}
+
+std::ostream& operator<<(std::ostream& os, const PixelRect& r) {
+  return os << "[" << r.x << "," << r.y << "," << r.width << "," << r.height << "]";
+}
+
+PixelBounds draw_bounds(const RenderState& s, int width, int height) {
+  PixelBounds b{0, 0, width - 1, height - 1};
+  const auto clip_to = [&b](const PixelRect& r) {
+    b.x0 = std::max(b.x0, r.x);
+    b.y0 = std::max(b.y0, r.y);
+    b.x1 = std::min(b.x1, r.x + r.width - 1);
+    b.y1 = std::min(b.y1, r.y + r.height - 1);
+  };
+  if (s.viewport) clip_to(*s.viewport);
+  if (s.scissor) clip_to(*s.scissor);
+  return b;
 }
 
 }  // namespace gpusim

@@ -55,6 +55,17 @@ enum class Shading : uint8_t { flat, gouraud };
 enum class ColorFormat : uint8_t { rgba8, rgba16f };
 enum class DepthFormat : uint8_t { unorm16, unorm24, float32 };
 
+// A rectangle of window pixels, [x, x + width) x [y, y + height): a viewport
+// or a scissor (docs/pipeline-spec.md, sections 5 and 8d).
+struct PixelRect {
+  int32_t x = 0, y = 0, width = 0, height = 0;
+  bool operator==(const PixelRect& o) const {
+    return x == o.x && y == o.y && width == o.width && height == o.height;
+  }
+  bool operator!=(const PixelRect& o) const { return !(*this == o); }
+};
+std::ostream& operator<<(std::ostream& os, const PixelRect& r);
+
 struct RenderState {
   CullMode cull = CullMode::none;
   FrontFace front_face = FrontFace::ccw;
@@ -77,11 +88,38 @@ struct RenderState {
   float point_size = 1.0f;
   LineRasterization line_rasterization = LineRasterization::diamond_exit;
   PolygonMode polygon_mode = PolygonMode::fill;
+  // Viewport (docs/pipeline-spec.md, section 5) in window pixels of the
+  // render target; absent: the whole render target. Depth range: window z
+  // of NDC z -1 and +1 (either order).
+  std::optional<PixelRect> viewport;
+  float depth_near = 0.0f, depth_far = 1.0f;
+  // Scissor rectangle (section 8d), window pixels; absent: off.
+  std::optional<PixelRect> scissor;
 
   bool operator==(const RenderState& o) const;
   bool operator!=(const RenderState& o) const { return !(*this == o); }
 };
 std::ostream& operator<<(std::ostream& os, const RenderState& s);
+
+// The viewport a draw uses on a render target of width x height pixels.
+inline PixelRect viewport_of(const RenderState& s, int width, int height) {
+  return s.viewport ? *s.viewport : PixelRect{0, 0, width, height};
+}
+// The draw rectangle (section 8d): the pixels a draw may produce fragments
+// in, the render target's intersected with the viewport and the scissor.
+// Inclusive bounds; empty when x0 > x1 or y0 > y1.
+struct PixelBounds {
+  int32_t x0 = 0, y0 = 0, x1 = -1, y1 = -1;
+  bool contains(int64_t x, int64_t y) const { return x >= x0 && x <= x1 && y >= y0 && y <= y1; }
+  bool operator==(const PixelBounds& o) const {
+    return x0 == o.x0 && y0 == o.y0 && x1 == o.x1 && y1 == o.y1;
+  }
+};
+PixelBounds draw_bounds(const RenderState& s, int width, int height);
+// A rectangle scaled by the supersampling factor k (every coordinate times k).
+inline PixelRect scaled(const PixelRect& r, int k) {
+  return PixelRect{r.x * k, r.y * k, r.width * k, r.height * k};
+}
 
 // Names used in scene files and stats ("triangle_strip", "lequal", ...).
 std::string_view to_string(PrimitiveType v);

@@ -36,16 +36,6 @@ Clipper::Clipper(sc_core::sc_module_name name, const GpuConfig& config, const Fr
       in("in"),
       out("out"),
       m_cache(config.vertex_cache_entries) {
-  const float width = static_cast<float>(frame.framebuffer.width);
-  const float height = static_cast<float>(frame.framebuffer.height);
-  const float sx = 2.0f * kGuardBandPixels / width;
-  const float sy = 2.0f * kGuardBandPixels / height;
-  m_gl = sx + 1.0f;
-  m_gr = sx - 1.0f;
-  m_gb = sy + 1.0f;
-  m_gt = sy - 1.0f;
-  m_half_width = 0.5f * width;
-  m_half_height = 0.5f * height;
   // A triangle cut by all 7 planes has at most 10 vertices.
   m_poly.reserve(16);
   m_next.reserve(16);
@@ -56,6 +46,25 @@ Clipper::Clipper(sc_core::sc_module_name name, const GpuConfig& config, const Fr
   m_out.reserve(4 * kVertexBatchSlots);
   SC_HAS_PROCESS(Clipper);
   SC_THREAD(run);
+}
+
+Clipper::ViewportRegs Clipper::viewport_regs(const DrawState& d) const {
+  // The guard band keeps window x = (x/w + 1) * Vw/2 + Vx within [-L, L]
+  // for -(2(L + Vx)/Vw + 1) <= x/w <= 2(L - Vx)/Vw - 1 (likewise y).
+  const PixelRect r = viewport_of(d.state, m_frame.framebuffer.width, m_frame.framebuffer.height);
+  ViewportRegs v;
+  v.x = static_cast<float>(r.x);
+  v.y = static_cast<float>(r.y);
+  const float width = static_cast<float>(r.width), height = static_cast<float>(r.height);
+  v.gl = 2.0f * (kGuardBandPixels + v.x) / width + 1.0f;
+  v.gr = 2.0f * (kGuardBandPixels - v.x) / width - 1.0f;
+  v.gb = 2.0f * (kGuardBandPixels + v.y) / height + 1.0f;
+  v.gt = 2.0f * (kGuardBandPixels - v.y) / height - 1.0f;
+  v.half_width = 0.5f * width;
+  v.half_height = 0.5f * height;
+  v.depth_near = d.state.depth_near;
+  v.depth_scale = d.state.depth_far - d.state.depth_near;
+  return v;
 }
 
 void Clipper::run() {
@@ -79,6 +88,7 @@ uint64_t Clipper::process_batch(const ShadedBatch& batch) {
   const DrawState& draw = m_frame.draws.at(batch.draw_id);
   m_varying_count = draw.varyings.count;
   m_state = &draw.state;
+  m_vp = viewport_regs(draw);
   m_batch_primitives = 0;
   m_batch_extra = 0;
   Vertex v;
@@ -181,13 +191,13 @@ inline float Clipper::distance(int plane, const glm::vec4& c) const {
     case 2:
       return c.w - c.z;
     case 3:
-      return c.x + m_gl * c.w;
+      return c.x + m_vp.gl * c.w;
     case 4:
-      return m_gr * c.w - c.x;
+      return m_vp.gr * c.w - c.x;
     case 5:
-      return c.y + m_gb * c.w;
+      return c.y + m_vp.gb * c.w;
     case 6:
-      return m_gt * c.w - c.y;
+      return m_vp.gt * c.w - c.y;
   }
   return 0.0f;
 }
@@ -196,9 +206,9 @@ ClippedVertex Clipper::to_window(const ShadedVertex& v) const {
   ClippedVertex w;
   const float q = 1.0f / v.clip.w;
   w.inv_w = q;
-  w.x = (v.clip.x * q + 1.0f) * m_half_width;
-  w.y = (v.clip.y * q + 1.0f) * m_half_height;
-  w.z = (v.clip.z * q + 1.0f) * 0.5f;
+  w.x = (v.clip.x * q + 1.0f) * m_vp.half_width + m_vp.x;
+  w.y = (v.clip.y * q + 1.0f) * m_vp.half_height + m_vp.y;
+  w.z = (v.clip.z * q + 1.0f) * 0.5f * m_vp.depth_scale + m_vp.depth_near;
   for (unsigned k = 0; k < m_varying_count; ++k) w.varyings_over_w[k] = v.varyings[k] * q;
   return w;
 }

@@ -50,6 +50,10 @@
 // - A cut vertex interpolates the clip position and every varying of the
 //   draw (its VaryingLayout's count, whatever they mean) with the same
 //   formula, in one loop.
+// - Viewport (sections 4 and 5): each draw has its viewport and depth range
+//   (the render target's pixels), from which the clipper derives once per
+//   batch the guard-band factors and the window transform's registers of
+//   its draw (ViewportRegs).
 // - Each vertex is divided by w once (q = 1/w) and mapped to window
 //   coordinates, unsnapped; its varyings are multiplied by q for the
 //   interpolator's perspective correction. Every output is a
@@ -144,9 +148,19 @@ class Clipper : public PipelineStage {
   float distance(int plane, const glm::vec4& c) const;
   ClippedVertex to_window(const ShadedVertex& v) const;
 
-  // Guard-band factors (spec section 4): x >= -m_gl * w, x <= m_gr * w, ...
-  float m_gl = 0.0f, m_gr = 0.0f, m_gb = 0.0f, m_gt = 0.0f;
-  float m_half_width = 0.0f, m_half_height = 0.0f;
+  // The viewport registers of a draw, derived from its viewport and depth
+  // range (spec sections 4 and 5) when a batch of it arrives: a handful of
+  // float operations per batch, and nothing to go stale when a driver
+  // reprograms the draws between frames.
+  struct ViewportRegs {
+    // Guard-band factors: x >= -gl * w, x <= gr * w, ...
+    float gl = 0.0f, gr = 0.0f, gb = 0.0f, gt = 0.0f;
+    float half_width = 0.0f, half_height = 0.0f;  // 0.5 * viewport side
+    float x = 0.0f, y = 0.0f;                     // viewport origin
+    float depth_near = 0.0f, depth_scale = 1.0f;  // n, f - n
+  };
+  ViewportRegs viewport_regs(const DrawState& d) const;
+  ViewportRegs m_vp;  // the current batch's draw's
 
   std::vector<Vertex> m_cache;  // post-transform cache storage, indexed by entry
   // Assembly registers (see the header comment for what each type keeps).

@@ -1,6 +1,8 @@
 // Tile distributor: sends each set-up primitive (triangle, line or point) to
 // the raster units that own at least one screen tile its pixel bounding box
-// touches (tile_owner() in hw/packets.h), once per unit, in increasing unit
+// touches (tile_owner() in hw/packets.h; setup has clamped the box to the
+// draw rectangle, so a scissor or a viewport keeps units whose tiles lie
+// outside it idle), once per unit, in increasing unit
 // order; control tokens go to every unit, so each unit sees the same order of
 // clears, primitives and ends of frame. A line's box is a rectangle around
 // it, so a long diagonal line goes to units whose tiles in the box it misses;

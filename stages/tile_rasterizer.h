@@ -26,7 +26,9 @@
 // + a * (w * 256) per stamp to the right and + b * (h * 256) per stamp row
 // (a tile cut by the box starts at its first stamp column and row inside the
 // box: + i0 * a * (w * 256) + j0 * b * (h * 256)).
-// Pixels outside the box (hence outside the framebuffer) are masked off.
+// Pixels outside the box (hence outside the draw rectangle: framebuffer,
+// viewport and scissor, spec section 8d) are masked off; tiles wholly
+// outside it are never visited.
 // One StampBatch per (primitive, tile) holds the tile's non-empty stamps in
 // walk order (rows bottom-up, left to right) with the raw interpolation
 // values (RasterPrimitive::edge, no bias) at each stamp's origin pixel
@@ -75,7 +77,8 @@
 // Cost model (cycles) of the tile walk, per primitive: 1 per tile visited (the tile test),
 // plus ii(rasterizer) per stamp evaluated in a partial tile and per stamp
 // emitted from an accepted tile; stamps outside the box are never visited,
-// rejected tiles cost only their test. With N samples per pixel every stamp
+// rejected tiles cost only their test; tiles outside the box (outside the
+// scissor or the viewport) cost nothing. With N samples per pixel every stamp
 // takes passes = ceil(N / samples_per_pass) times ii. busy_cycles =
 // tiles_visited + ii * passes * (stamps_evaluated + stamps_accepted) + ii *
 // control tokens.

@@ -187,12 +187,12 @@ std::shared_ptr<RasterPrimitive> TriangleSetup::setup_triangle(const ClippedPrim
 
 void TriangleSetup::set_sample_box(RasterPrimitive& t, int64_t x0, int64_t x1, int64_t y0,
                                    int64_t y1) const {
-  const FramebufferDesc& fb = m_frame.framebuffer;
+  const PixelBounds r = bounds_of(t.draw_id);
   // Pixel i has a sample at 256 i + 128 + d for each offset d of the pattern.
-  t.x0 = std::max(0, -floor_div_subpixel(-(x0 - kSubpixelHalf - m_reach_x1)));
-  t.x1 = std::min(fb.width - 1, floor_div_subpixel(x1 - kSubpixelHalf - m_reach_x0));
-  t.y0 = std::max(0, -floor_div_subpixel(-(y0 - kSubpixelHalf - m_reach_y1)));
-  t.y1 = std::min(fb.height - 1, floor_div_subpixel(y1 - kSubpixelHalf - m_reach_y0));
+  t.x0 = std::max(r.x0, -floor_div_subpixel(-(x0 - kSubpixelHalf - m_reach_x1)));
+  t.x1 = std::min(r.x1, floor_div_subpixel(x1 - kSubpixelHalf - m_reach_x0));
+  t.y0 = std::max(r.y0, -floor_div_subpixel(-(y0 - kSubpixelHalf - m_reach_y1)));
+  t.y1 = std::min(r.y1, floor_div_subpixel(y1 - kSubpixelHalf - m_reach_y0));
 }
 
 EdgeEquation TriangleSetup::edge_between(int64_t xa, int64_t ya, int64_t xb, int64_t yb) {
@@ -220,7 +220,6 @@ void TriangleSetup::setup_line_rectangle(RasterPrimitive& t, float width) const 
 
 std::shared_ptr<RasterPrimitive> TriangleSetup::setup_line(const ClippedPrimitive& in) {
   const RenderState& st = m_frame.draws.at(in.draw_id).state;
-  const FramebufferDesc& fb = m_frame.framebuffer;
   const Subpixel xa = snap_to_subpixel(in.v[0].x), ya = snap_to_subpixel(in.v[0].y);
   const Subpixel xb = snap_to_subpixel(in.v[1].x), yb = snap_to_subpixel(in.v[1].y);
   const EdgeValue dx = EdgeValue{xb} - xa, dy = EdgeValue{yb} - ya;
@@ -344,16 +343,16 @@ std::shared_ptr<RasterPrimitive> TriangleSetup::setup_line(const ClippedPrimitiv
     by0 = x_major ? n_lo : m_lo;
     by1 = x_major ? n_hi : (empty ? m_lo - 1 : m_hi);
   }
-  t->x0 = static_cast<int32_t>(std::max<int64_t>(0, bx0));
-  t->x1 = static_cast<int32_t>(std::min<int64_t>(fb.width - 1, bx1));
-  t->y0 = static_cast<int32_t>(std::max<int64_t>(0, by0));
-  t->y1 = static_cast<int32_t>(std::min<int64_t>(fb.height - 1, by1));
+  const PixelBounds r = bounds_of(in.draw_id);
+  t->x0 = static_cast<int32_t>(std::max<int64_t>(r.x0, bx0));
+  t->x1 = static_cast<int32_t>(std::min<int64_t>(r.x1, bx1));
+  t->y0 = static_cast<int32_t>(std::max<int64_t>(r.y0, by0));
+  t->y1 = static_cast<int32_t>(std::min<int64_t>(r.y1, by1));
   return t;
 }
 
 std::shared_ptr<RasterPrimitive> TriangleSetup::setup_point(const ClippedPrimitive& in) {
   const RenderState& st = m_frame.draws.at(in.draw_id).state;
-  const FramebufferDesc& fb = m_frame.framebuffer;
   ++m_points_rasterized;
   const ClippedVertex& v = in.v[0];
   auto t = std::make_shared<RasterPrimitive>();
@@ -391,10 +390,11 @@ std::shared_ptr<RasterPrimitive> TriangleSetup::setup_point(const ClippedPrimiti
     return t;
   }
   t->coverage_count = 0;
-  t->x0 = static_cast<int32_t>(std::max<int64_t>(0, ceil_div_subpixel(x0)));
-  t->x1 = static_cast<int32_t>(std::min<int64_t>(fb.width - 1, floor_div_subpixel(x0 + f - 1)));
-  t->y0 = static_cast<int32_t>(std::max<int64_t>(0, ceil_div_subpixel(y0)));
-  t->y1 = static_cast<int32_t>(std::min<int64_t>(fb.height - 1, floor_div_subpixel(y0 + f - 1)));
+  const PixelBounds r = bounds_of(in.draw_id);
+  t->x0 = static_cast<int32_t>(std::max<int64_t>(r.x0, ceil_div_subpixel(x0)));
+  t->x1 = static_cast<int32_t>(std::min<int64_t>(r.x1, floor_div_subpixel(x0 + f - 1)));
+  t->y0 = static_cast<int32_t>(std::max<int64_t>(r.y0, ceil_div_subpixel(y0)));
+  t->y1 = static_cast<int32_t>(std::min<int64_t>(r.y1, floor_div_subpixel(y0 + f - 1)));
   return t;
 }
 

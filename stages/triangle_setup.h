@@ -6,7 +6,11 @@
 // Triangles: twice the signed area; degenerate and culled triangles are
 // dropped; clockwise ones are turned counter-clockwise; the three edge
 // equations with their fill-rule bias (interpolation and coverage alike), the
-// pixel bounding box clamped to the framebuffer and the polygon offset. The
+// pixel bounding box clamped to the draw rectangle (the framebuffer, the
+// draw's viewport and its scissor: section 8d) and the polygon offset.
+// Every primitive's box is clamped so: the scissor and the viewport bound
+// are nothing but this clamp, and the distributor and the rasterizers,
+// which only ever look inside the box, never spend a cycle outside it. The
 // vertices' varyings (already divided by w) and the provoking vertex's flat
 // varyings pass through unchanged.
 //
@@ -40,8 +44,9 @@
 // t + ii + latency(triangle_setup). A line's end tests (a handful of
 // multiply-adds per end) are part of that ii. No memory traffic.
 //
-// Primitives whose clamped box is empty (entirely off screen, too thin to
-// contain a pixel centre's row or column, or a line producing no column)
+// Primitives whose clamped box is empty (entirely off screen or outside the
+// viewport or scissor, too thin to contain a pixel centre's row or column,
+// or a line producing no column)
 // are counted as rasterized, as the golden model counts them, and also in
 // triangles_offscreen, lines_offscreen or points_offscreen; they are not
 // sent on, since no unit has work for them.
@@ -85,8 +90,15 @@ class TriangleSetup : public PipelineStage {
   // Multisampled (spec section 14): a line's rectangle, its four edges and box.
   void setup_line_rectangle(RasterPrimitive& t, float width) const;
   // The pixel box of the subpixel box [x0, x1] x [y0, y1] of sample points:
-  // every pixel with a sample inside, clamped to the framebuffer.
+  // every pixel with a sample inside, clamped to the draw rectangle.
   void set_sample_box(RasterPrimitive& t, int64_t x0, int64_t x1, int64_t y0, int64_t y1) const;
+  // The draw rectangle of a draw (spec section 8d): the render target's
+  // pixels inside its viewport and scissor. Every pixel box is clamped to
+  // it, so the distributor and the rasterizers never see the pixels around.
+  PixelBounds bounds_of(uint32_t draw_id) const {
+    return draw_bounds(m_frame.draws[draw_id].state, m_frame.framebuffer.width,
+                       m_frame.framebuffer.height);
+  }
   // Sets the edge from (xa, ya) to (xb, yb) with section 8's fill rule.
   static EdgeEquation edge_between(int64_t xa, int64_t ya, int64_t xb, int64_t yb);
 

@@ -198,8 +198,7 @@ class Renderer {
         m_samples(scene.framebuffer.samples),
         m_fb(scene.framebuffer.width * static_cast<int>(m_k),
              scene.framebuffer.height * static_cast<int>(m_k), scene.framebuffer.color_format,
-             scene.framebuffer.depth_format, m_samples),
-        m_guard_band(guard_band_for(m_fb.width, m_fb.height)) {
+             scene.framebuffer.depth_format, m_samples) {
     const glm::vec4& c = scene.framebuffer.clear_color;
     const float rgba[4] = {c.x, c.y, c.z, c.w};
     m_fb.clear(rgba, scene.framebuffer.clear_depth);
@@ -255,6 +254,13 @@ class Renderer {
     RenderState state = draw.state;
     state.line_width = state.line_width * static_cast<float>(m_k);
     state.point_size = state.point_size * static_cast<float>(m_k);
+    // Viewport and scissor are in output pixels: k times them in the target.
+    const int k = static_cast<int>(m_k);
+    if (state.viewport) state.viewport = scaled(*state.viewport, k);
+    if (state.scissor) state.scissor = scaled(*state.scissor, k);
+    m_viewport = {viewport_of(state, m_fb.width, m_fb.height), state.depth_near, state.depth_far};
+    m_guard_band = guard_band_for(m_viewport.rect);
+    m_bounds = draw_bounds(state, m_fb.width, m_fb.height);
     std::vector<ShadedVertex> shaded(draw.positions.size());
     for (uint32_t i = 0; i < shaded.size(); ++i) shaded[i] = shade_vertex(m_scene, draw, i);
     // The vertex in a slot, or nullptr when the primitive is invalid (an
@@ -327,7 +333,7 @@ class Renderer {
     // Flat shading takes the colour of the original triangle's last vertex.
     const glm::vec4 flat_color = tri[2].color;
     std::vector<WindowVertex> win(poly.size());
-    for (size_t i = 0; i < poly.size(); ++i) win[i] = to_window(poly[i], m_fb.width, m_fb.height);
+    for (size_t i = 0; i < poly.size(); ++i) win[i] = to_window(poly[i], m_viewport);
     for (size_t i = 1; i + 1 < poly.size(); ++i) {
       ++m_stats.triangles_after_clip;
       setup_and_rasterize(st, {win[0], win[i], win[i + 1]}, flat_color, id);
@@ -359,7 +365,7 @@ class Renderer {
     }
     if (was_clipped(poly.v, tri)) ++m_stats.triangles_clipped;
     std::vector<WindowVertex> win(n);
-    for (size_t i = 0; i < n; ++i) win[i] = to_window(poly.v[i], m_fb.width, m_fb.height);
+    for (size_t i = 0; i < n; ++i) win[i] = to_window(poly.v[i], m_viewport);
     const EdgeValue area2 = polygon_area2(win);
     if (area2 == 0) {
       ++m_stats.triangles_degenerate;
@@ -393,9 +399,8 @@ class Renderer {
     }
     if (c.result == LineClip::clipped) ++m_stats.lines_clipped;
     // Flat shading: the provoking (second) vertex's colour before clipping.
-    rasterize_line(st, to_window(c.v[0], m_fb.width, m_fb.height),
-                   to_window(c.v[1], m_fb.width, m_fb.height), line[1].color, draw_first, draw_last,
-                   id);
+    rasterize_line(st, to_window(c.v[0], m_viewport), to_window(c.v[1], m_viewport), line[1].color,
+                   draw_first, draw_last, id);
   }
 
   // A clipped line in window space (spec sections 8b and 9; multisampled:
@@ -424,6 +429,10 @@ class Renderer {
       pixels =
           bresenham_pixels(a.x, a.y, b.x, b.y, draw_first, draw_last, w, m_fb.width, m_fb.height);
     }
+    // Only the draw rectangle's pixels (section 8d).
+    pixels.erase(std::remove_if(pixels.begin(), pixels.end(),
+                                [&](const Pixel& p) { return !m_bounds.contains(p.x, p.y); }),
+                 pixels.end());
     ++m_stats.lines_rasterized;
     const SetupTriangle t = line_setup(a, b, l2);
     for (const Pixel& p : pixels) {
@@ -496,14 +505,15 @@ class Renderer {
   template <typename Shade>
   bool scan_samples(const RenderState& st, int64_t id, int64_t x0, int64_t x1, int64_t y0,
                     int64_t y1, Shade&& shade) {
-    const int px0 = static_cast<int>(
-        std::max<int64_t>(0, ceil_div(x0 - kSubpixelHalf - m_reach_x.second, kSubpixelOne)));
+    // Clamped to the draw rectangle (section 8d), not just the target.
+    const int px0 = static_cast<int>(std::max<int64_t>(
+        m_bounds.x0, ceil_div(x0 - kSubpixelHalf - m_reach_x.second, kSubpixelOne)));
     const int px1 = static_cast<int>(std::min<int64_t>(
-        m_fb.width - 1, floor_div(x1 - kSubpixelHalf - m_reach_x.first, kSubpixelOne)));
-    const int py0 = static_cast<int>(
-        std::max<int64_t>(0, ceil_div(y0 - kSubpixelHalf - m_reach_y.second, kSubpixelOne)));
+        m_bounds.x1, floor_div(x1 - kSubpixelHalf - m_reach_x.first, kSubpixelOne)));
+    const int py0 = static_cast<int>(std::max<int64_t>(
+        m_bounds.y0, ceil_div(y0 - kSubpixelHalf - m_reach_y.second, kSubpixelOne)));
     const int py1 = static_cast<int>(std::min<int64_t>(
-        m_fb.height - 1, floor_div(y1 - kSubpixelHalf - m_reach_y.first, kSubpixelOne)));
+        m_bounds.y1, floor_div(y1 - kSubpixelHalf - m_reach_y.first, kSubpixelOne)));
     std::array<float, kMaxSamples> z;
     for (int y = py0; y <= py1; ++y) {
       for (int x = px0; x <= px1; ++x) {
@@ -521,8 +531,8 @@ class Renderer {
   void rasterize_point(const RenderState& st, const ShadedVertex& v, const glm::vec4& color,
                        int64_t id) {
     ++m_stats.points_rasterized;
-    const float z = to_window(v, m_fb.width, m_fb.height).z;
-    const glm::vec2 xy = window_xy(v, m_fb.width, m_fb.height);
+    const float z = to_window(v, m_viewport).z;
+    const glm::vec2 xy = window_xy(v, m_viewport.rect);
     const PointSquare sq = point_square(xy.x, xy.y, st.point_size);
     // Section 8c's space has pixel centres at 256 x: sample s of pixel x is at
     // 256 x + dx_s, covered iff x0 <= it < x0 + side (likewise y).
@@ -667,7 +677,10 @@ class Renderer {
   const unsigned m_k;        // supersample factor
   const unsigned m_samples;  // per pixel
   Framebuffer m_fb;          // the render target, m_samples per pixel
-  GuardBand m_guard_band;
+  // The current draw's viewport transform, guard band and draw rectangle.
+  ViewportTransform m_viewport;
+  GuardBand m_guard_band{};
+  PixelBounds m_bounds;
   std::vector<int64_t> m_last_writer;
   Stats m_stats;
   int64_t m_next_primitive_id = 0;  // every kind, in API order
@@ -748,12 +761,20 @@ std::vector<uint32_t> assemble_points(PrimitiveType type, size_t n) {
   return out;
 }
 
+GuardBand guard_band_for(const PixelRect& viewport) {
+  // Window x = (x/w + 1) * Vw/2 + Vx stays within [-L, L] when
+  // -(2(L + Vx)/Vw + 1) <= x/w <= 2(L - Vx)/Vw - 1 (likewise y).
+  const float vx = static_cast<float>(viewport.x), vy = static_cast<float>(viewport.y);
+  const float vw = static_cast<float>(viewport.width), vh = static_cast<float>(viewport.height);
+  const float sl = 2.0f * (kGuardBandPixels + vx) / vw;
+  const float sr = 2.0f * (kGuardBandPixels - vx) / vw;
+  const float sb = 2.0f * (kGuardBandPixels + vy) / vh;
+  const float st = 2.0f * (kGuardBandPixels - vy) / vh;
+  return GuardBand{sl + 1.0f, sr - 1.0f, sb + 1.0f, st - 1.0f};
+}
+
 GuardBand guard_band_for(int width, int height) {
-  // Window x = (x/w + 1) * width/2 stays within [-L, L] when
-  // -(2L/width + 1) <= x/w <= 2L/width - 1.
-  const float sx = 2.0f * kGuardBandPixels / static_cast<float>(width);
-  const float sy = 2.0f * kGuardBandPixels / static_cast<float>(height);
-  return GuardBand{sx + 1.0f, sx - 1.0f, sy + 1.0f, sy - 1.0f};
+  return guard_band_for(PixelRect{0, 0, width, height});
 }
 
 float clip_distance(int plane, const glm::vec4& c, const GuardBand& gb) {
@@ -854,22 +875,31 @@ bool point_in_view_volume(const glm::vec4& c) {
          c.w - c.y >= 0.0f && c.z + c.w >= 0.0f && c.w - c.z >= 0.0f;
 }
 
-glm::vec2 window_xy(const ShadedVertex& v, int width, int height) {
+glm::vec2 window_xy(const ShadedVertex& v, const PixelRect& viewport) {
   const float inv_w = 1.0f / v.clip.w;
-  const float half_w = 0.5f * static_cast<float>(width);
-  const float half_h = 0.5f * static_cast<float>(height);
-  return {(v.clip.x * inv_w + 1.0f) * half_w, (v.clip.y * inv_w + 1.0f) * half_h};
+  const float half_w = 0.5f * static_cast<float>(viewport.width);
+  const float half_h = 0.5f * static_cast<float>(viewport.height);
+  return {(v.clip.x * inv_w + 1.0f) * half_w + static_cast<float>(viewport.x),
+          (v.clip.y * inv_w + 1.0f) * half_h + static_cast<float>(viewport.y)};
+}
+
+glm::vec2 window_xy(const ShadedVertex& v, int width, int height) {
+  return window_xy(v, PixelRect{0, 0, width, height});
+}
+
+WindowVertex to_window(const ShadedVertex& v, const ViewportTransform& vp) {
+  WindowVertex w;
+  w.inv_w = 1.0f / v.clip.w;
+  const glm::vec2 xy = window_xy(v, vp.rect);
+  w.x = snap_to_subpixel(xy.x);
+  w.y = snap_to_subpixel(xy.y);
+  w.z = (v.clip.z * w.inv_w + 1.0f) * 0.5f * (vp.far - vp.near) + vp.near;
+  for (int k = 0; k < 4; ++k) w.color_over_w[k] = v.color[k] * w.inv_w;
+  return w;
 }
 
 WindowVertex to_window(const ShadedVertex& v, int width, int height) {
-  WindowVertex w;
-  w.inv_w = 1.0f / v.clip.w;
-  const glm::vec2 xy = window_xy(v, width, height);
-  w.x = snap_to_subpixel(xy.x);
-  w.y = snap_to_subpixel(xy.y);
-  w.z = (v.clip.z * w.inv_w + 1.0f) * 0.5f;
-  for (int k = 0; k < 4; ++k) w.color_over_w[k] = v.color[k] * w.inv_w;
-  return w;
+  return to_window(v, ViewportTransform{PixelRect{0, 0, width, height}, 0.0f, 1.0f});
 }
 
 EdgeValue signed_area2(const WindowVertex& a, const WindowVertex& b, const WindowVertex& c) {

@@ -56,6 +56,9 @@ constexpr float kMinClipW = 1.0f / 4294967296.0f;  // 2^-32: keeps 1/w finite
 struct GuardBand {
   float left, right, bottom, top;  // x >= -left*w, x <= right*w, ...
 };
+// The guard band of a viewport (spec section 4): window x and y stay within
+// +-kGuardBandPixels. guard_band_for(W, H) is the whole W x H target's.
+GuardBand guard_band_for(const PixelRect& viewport);
 GuardBand guard_band_for(int width, int height);
 float clip_distance(int plane, const glm::vec4& clip, const GuardBand& gb);
 
@@ -97,8 +100,17 @@ struct WindowVertex {
   float inv_w = 0.0f;            // 1 / w_clip
   glm::vec4 color_over_w{0.0f};  // colour * (1 / w), for perspective correction
 };
+// The viewport transform's parameters (spec section 5): the viewport in
+// render-target pixels and the depth range.
+struct ViewportTransform {
+  PixelRect rect;
+  float near = 0.0f, far = 1.0f;
+};
+WindowVertex to_window(const ShadedVertex& v, const ViewportTransform& vp);
+// The whole width x height target, depth range [0, 1].
 WindowVertex to_window(const ShadedVertex& v, int width, int height);
 // The window x and y of a vertex before snapping (spec section 5).
+glm::vec2 window_xy(const ShadedVertex& v, const PixelRect& viewport);
 glm::vec2 window_xy(const ShadedVertex& v, int width, int height);
 
 // Twice the signed area in subpixel^2: > 0 counter-clockwise (y up).

@@ -31,6 +31,7 @@ namespace {
   X(PFNGLVIEWPORTPROC, glViewport)                                             \
   X(PFNGLCLIPCONTROLPROC, glClipControl)                                       \
   X(PFNGLDEPTHRANGEPROC, glDepthRange)                                         \
+  X(PFNGLSCISSORPROC, glScissor)                                               \
   X(PFNGLCLEARCOLORPROC, glClearColor)                                         \
   X(PFNGLCLEARDEPTHPROC, glClearDepth)                                         \
   X(PFNGLCLEARPROC, glClear)                                                   \
@@ -275,6 +276,9 @@ struct GlReference::Impl {
   int width = 0, height = 0;
   unsigned samples = 1, supersample = 1;
   int tx = 0, ty = 0;  // window position of NDC (0, 0) in the V x V viewport
+  // The draw being prepared: its viewport transform in render-target
+  // pixels (the scene's viewport times `supersample`) and depth range.
+  golden::ViewportTransform vp;
   ReferenceStats stats;
 
   // One OpenGL draw call, prepared before the timed part of a render: its
@@ -295,6 +299,8 @@ struct GlReference::Impl {
   };
   struct Batch {
     const RenderState* state = nullptr;
+    golden::ViewportTransform vp;  // the draw's (render-target pixels)
+    PixelBounds bounds;            // the draw rectangle (spec section 8d)
     bool window_space = true;
     Viewport viewport = Viewport::centered;
     bool flat = false;  // flat colour whatever the state says (points, section 9)
@@ -451,7 +457,7 @@ struct GlReference::Impl {
 
   // A vertex the spec leaves unclipped, in window space (see the header).
   GlVertex window_vertex(const golden::ShadedVertex& v) const {
-    const golden::WindowVertex w = golden::to_window(v, width, height);
+    const golden::WindowVertex w = golden::to_window(v, vp);
     const double half = viewport_side / 2;
     GlVertex out{};
     // Exact: X/256 - tx is a multiple of 2^-8 below 2^16 in magnitude, and
@@ -470,14 +476,15 @@ struct GlReference::Impl {
 
   // A vertex of a triangle the spec clips, in clip space rescaled so that
   // OpenGL's divide and V x V viewport give the spec's window coordinates
-  // (up to rounding) and its [0, w] depth range the spec's z_w.
+  // (up to rounding), x_w = (x/w + 1) * Vw/2 + Vx for the draw's viewport,
+  // and its [0, w] z, through glDepthRange(near, far), the spec's z_w.
   GlVertex clip_vertex(const golden::ShadedVertex& v) const {
     const double half = viewport_side / 2;
     const double x = v.clip.x, y = v.clip.y, z = v.clip.z, w = v.clip.w;
+    const double hw = vp.rect.width / 2.0, hh = vp.rect.height / 2.0;
     GlVertex out{};
-    out.position[0] = static_cast<float>(x * (width / 2.0) / half + w * (width / 2.0 - tx) / half);
-    out.position[1] =
-        static_cast<float>(y * (height / 2.0) / half + w * (height / 2.0 - ty) / half);
+    out.position[0] = static_cast<float>(x * hw / half + w * (hw + vp.rect.x - tx) / half);
+    out.position[1] = static_cast<float>(y * hh / half + w * (hh + vp.rect.y - ty) / half);
     out.position[2] = static_cast<float>((z + w) * 0.5);
     out.position[3] = v.clip.w;
     for (int k = 0; k < 4; ++k) out.color[k] = v.color[k];
@@ -489,15 +496,13 @@ struct GlReference::Impl {
   // spec's float window coordinates (section 5, unsnapped: the point rule of
   // section 8c rounds x_w itself) divided by the power of two V/2, exact.
   GlVertex window_point_vertex(const golden::ShadedVertex& v) const {
-    const golden::WindowVertex w = golden::to_window(v, width, height);
-    // The same float operations as golden::to_window before its snap.
-    const float inv_w = 1.0f / v.clip.w;
-    const float xw = (v.clip.x * inv_w + 1.0f) * (0.5f * static_cast<float>(width));
-    const float yw = (v.clip.y * inv_w + 1.0f) * (0.5f * static_cast<float>(height));
+    const golden::WindowVertex w = golden::to_window(v, vp);
+    // The spec's float x_w, y_w before the snap.
+    const glm::vec2 xy = golden::window_xy(v, vp.rect);
     const float half = static_cast<float>(viewport_side / 2);
     GlVertex out{};
-    out.position[0] = xw / half;
-    out.position[1] = yw / half;
+    out.position[0] = xy.x / half;
+    out.position[1] = xy.y / half;
     out.position[2] = w.z;
     out.position[3] = 1.0f;
     for (int k = 0; k < 4; ++k) out.color[k] = v.color[k];
@@ -505,9 +510,9 @@ struct GlReference::Impl {
     return out;
   }
 
-  // A point the spec discards, for the `framebuffer` viewport: plain clip
-  // coordinates (depth mapped to GL_ZERO_TO_ONE), so OpenGL's own clipper
-  // must discard it too.
+  // A point the spec discards, for the `framebuffer` viewport (the draw's
+  // own): plain clip coordinates (depth mapped to GL_ZERO_TO_ONE), so
+  // OpenGL's own clipper must discard it too.
   static GlVertex framebuffer_clip_vertex(const golden::ShadedVertex& v) {
     GlVertex out{};
     out.position[0] = v.clip.x;
@@ -517,6 +522,16 @@ struct GlReference::Impl {
     for (int k = 0; k < 4; ++k) out.color[k] = v.color[k];
     out.inv_w = 1.0f;
     return out;
+  }
+
+  // A draw's state with its viewport and scissor in render-target pixels
+  // (times `supersample`, as the spec's section 14 says).
+  RenderState scaled_state(const RenderState& st) const {
+    RenderState s = st;
+    const int k = static_cast<int>(supersample);
+    if (s.viewport) s.viewport = scaled(*s.viewport, k);
+    if (s.scissor) s.scissor = scaled(*s.scissor, k);
+    return s;
   }
 
   bool beyond_viewport(const GlVertex& v) const {
@@ -593,6 +608,8 @@ struct GlReference::Impl {
                  bool flat = false) {
     Batch b;
     b.state = &state;
+    b.vp = vp;
+    b.bounds = draw_bounds(scaled_state(state), width, height);
     b.window_space = window_space;
     b.viewport = viewport;
     b.flat = flat;
@@ -617,8 +634,26 @@ struct GlReference::Impl {
         gl.glViewport(-half, -half, viewport_side, viewport_side);
         break;
       case Viewport::framebuffer:
-        gl.glViewport(0, 0, width, height);
+        gl.glViewport(b.vp.rect.x, b.vp.rect.y, b.vp.rect.width, b.vp.rect.height);
         break;
+    }
+    // Window-space vertices carry the spec's z_w, already in the depth
+    // range; clip-space ones get it from OpenGL's viewport transform.
+    if (b.window_space) {
+      gl.glDepthRange(0.0, 1.0);
+    } else {
+      gl.glDepthRange(b.vp.near, b.vp.far);
+    }
+    // The draw rectangle: OpenGL clips to its own viewport, which for
+    // window-space vertices is the large V x V one, so the scene's viewport
+    // and scissor become one scissor rectangle (a per-pixel test, as the
+    // spec's).
+    const PixelBounds& r = b.bounds;
+    if (r == PixelBounds{0, 0, width - 1, height - 1}) {
+      gl.glDisable(GL_SCISSOR_TEST);
+    } else {
+      gl.glEnable(GL_SCISSOR_TEST);
+      gl.glScissor(r.x0, r.y0, std::max(0, r.x1 - r.x0 + 1), std::max(0, r.y1 - r.y0 + 1));
     }
     apply_state(*b.state);
     set_mode(b.window_space, b.flat ? Shading::flat : b.state->shading);
@@ -769,7 +804,9 @@ struct GlReference::Impl {
   void prepare_draw(const Scene& scene, const Draw& draw) {
     std::vector<golden::ShadedVertex> shaded(draw.positions.size());
     for (uint32_t i = 0; i < shaded.size(); ++i) shaded[i] = golden::shade_vertex(scene, draw, i);
-    const golden::GuardBand gb = golden::guard_band_for(width, height);
+    const RenderState st = scaled_state(draw.state);
+    vp = golden::ViewportTransform{viewport_of(st, width, height), st.depth_near, st.depth_far};
+    const golden::GuardBand gb = golden::guard_band_for(vp.rect);
     switch (primitive_class(draw.primitive)) {
       case PrimitiveClass::point:
         prepare_points(draw, shaded);
@@ -980,6 +1017,7 @@ struct GlReference::Impl {
       const Clock::time_point start = Clock::now();
       gl.glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
       gl.glDepthMask(GL_TRUE);
+      gl.glDisable(GL_SCISSOR_TEST);  // the spec's clear is the whole frame
       const glm::vec4& c = desc.clear_color;
       gl.glClearColor(c.r, c.g, c.b, c.a);
       gl.glClearDepth(desc.clear_depth);
@@ -1004,12 +1042,15 @@ struct GlReference::Impl {
             gl.glClearDepth(mid.depth_value);
             bits |= GL_DEPTH_BUFFER_BIT;
           }
+          gl.glDisable(GL_SCISSOR_TEST);  // a clear covers the whole buffer (spec section 15)
           gl.glClear(bits);
           check("mid-frame clear");
         }
         if (i == scene.draws.size()) break;
         for (size_t b = first_batch[i]; b < first_batch[i + 1]; ++b) draw_batch(batches[b]);
       }
+      // The multisample resolve's blit below honours the scissor too.
+      gl.glDisable(GL_SCISSOR_TEST);
       gl.glFinish();
       result.render_seconds.push_back(seconds_since(start));
     }

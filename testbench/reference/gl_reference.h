@@ -38,6 +38,17 @@
 // transform is a multiplication by V/2 and any float x_w passes exactly; a
 // point the spec discards goes over in plain clip space through the scene's
 // own W x H viewport, so that OpenGL's clipper has to discard it too.
+// Viewport, depth range and scissor (spec sections 5 and 8d). The window
+// coordinates above are the spec's, so they already hold the draw's viewport
+// offset and scale and its depth range (z_w); such batches draw with
+// glDepthRange(0, 1). Clip-space batches (below) are rescaled for the
+// draw's own viewport and drawn with glDepthRange(near, far), so OpenGL's
+// viewport transform applies the depth range; points the spec discards go
+// through glViewport(the draw's viewport). Since OpenGL only clips to the
+// V x V viewport, the spec's draw rectangle (framebuffer, viewport and
+// scissor intersected) becomes one glScissor rectangle per draw (off when it
+// is the whole framebuffer), a per-pixel test as the spec's. The clear
+// always runs with the scissor test off: clears are whole-frame.
 // Triangles in polygon mode line or point are handed over like filled ones,
 // and glPolygonMode has OpenGL cull them and draw their edges or vertices.
 // Bresenham lines have no OpenGL equivalent: such scenes are refused

@@ -3,6 +3,7 @@
 // lights, vertex arrays. Every problem becomes a one-line InputError naming the
 // file and the JSON path, so a bad scene never reaches the models.
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -31,6 +32,9 @@ using Out = nlohmann::json;
 
 constexpr int64_t kMaxFramebufferSize = 8192;
 constexpr int64_t kMaxSupersample = 8;
+// How far from the render target's origin a viewport may reach, in pixels:
+// half the guard band (hw/fixed_point.h), so the band always surrounds it.
+constexpr int64_t kMaxViewportReach = 16384;
 // The automatic camera (frame_meshes): its field of view, the direction from
 // the meshes' centre to the eye (front, right and above: a three-quarter
 // view) and its near and far planes' distance from the bounding sphere.
@@ -185,6 +189,18 @@ class SceneReader {
   glm::mat4 read_transform(const At& a) const;
   Material read_material(const At& a) const;
   RenderState read_state(const At& a) const;
+  // The state of a draw without "state": the frame's viewport and depth range.
+  RenderState frame_state() const {
+    RenderState s;
+    s.viewport = frame_viewport_;
+    s.depth_near = frame_depth_range_[0];
+    s.depth_far = frame_depth_range_[1];
+    return s;
+  }
+  // A viewport or a scissor: [x, y, width, height] in framebuffer pixels.
+  PixelRect read_rect(const At& a, bool viewport) const;
+  // A depth range [near, far], each in 0..1.
+  std::array<float, 2> read_depth_range(const At& a) const;
   void finish_draw(Draw& d, const glm::mat4& model, const At& a, Scene& scene, Out resolved);
   void place_draws(Scene& scene) const;
 
@@ -197,6 +213,10 @@ class SceneReader {
   // automatic camera frames the meshes: per light its direction or position,
   // per Draw its JSON path and whether it comes from a mesh file.
   std::vector<At> light_at_;
+  // framebuffer.viewport and depth_range: every draw's defaults.
+  std::optional<PixelRect> frame_viewport_;
+  std::array<float, 2> frame_depth_range_{0.0f, 1.0f};
+  unsigned supersample_ = 1;
   std::vector<std::string> draw_path_;
   std::vector<bool> draw_is_mesh_;
 };
@@ -389,7 +409,7 @@ void SceneReader::read_framebuffer(const At& root, Scene& scene) {
     const At a = member(root, "framebuffer");
     expect_object(a);
     check_keys(a, {"width", "height", "samples", "supersample", "color_format", "depth_format",
-                   "clear_color", "clear_depth"});
+                   "clear_color", "clear_depth", "viewport", "depth_range"});
     if (has(a, "width")) fb.width = integer(member(a, "width"), 1, kMaxFramebufferSize);
     if (has(a, "height")) fb.height = integer(member(a, "height"), 1, kMaxFramebufferSize);
     if (has(a, "color_format"))
@@ -417,15 +437,58 @@ void SceneReader::read_framebuffer(const At& root, Scene& scene) {
                          std::to_string(kMaxFramebufferSize) + " pixels on a side");
       }
     }
+    supersample_ = fb.supersample;
+    if (has(a, "viewport")) frame_viewport_ = read_rect(member(a, "viewport"), true);
+    if (has(a, "depth_range")) frame_depth_range_ = read_depth_range(member(a, "depth_range"));
   }
-  scene.resolved["framebuffer"] = {{"width", fb.width},
-                                   {"height", fb.height},
-                                   {"samples", fb.samples},
-                                   {"supersample", fb.supersample},
-                                   {"color_format", to_string(fb.color_format)},
-                                   {"depth_format", to_string(fb.depth_format)},
-                                   {"clear_color", out_vec(fb.clear_color)},
-                                   {"clear_depth", tidy(fb.clear_depth)}};
+  const PixelRect vp = frame_viewport_ ? *frame_viewport_ : PixelRect{0, 0, fb.width, fb.height};
+  scene.resolved["framebuffer"] = {
+      {"width", fb.width},
+      {"height", fb.height},
+      {"samples", fb.samples},
+      {"supersample", fb.supersample},
+      {"color_format", to_string(fb.color_format)},
+      {"depth_format", to_string(fb.depth_format)},
+      {"clear_color", out_vec(fb.clear_color)},
+      {"clear_depth", tidy(fb.clear_depth)},
+      {"viewport", {vp.x, vp.y, vp.width, vp.height}},
+      {"depth_range", Out::array({tidy(frame_depth_range_[0]), tidy(frame_depth_range_[1])})}};
+}
+
+PixelRect SceneReader::read_rect(const At& a, bool viewport) const {
+  if (!a.v.is_array() || a.v.size() != 4) {
+    fail_value(a, "expected an array of 4 integers [x, y, width, height]");
+  }
+  // A viewport may start left of or below the framebuffer (OpenGL allows
+  // it); a scissor outside it would only cut nothing, so it may not.
+  const int64_t lo = viewport ? -kMaxFramebufferSize : 0;
+  PixelRect r;
+  r.x = static_cast<int32_t>(integer(element(a, 0), lo, kMaxFramebufferSize));
+  r.y = static_cast<int32_t>(integer(element(a, 1), lo, kMaxFramebufferSize));
+  r.width = static_cast<int32_t>(integer(element(a, 2), 1, kMaxFramebufferSize));
+  r.height = static_cast<int32_t>(integer(element(a, 3), 1, kMaxFramebufferSize));
+  // The guard band (docs/pipeline-spec.md, section 4) must hold the
+  // viewport with room to spare in the render target: every edge within
+  // +-kMaxViewportReach pixels of the origin once scaled by supersample.
+  const int64_t k = supersample_;
+  if (viewport && std::max({-r.x * k, -r.y * k, (int64_t{r.x} + r.width) * k,
+                            (int64_t{r.y} + r.height) * k}) > kMaxViewportReach) {
+    fail(a.path, "the viewport times supersample " + std::to_string(k) + " reaches beyond " +
+                     std::to_string(kMaxViewportReach) + " pixels from the origin");
+  }
+  return r;
+}
+
+std::array<float, 2> SceneReader::read_depth_range(const At& a) const {
+  if (!a.v.is_array() || a.v.size() != 2)
+    fail_value(a, "expected an array of 2 numbers [near, far]");
+  std::array<float, 2> r{};
+  for (size_t i = 0; i < 2; ++i) {
+    const At e = element(a, i);
+    r[i] = real(e);
+    if (!(r[i] >= 0.0f && r[i] <= 1.0f)) fail_value(e, "expected 0..1");
+  }
+  return r;
 }
 
 bool SceneReader::read_camera(const At& root, Scene& scene) {
@@ -579,7 +642,11 @@ Out out_material(const Material& m) {
           {"shininess", tidy(m.shininess)}};
 }
 
-Out out_state(const RenderState& s) {
+Out out_rect(const PixelRect& r) {
+  return Out::array({r.x, r.y, r.width, r.height});
+}
+
+Out out_state(const RenderState& s, int width, int height) {
   Out blend = "off";
   if (s.blend) {
     blend = {{"src", std::string(to_string(s.blend_src))},
@@ -597,7 +664,10 @@ Out out_state(const RenderState& s) {
           {"line_width", tidy(s.line_width)},
           {"point_size", tidy(s.point_size)},
           {"line_rasterization", std::string(to_string(s.line_rasterization))},
-          {"polygon_mode", std::string(to_string(s.polygon_mode))}};
+          {"polygon_mode", std::string(to_string(s.polygon_mode))},
+          {"viewport", out_rect(viewport_of(s, width, height))},
+          {"depth_range", Out::array({tidy(s.depth_near), tidy(s.depth_far)})},
+          {"scissor", s.scissor ? out_rect(*s.scissor) : Out("off")}};
 }
 
 void SceneReader::read_lights(const At& root, Scene& scene) {
@@ -741,8 +811,21 @@ RenderState SceneReader::read_state(const At& a) const {
   expect_object(a);
   check_keys(a, {"cull", "front_face", "depth_test", "depth_write", "polygon_offset", "blend",
                  "color_mask", "shading", "line_width", "point_size", "line_rasterization",
-                 "polygon_mode"});
-  RenderState s;
+                 "polygon_mode", "viewport", "depth_range", "scissor"});
+  RenderState s = frame_state();
+  if (has(a, "viewport")) s.viewport = read_rect(member(a, "viewport"), true);
+  if (has(a, "depth_range")) {
+    const std::array<float, 2> r = read_depth_range(member(a, "depth_range"));
+    s.depth_near = r[0];
+    s.depth_far = r[1];
+  }
+  if (has(a, "scissor")) {
+    const At c = member(a, "scissor");
+    if (!(c.v.is_string() && c.v.get<std::string>() == "off")) {
+      if (!c.v.is_array()) fail_value(c, "expected \"off\" or [x, y, width, height]");
+      s.scissor = read_rect(c, false);
+    }
+  }
   if (has(a, "cull")) s.cull = enumeration<CullMode>(member(a, "cull"));
   if (has(a, "front_face")) s.front_face = enumeration<FrontFace>(member(a, "front_face"));
   if (has(a, "depth_test")) {
@@ -857,7 +940,7 @@ void SceneReader::read_draw(const At& a, Scene& scene) {
       has(a, "transform") ? read_transform(member(a, "transform")) : glm::mat4(1.0f);
   std::optional<Material> material;
   if (has(a, "material")) material = read_material(member(a, "material"));
-  const RenderState state = has(a, "state") ? read_state(member(a, "state")) : RenderState{};
+  const RenderState state = has(a, "state") ? read_state(member(a, "state")) : frame_state();
 
   if (!is_mesh) {
     Draw d;
@@ -955,7 +1038,7 @@ void SceneReader::finish_draw(Draw& d, const glm::mat4& model, const At& a, Scen
   resolved["primitives"] = primitive_count(d.primitive, n);
   resolved["lighting"] = d.lighting;
   resolved["material"] = out_material(d.material);
-  resolved["state"] = out_state(d.state);
+  resolved["state"] = out_state(d.state, scene.framebuffer.width, scene.framebuffer.height);
   resolved["model"] = out_mat(model);
   draw_path_.push_back(a.path);
   draw_is_mesh_.push_back(resolved.contains("mesh"));

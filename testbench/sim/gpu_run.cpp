@@ -229,6 +229,9 @@ LoadedFrame load_frame(const Scene& scene) {
     // sizes scale with it (the same float product as the golden model's).
     s.state.line_width = s.state.line_width * static_cast<float>(k);
     s.state.point_size = s.state.point_size * static_cast<float>(k);
+    // Viewport and scissor are in output pixels: k times them in the target.
+    if (s.state.viewport) s.state.viewport = scaled(*s.state.viewport, static_cast<int>(k));
+    if (s.state.scissor) s.state.scissor = scaled(*s.state.scissor, static_cast<int>(k));
     s.first_primitive_id = next_primitive;
     s.varyings = varying_layout_for(s);
     DrawBuffers& b = s.buffers;

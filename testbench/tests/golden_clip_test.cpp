@@ -100,6 +100,28 @@ TEST(GoldenClip, GuardBandFactors) {
   EXPECT_EQ(g2.top, 7.0f);
 }
 
+// Section 4 with a viewport (10, 20, 64, 32): gl = 2 (32768 + 10) / 64 + 1 =
+// 1025.3125, gr = 2 (32768 - 10) / 64 - 1 = 1022.6875, gb = 2 (32768 + 20)
+// / 32 + 1 = 2050.25, gt = 2 (32768 - 20) / 32 - 1 = 2045.75 (all exact), and
+// at x/w = -gl the window x is (1 - 1025.3125) * 32 + 10 = -32768 = -L.
+TEST(GoldenClip, GuardBandFollowsTheViewport) {
+  const PixelRect vp{10, 20, 64, 32};
+  const golden::GuardBand gb = golden::guard_band_for(vp);
+  EXPECT_EQ(gb.left, 1025.3125f);
+  EXPECT_EQ(gb.right, 1022.6875f);
+  EXPECT_EQ(gb.bottom, 2050.25f);
+  EXPECT_EQ(gb.top, 2045.75f);
+  golden::ShadedVertex v;
+  v.clip = {-gb.left, -gb.bottom, 0.0f, 1.0f};
+  EXPECT_EQ(golden::window_xy(v, vp), glm::vec2(-32768.0f, -32768.0f));
+  v.clip = {gb.right, gb.top, 0.0f, 1.0f};
+  EXPECT_EQ(golden::window_xy(v, vp), glm::vec2(32768.0f, 32768.0f));
+  // The whole target's viewport gives the guard band of its size.
+  const golden::GuardBand full = golden::guard_band_for(PixelRect{0, 0, 64, 32});
+  EXPECT_EQ(full.left, 1025.0f);
+  EXPECT_EQ(full.top, 2047.0f);
+}
+
 TEST(GoldenClip, PlaneDistances) {
   const golden::GuardBand gb = golden::guard_band_for(64, 32);  // 1025, 1023, 2049, 2047
   const glm::vec4 v(3.0f, -5.0f, 0.5f, 2.0f);

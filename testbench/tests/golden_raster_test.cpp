@@ -216,6 +216,28 @@ TEST(GoldenSnap, ToWindowSnapsTiesToEvenIncludingNegatives) {
   }
 }
 
+// Section 5 with a viewport and a depth range: clip (1, -0.5, 0.5, 2),
+// viewport (10, 20, 64, 32), depth range (0.25, 0.75): q = 0.5;
+// x_w = (0.5 + 1) * 32 + 10 = 58 -> 14848; y_w = (-0.25 + 1) * 16 + 20 = 32
+// -> 8192; z_w = (0.25 + 1) * 0.5 * 0.5 + 0.25 = 0.5625. Every step exact.
+TEST(GoldenSnap, ToWindowAppliesViewportOffsetAndDepthRange) {
+  golden::ShadedVertex sv;
+  sv.clip = {1.0f, -0.5f, 0.5f, 2.0f};
+  sv.color = {1.0f, 0.5f, 0.25f, 1.0f};
+  const golden::ViewportTransform vp{PixelRect{10, 20, 64, 32}, 0.25f, 0.75f};
+  const golden::WindowVertex w = golden::to_window(sv, vp);
+  EXPECT_EQ(w.x, 14848);
+  EXPECT_EQ(w.y, 8192);
+  EXPECT_EQ(w.z, 0.5625f);
+  EXPECT_EQ(w.inv_w, 0.5f);
+  EXPECT_EQ(golden::window_xy(sv, vp.rect), glm::vec2(58.0f, 32.0f));
+  // A reversed range maps NDC z = -1 to 1 and +1 to 0:
+  // z_w = (0.25 + 1) * 0.5 * (0 - 1) + 1 = 0.375.
+  EXPECT_EQ(golden::to_window(sv, {PixelRect{10, 20, 64, 32}, 1.0f, 0.0f}).z, 0.375f);
+  // A negative origin: x_w = 1.5 * 32 - 7 = 41.
+  EXPECT_EQ(golden::to_window(sv, {PixelRect{-7, 0, 64, 32}, 0.0f, 1.0f}).x, 41 * 256);
+}
+
 TEST(GoldenSnap, ToWindowDividesByW) {
   // clip (1, -0.5, 0.5, 2), colour (1, 0.5, 0.25, 1), 64 x 32:
   // q = 0.5; x_w = (0.5 + 1) * 32 = 48 -> 12288; y_w = (-0.25 + 1) * 16 = 12 -> 3072;
@@ -689,6 +711,127 @@ TEST(GoldenPiglit, WindingDoesNotChangeCoverage) {
     const std::vector<int> want = ref_coverage(tri, W, H);
     EXPECT_EQ(b, want) << "triangle " << i << ": " << first_difference(b, want, W);
   }
+}
+
+// ---------------------------------------------------------------------------
+// The draw rectangle (spec section 8d): the framebuffer intersected with the
+// viewport and the scissor, per pixel, for every kind of primitive.
+
+// The pixels a render wrote, as a set of (x, y), from its last-writer map.
+std::vector<std::pair<int, int>> written(const golden::Result& r, int W) {
+  std::vector<std::pair<int, int>> out;
+  for (size_t i = 0; i < r.last_writer.size(); ++i) {
+    if (r.last_writer[i] >= 0) out.push_back({static_cast<int>(i) % W, static_cast<int>(i) / W});
+  }
+  return out;
+}
+// Every pixel of [x0, x1] x [y0, y1] in the same order (rows bottom-up).
+std::vector<std::pair<int, int>> rect_pixels(int x0, int y0, int x1, int y1) {
+  std::vector<std::pair<int, int>> out;
+  for (int y = y0; y <= y1; ++y) {
+    for (int x = x0; x <= x1; ++x) out.push_back({x, y});
+  }
+  return out;
+}
+// A triangle holding the whole clip square: window corners far outside any
+// viewport's edge, inside the guard band.
+Draw giant_draw() {
+  Draw d;
+  d.positions = {{-1, -1, 0.5f, 1}, {3, -1, 0.5f, 1}, {-1, 3, 0.5f, 1}};
+  d.state.depth_test = false;
+  return d;
+}
+
+TEST(GoldenDrawRectangle, ScissorKeepsExactlyItsPixels) {
+  Scene s = make_scene(64, 32);
+  s.draws.push_back(giant_draw());
+  s.draws.back().state.scissor = PixelRect{7, 5, 13, 11};
+  golden::Result r = golden::render(s);
+  EXPECT_EQ(written(r, 64), rect_pixels(7, 5, 19, 15));
+  EXPECT_EQ(r.stats.fragments_generated, 13u * 11u);
+  EXPECT_EQ(r.stats.triangles_offscreen, 0u);
+  // Partly outside the framebuffer: only the intersection.
+  s.draws.back().state.scissor = PixelRect{60, 28, 10, 10};
+  r = golden::render(s);
+  EXPECT_EQ(written(r, 64), rect_pixels(60, 28, 63, 31));
+  // Multisampled: all samples of a pixel inside, none outside.
+  s.framebuffer.samples = 4;
+  s.draws.back().state.scissor = PixelRect{7, 5, 13, 11};
+  r = golden::render(s);
+  EXPECT_EQ(r.stats.fragments_generated, 143u);
+  EXPECT_EQ(r.stats.samples_generated, 4u * 143u);
+}
+
+TEST(GoldenDrawRectangle, ViewportPlacesAndBoundsTheDraw) {
+  // The clip square [-1, 1]^2 through viewport (5, 7, 20, 11) covers its
+  // 20 x 11 pixels; the giant triangle, which crosses every viewport edge
+  // inside the guard band, is cut at the same pixels.
+  Scene s = make_scene(64, 32);
+  Draw quad;
+  quad.primitive = PrimitiveType::triangle_strip;
+  quad.positions = {{-1, -1, 0, 1}, {1, -1, 0, 1}, {-1, 1, 0, 1}, {1, 1, 0, 1}};
+  quad.state.depth_test = false;
+  quad.state.viewport = PixelRect{5, 7, 20, 11};
+  s.draws.push_back(quad);
+  EXPECT_EQ(written(golden::render(s), 64), rect_pixels(5, 7, 24, 17));
+  s.draws[0] = giant_draw();
+  s.draws[0].state.viewport = PixelRect{5, 7, 20, 11};
+  const golden::Result r = golden::render(s);
+  EXPECT_EQ(written(r, 64), rect_pixels(5, 7, 24, 17));
+  EXPECT_EQ(r.stats.triangles_clipped, 0u);  // bounded, not cut
+}
+
+TEST(GoldenDrawRectangle, DepthRangeMapsStoredDepth) {
+  // NDC z = 0 with depth range (0.25, 0.75): z_w = 1 * 0.5 * 0.5 + 0.25 =
+  // 0.5, stored in unorm24 as nearbyint(0.5 * 16777215) = 8388608 (the
+  // half rounds to even).
+  Scene s = make_scene(64, 32);
+  s.draws.push_back(giant_draw());
+  s.draws[0].positions = {{-1, -1, 0, 1}, {3, -1, 0, 1}, {-1, 3, 0, 1}};
+  s.draws[0].state.depth_test = true;
+  s.draws[0].state.depth_func = CompareFunc::always;
+  s.draws[0].state.depth_near = 0.25f;
+  s.draws[0].state.depth_far = 0.75f;
+  const golden::Result r = golden::render(s);
+  EXPECT_EQ(r.framebuffer.depth[r.framebuffer.pixel_index(3, 3)], 8388608u);
+}
+
+TEST(GoldenDrawRectangle, ScissorCutsLinesAndPoints) {
+  const int W = 64, H = 32;
+  Scene s = make_scene(W, H);
+  // A horizontal line through the centres of row 10 from x_w = -5 to 69:
+  // every pixel of the row, of which the scissor keeps x = 3..6.
+  Draw line;
+  line.primitive = PrimitiveType::lines;
+  line.positions = {at_subpixel(-5 * 256, 10 * 256 + 128, W, H),
+                    at_subpixel(69 * 256, 10 * 256 + 128, W, H)};
+  line.state.depth_test = false;
+  line.state.scissor = PixelRect{3, 0, 4, 32};
+  s.draws.push_back(line);
+  golden::Result r = golden::render(s);
+  EXPECT_EQ(written(r, W), rect_pixels(3, 10, 6, 10));
+  EXPECT_EQ(r.stats.lines_rasterized, 1u);
+  // A point of size 8 at window (10.5, 10.5): X0 = 2560 - 1024, so the
+  // square covers x, y = 6..13; the scissor from x = 8 keeps 6 x 8 pixels.
+  Draw point;
+  point.primitive = PrimitiveType::points;
+  point.positions = {at_subpixel(2688, 2688, W, H)};
+  point.state.depth_test = false;
+  point.state.point_size = 8.0f;
+  point.state.scissor = PixelRect{8, 0, 100, 100};
+  s.draws[0] = point;
+  r = golden::render(s);
+  EXPECT_EQ(written(r, W), rect_pixels(8, 6, 13, 13));
+}
+
+TEST(GoldenDrawRectangle, TriangleMissingTheScissorIsOffscreen) {
+  Scene s = make_scene(64, 32);
+  s.draws.push_back(triangle_draw({{256, 256}, {1024, 256}, {256, 1024}}, 64, 32));
+  s.draws[0].state.scissor = PixelRect{20, 20, 5, 5};
+  const golden::Result r = golden::render(s);
+  EXPECT_EQ(r.stats.triangles_rasterized, 1u);
+  EXPECT_EQ(r.stats.triangles_offscreen, 1u);
+  EXPECT_EQ(r.stats.fragments_generated, 0u);
 }
 
 }  // namespace

@@ -172,6 +172,27 @@ std::vector<BadCase> cases() {
         "draws[0].state.line_rasterization: expected one of diamond_exit, bresenham, got \"wu\"");
   state("polygon_mode_unknown", R"("polygon_mode": "wireframe")",
         "draws[0].state.polygon_mode: expected one of fill, line, point, got \"wireframe\"");
+  // Viewport, depth range, scissor (docs/scene-format.md).
+  state("viewport_zero_width", R"("viewport": [0, 0, 0, 10])",
+        "draws[0].state.viewport[2]: expected an integer in 1..8192, got 0");
+  state("viewport_three_numbers", R"("viewport": [0, 0, 10])",
+        "draws[0].state.viewport: expected an array of 4 integers [x, y, width, height], got an "
+        "array of 3 elements");
+  state("viewport_fraction", R"("viewport": [0.5, 0, 10, 10])",
+        "draws[0].state.viewport[0]: expected an integer in -8192..8192, got 0.5");
+  state("depth_range_above_one", R"("depth_range": [0, 1.5])",
+        "draws[0].state.depth_range[1]: expected 0..1, got 1.5");
+  state("scissor_on", R"("scissor": "on")",
+        "draws[0].state.scissor: expected \"off\" or [x, y, width, height], got \"on\"");
+  state("scissor_negative", R"("scissor": [-1, 0, 4, 4])",
+        "draws[0].state.scissor[0]: expected an integer in 0..8192, got -1");
+  scene("viewport_beyond_reach",
+        R"({"framebuffer": {"width": 2048, "height": 16, "supersample": 4,
+            "viewport": [0, 0, 4100, 16]}})",
+        {"framebuffer.viewport: the viewport times supersample 4 reaches beyond 16384 pixels from "
+         "the origin"});
+  scene("depth_range_negative", R"({"framebuffer": {"depth_range": [-0.1, 1]}})",
+        {"framebuffer.depth_range[0]: expected 0..1, got -0.1"});
   scene("zero_direction", R"({"lights": [{"type": "directional", "direction": [0, 0, 0]}]})",
         {"lights[0].direction"});
   scene("colours_per_position",

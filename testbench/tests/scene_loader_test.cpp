@@ -756,6 +756,46 @@ TEST_F(SceneLoaderTest, DefaultsAreFilledIn) {
   EXPECT_EQ(rd["material"]["diffuse"], nlohmann::json::parse("[0.8, 0.8, 0.8, 1.0]"));
 }
 
+TEST_F(SceneLoaderTest, ViewportDepthRangeAndScissor) {
+  const Scene s = load(R"({
+    "framebuffer": {"width": 100, "height": 50, "viewport": [-3, 4, 60, 40],
+                    "depth_range": [0.25, 0.5]},
+    "draws": [
+      {"positions": []},
+      {"positions": [], "state": {"viewport": [1, 2, 3, 4], "depth_range": [1, 0],
+                                  "scissor": [5, 6, 7, 8]}},
+      {"positions": [], "state": {"scissor": "off", "cull": "back"}}
+    ]})");
+  ASSERT_EQ(s.draws.size(), 3u);
+  // The frame's viewport and depth range are every draw's defaults.
+  for (const size_t d : {size_t{0}, size_t{2}}) {
+    ASSERT_TRUE(s.draws[d].state.viewport.has_value());
+    EXPECT_EQ(*s.draws[d].state.viewport, (PixelRect{-3, 4, 60, 40}));
+    EXPECT_EQ(s.draws[d].state.depth_near, 0.25f);
+    EXPECT_EQ(s.draws[d].state.depth_far, 0.5f);
+    EXPECT_FALSE(s.draws[d].state.scissor.has_value());
+  }
+  EXPECT_EQ(*s.draws[1].state.viewport, (PixelRect{1, 2, 3, 4}));
+  EXPECT_EQ(s.draws[1].state.depth_near, 1.0f);
+  EXPECT_EQ(s.draws[1].state.depth_far, 0.0f);
+  EXPECT_EQ(*s.draws[1].state.scissor, (PixelRect{5, 6, 7, 8}));
+  const nlohmann::json& r = s.resolved;
+  EXPECT_EQ(r["framebuffer"]["viewport"], nlohmann::json::parse("[-3, 4, 60, 40]"));
+  EXPECT_EQ(r["framebuffer"]["depth_range"], nlohmann::json::parse("[0.25, 0.5]"));
+  EXPECT_EQ(r["draws"][1]["state"]["scissor"], nlohmann::json::parse("[5, 6, 7, 8]"));
+  EXPECT_EQ(r["draws"][2]["state"]["scissor"], "off");
+  EXPECT_EQ(r["draws"][1]["state"]["depth_range"], nlohmann::json::parse("[1, 0]"));
+
+  // Without the keys: no viewport (the whole framebuffer), range [0, 1].
+  const Scene plain = load(R"({"framebuffer": {"width": 30, "height": 20},
+                              "draws": [{"positions": []}]})");
+  EXPECT_FALSE(plain.draws[0].state.viewport.has_value());
+  EXPECT_EQ(plain.draws[0].state, RenderState{});
+  EXPECT_EQ(plain.resolved["draws"][0]["state"]["viewport"],
+            nlohmann::json::parse("[0, 0, 30, 20]"));
+  EXPECT_EQ(plain.resolved["framebuffer"]["depth_range"], nlohmann::json::parse("[0, 1]"));
+}
+
 TEST_F(SceneLoaderTest, ExplicitSettingsAndCounts) {
   const Scene s = load(R"({
       "framebuffer": {"width": 640, "height": 8192, "color_format": "rgba16f",
@@ -948,7 +988,7 @@ TEST_F(SceneLoaderTest, StructuralErrors) {
   EXPECT_EQ(error_of("[1, 2]"), "expected an object, got an array of 2 elements");
   EXPECT_EQ(error_of(R"({"framebuffer": {"widht": 256}})"),
             "framebuffer.widht: unknown key (allowed: width, height, samples, supersample, "
-            "color_format, depth_format, clear_color, clear_depth)");
+            "color_format, depth_format, clear_color, clear_depth, viewport, depth_range)");
   EXPECT_EQ(error_of(R"({"framebuffer": {"samples": 3}})"),
             "framebuffer.samples: expected 1, 2, 4, 8 or 16, got 3");
   EXPECT_EQ(error_of(R"({"framebuffer": {"samples": 32}})"),
@@ -1118,7 +1158,7 @@ TEST_F(SceneLoaderTest, TypeAndRangeErrors) {
       {R"({"draws": [{"positions": [], "state": {"line_stipple": 1}}]})",
        "draws[0].state.line_stipple: unknown key (allowed: cull, front_face, depth_test, "
        "depth_write, polygon_offset, blend, color_mask, shading, line_width, point_size, "
-       "line_rasterization, polygon_mode)"},
+       "line_rasterization, polygon_mode, viewport, depth_range, scissor)"},
   };
   for (const auto& [json, want] : cases) EXPECT_EQ(error_of(json), want) << json;
 }

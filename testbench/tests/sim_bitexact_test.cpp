@@ -143,7 +143,8 @@ INSTANTIATE_TEST_SUITE_P(
                                          "lines_random", "points_wireframe", "lines_points",
                                          "aa_samples2", "aa_samples8", "aa_samples16",
                                          "aa_super3_samples4", "aa_super2", "clears",
-                                         "clears_samples4", "clears_super2"),
+                                         "clears_samples4", "clears_super2", "viewport_scissor",
+                                         "viewport_scissor_aa"),
                        ::testing::Range(0, 18)),
     case_name);
 

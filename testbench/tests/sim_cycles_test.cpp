@@ -125,6 +125,71 @@ TEST(Cycles, UnitsDivideTheRasterizerCycles) {
   }
 }
 
+// The scissor in the raster path (spec section 8d; cost model in
+// stages/tile_rasterizer.h and stages/tile_distributor.h): setup clamps the
+// pixel box to the draw rectangle, so only the tiles inside the scissor are
+// sent and visited, and a rejected tile costs nothing anywhere.
+TEST(Cycles, ScissorOfKTilesVisitsExactlyThoseTiles) {
+  // Scissor [16, 32, 48, 16] on 16x16 tiles: pixels x 16..63, y 32..47, the
+  // K = 3 tiles (1, 2), (2, 2), (3, 2). The giant triangle accepts each of
+  // them: 3 tile tests + 3 x 16 stamps + 2 control tokens = 53 cycles on one
+  // unit (4354 without the scissor), 768 fragments.
+  Scene s = clip_space_scene();
+  s.draws.push_back(giant_triangle());
+  s.draws.back().state.scissor = PixelRect{16, 32, 48, 16};
+  const GpuRunResult one = run(s, fill_bound(1));
+  EXPECT_EQ(stage_counter(one, "tile_rasterizer_0", "tiles_visited"), 3u);
+  EXPECT_EQ(stage_counter(one, "tile_rasterizer_0", "tiles_accepted"), 3u);
+  EXPECT_EQ(stage_counter(one, "tile_rasterizer_0", "stamps_accepted"), 48u);
+  EXPECT_EQ(stage_counter(one, "tile_rasterizer_0", "busy_cycles"), 3u + 48u + 2u);
+  EXPECT_EQ(stage_counter(one, "tile_rasterizer_0", "fragments"), 768u);
+  EXPECT_EQ(stage_counter(one, "tile_distributor", "triangles_sent"), 1u);
+
+  // Four units: tile (tx, ty) belongs to unit (tx + ty) mod 4, so units 3,
+  // 0 and 1 get one tile each and the distributor sends the triangle to
+  // those three only (3 cycles); unit 2 never sees it.
+  const GpuRunResult four = run(s, fill_bound(4));
+  const unsigned want_tiles[4] = {1, 1, 0, 1};
+  for (unsigned u = 0; u < 4; ++u) {
+    const std::string unit = "tile_rasterizer_" + std::to_string(u);
+    EXPECT_EQ(stage_counter(four, unit, "tiles_visited"), want_tiles[u]) << unit;
+    EXPECT_EQ(stage_counter(four, unit, "busy_cycles"), want_tiles[u] * 17u + 2u) << unit;
+  }
+  EXPECT_EQ(stage_counter(four, "tile_distributor", "triangles_sent"), 3u);
+  EXPECT_EQ(stage_counter(four, "tile_distributor", "busy_cycles"), 3u + 2u);
+}
+
+TEST(Cycles, ScissorCuttingTilesMasksTheirStamps) {
+  // Scissor [20, 36, 40, 10]: pixels x 20..59, y 36..45, inside tiles
+  // (1..3, 2): K = 3 tiles visited, each accepted; the 4x4 stamps meeting
+  // the box are columns 5..14 and rows 9..11, 30 stamps, partial ones
+  // masked to the box: 400 fragments. 3 + 30 + 2 cycles.
+  Scene s = clip_space_scene();
+  s.draws.push_back(giant_triangle());
+  s.draws.back().state.scissor = PixelRect{20, 36, 40, 10};
+  const GpuRunResult r = run(s, fill_bound(1));
+  EXPECT_EQ(stage_counter(r, "tile_rasterizer_0", "tiles_visited"), 3u);
+  EXPECT_EQ(stage_counter(r, "tile_rasterizer_0", "stamps_emitted"), 30u);
+  EXPECT_EQ(stage_counter(r, "tile_rasterizer_0", "busy_cycles"), 3u + 30u + 2u);
+  EXPECT_EQ(stage_counter(r, "tile_rasterizer_0", "fragments"), 400u);
+  EXPECT_EQ(r.counts.at("fragments_generated").get<uint64_t>(), 400u);
+}
+
+TEST(Cycles, ViewportSubRectangleBoundsTheTilesVisited) {
+  // Viewport [32, 64, 64, 32] (tiles 2..5 x 4..5, 8 tiles): the giant
+  // triangle maps to window (32, 64), (160, 64), (32, 160), covering the
+  // viewport, and the draw rectangle is the viewport: 8 accepted tiles,
+  // 8 + 8 x 16 + 2 cycles, 2048 fragments.
+  Scene s = clip_space_scene();
+  s.draws.push_back(giant_triangle());
+  s.draws.back().state.viewport = PixelRect{32, 64, 64, 32};
+  const GpuRunResult r = run(s, fill_bound(1));
+  EXPECT_EQ(stage_counter(r, "tile_rasterizer_0", "tiles_visited"), 8u);
+  EXPECT_EQ(stage_counter(r, "tile_rasterizer_0", "tiles_accepted"), 8u);
+  EXPECT_EQ(stage_counter(r, "tile_rasterizer_0", "busy_cycles"), 8u + 128u + 2u);
+  EXPECT_EQ(stage_counter(r, "tile_rasterizer_0", "fragments"), 2048u);
+}
+
 TEST(Cycles, SamplesMultiplyTheStampCostsAndTheTileBytes) {
   // The giant triangle over a 256x256 render target with the depth test on,
   // on one unit, fill-bound (memory latency 0, 64 KiB per cycle, every tile
