@@ -1423,6 +1423,26 @@ void GlDriver::State::register_handlers() {
     };
   }
   h["glAlphaFunc"] = [](State& s, const TraceCall& c) { s.alpha_func = enum_arg(c, 0); };
+  // A program that reads a matrix back tells the driver what OpenGL computed:
+  // a driver matrix that differs (beyond float rounding) is reported, so a
+  // state-tracking error cannot go unnoticed.
+  h["glGetFloatv"] = h["glGetDoublev"] = [](State& s, const TraceCall& c) {
+    const uint32_t pname = enum_arg(c, 0);
+    if (pname != en::MODELVIEW_MATRIX && pname != en::PROJECTION_MATRIX) return;
+    if (c.args.size() < 2 || c.args[1].kind != TraceValue::Kind::array) return;
+    const std::vector<double> m = numbers(c, 1);
+    if (m.size() != 16) return;
+    const glm::mat4& ours = pname == en::MODELVIEW_MATRIX ? s.modelview.top() : s.projection.top();
+    for (int i = 0; i < 16; ++i) {
+      const double want = m[static_cast<size_t>(i)], got = ours[i / 4][i % 4];
+      if (std::fabs(got - want) > 1e-4 * std::max(1.0, std::fabs(want))) {
+        s.unsupported(
+            std::string("driver matrix differs from the program's glGet of ") +
+            (pname == en::MODELVIEW_MATRIX ? "GL_MODELVIEW_MATRIX" : "GL_PROJECTION_MATRIX"));
+        return;
+      }
+    }
+  };
 
   h["glViewport"] = [](State& s, const TraceCall& c) {
     s.viewport = {int_arg(c, 0), int_arg(c, 1), int_arg(c, 2), int_arg(c, 3)};

@@ -471,6 +471,13 @@ TEST(GlDriver, ReportsUnsupportedFeaturesWithTheirCounts) {
     gl.vertex(0, 0), gl.vertex(1, 0), gl.vertex(0, 1);
     gl("glEnd");
   }
+  // A matrix read back by the program: the driver's equals it, then does not.
+  gl("glTranslatef", {fv(1), fv(2), fv(3)});
+  const std::vector<double> translated = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 1, 2, 3, 1};
+  gl("glGetFloatv", {ev(en::MODELVIEW_MATRIX), av(translated)});
+  std::vector<double> other = translated;
+  other[13] = 2.01;
+  gl("glGetFloatv", {ev(en::MODELVIEW_MATRIX), av(other)});
   gl("glFrobnicateSGIX", {iv(1)});
   gl("glFrobnicateSGIX", {iv(2)});
   gl.clear();  // after a draw
@@ -480,7 +487,8 @@ TEST(GlDriver, ReportsUnsupportedFeaturesWithTheirCounts) {
   EXPECT_EQ(u.at("GL_LIGHT_MODEL_LOCAL_VIEWER"), 2u);
   EXPECT_EQ(u.at("glFrobnicateSGIX"), 2u);
   EXPECT_EQ(u.at("glClear after the first draw of a frame"), 1u);
-  EXPECT_EQ(u.size(), 4u) << f.to_json().dump();
+  EXPECT_EQ(u.at("driver matrix differs from the program's glGet of GL_MODELVIEW_MATRIX"), 1u);
+  EXPECT_EQ(u.size(), 5u) << f.to_json().dump();
   EXPECT_EQ(f.features.ignored().at("glTexCoord* (texturing off)"), 2u);
   EXPECT_TRUE(f.to_json()["unsupported_used"].get<bool>());
 
