@@ -531,6 +531,7 @@ int run_replay(const ReplayArgs& args, const ProgressArgs& progress_args) {
     config = gpu_config_from_json(load_gpu_config_json(args.config),
                                   args.config == "-" ? "standard input" : args.config);
   }
+  const Clock::time_point replay_start = Clock::now();
   Progress progress = make_progress(progress_args);
   progress.begin("driver", "reading " + printable(args.trace));
   gl::TraceReader reader(args.trace);
@@ -634,7 +635,24 @@ int run_replay(const ReplayArgs& args, const ProgressArgs& progress_args) {
   for (const auto& [what, count] : total.ignored()) {
     std::printf("  ignored: %s: %llu\n", what.c_str(), static_cast<unsigned long long>(count));
   }
-  std::printf("  wall: %s\n", progress.wall_summary().c_str());
+  // The phases repeat per frame: their sums, in order of first appearance.
+  std::vector<std::pair<std::string, double>> sums;
+  for (const auto& [phase, seconds] : progress.phases()) {
+    auto it =
+        std::find_if(sums.begin(), sums.end(), [&](const auto& p) { return p.first == phase; });
+    if (it == sums.end()) {
+      sums.emplace_back(phase, seconds);
+    } else {
+      it->second += seconds;
+    }
+  }
+  std::string wall;
+  for (const auto& [phase, seconds] : sums) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%s%s %.3f s", wall.empty() ? "" : ", ", phase.c_str(), seconds);
+    wall += buf;
+  }
+  std::printf("  wall: %s; total %.3f s\n", wall.c_str(), seconds_since(replay_start));
   std::fflush(stdout);
   if (args.strict && total.any_unsupported()) {
     std::cerr << "gpusim: replay: " << total.unsupported().size()
