@@ -600,7 +600,14 @@ int run_replay(const ReplayArgs& args, const ProgressArgs& progress_args) {
     progress.begin("write", "frame_" + n + ".exr, .png, stats_" + n + ".json");
     OutputFiles files;
     write_frame_exr(fb, files.add(args.out_dir + "/frame_" + n + ".exr"));
-    write_frame_png(fb, files.add(args.out_dir + "/frame_" + n + ".png"));
+    // The PNG as the window shows it: opaque, like apitrace's images, so that
+    // a reader that premultiplies alpha compares the same colours (the EXR
+    // keeps the alpha channel).
+    Framebuffer opaque = fb;
+    for (size_t i = 3; i < opaque.color.size(); i += 4) {
+      opaque.color[i] = encode_color(opaque.color_format, 1.0f);
+    }
+    write_frame_png(opaque, files.add(args.out_dir + "/frame_" + n + ".png"));
     write_text_file_atomically(files.add(args.out_dir + "/stats_" + n + ".json"),
                                stats.dump(2) + "\n");
     files.commit();
