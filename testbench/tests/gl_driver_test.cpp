@@ -504,6 +504,24 @@ TEST(GlDriver, ReportsUnsupportedFeaturesWithTheirCounts) {
   EXPECT_EQ(f.index, 1u);
 }
 
+// A malformed call is bad input: one line naming the call, InputError.
+TEST(GlDriver, MalformedCallsAreInputErrorsNamingTheCall) {
+  Program gl;
+  gl.window(8, 8);
+  gl("glBegin", {ev(en::TRIANGLES)});
+  try {
+    gl("glVertex3f", {fv(1), fv(2)});  // the call number is 3
+    FAIL() << "no InputError";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "call 3 glVertex3f: argument 3 is missing");
+  }
+  TraceValue text;
+  text.kind = TraceValue::Kind::string;
+  text.bytes = "x";
+  EXPECT_THROW(gl("glLineWidth", {text}), InputError);
+  EXPECT_THROW(gl("glLightfv", {ev(en::LIGHT0), ev(en::DIFFUSE), av({1, 1})}), InputError);
+}
+
 TEST(GlDriver, ClientArraysDrawAsTheirElements) {
   Program gl;
   gl.window(8, 8);
