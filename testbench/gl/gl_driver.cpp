@@ -502,7 +502,8 @@ struct GlDriver::State {
   }
 
   // GL_COLOR_MATERIAL: the current colour tracks the chosen material property.
-  void apply_color_material() {
+  void apply_color_material() { apply_color_material(front, back); }
+  void apply_color_material(Material& f, Material& b) const {
     const auto apply = [&](Material& m) {
       switch (color_material_mode) {
         case en::AMBIENT:
@@ -524,8 +525,17 @@ struct GlDriver::State {
           break;
       }
     };
-    if (color_material_face != en::BACK) apply(front);
-    if (color_material_face != en::FRONT) apply(back);
+    if (color_material_face != en::BACK) apply(f);
+    if (color_material_face != en::FRONT) apply(b);
+  }
+
+  // A vertex with the current attributes. With GL_COLOR_MATERIAL on, the
+  // tracked properties are the current colour whatever glMaterial set since
+  // (Mesa's fixed-function vertex program reads them from the colour).
+  Vertex make_vertex(const glm::vec4& p) const {
+    Vertex v{p, normal, color, front, back};
+    if (is_enabled(en::COLOR_MATERIAL)) apply_color_material(v.material, v.back_material);
+    return v;
   }
 
   void vertex(const TraceCall& c, const glm::vec4& p) {
@@ -535,7 +545,7 @@ struct GlDriver::State {
       return;
     }
     if (capture)
-      begin_vertices.push_back({p, normal, color, front, back});
+      begin_vertices.push_back(make_vertex(p));
     else
       ++frame.vertices;
   }
@@ -1544,7 +1554,7 @@ void GlDriver::State::register_handlers() {
     std::vector<Vertex> v;
     for (const glm::vec2 p :
          {glm::vec2(x1, y1), glm::vec2(x2, y1), glm::vec2(x2, y2), glm::vec2(x1, y2)}) {
-      v.push_back({glm::vec4(p, 0.0f, 1.0f), s.normal, s.color, s.front, s.back});
+      v.push_back(s.make_vertex(glm::vec4(p, 0.0f, 1.0f)));
     }
     if (s.capture) s.emit(en::POLYGON, v, c);
   };

@@ -400,6 +400,28 @@ TEST(GlDriver, TwoSidedLightingLightsBackFacesWithTheBackMaterial) {
                1.0f / 255.0f);
 }
 
+// With GL_COLOR_MATERIAL on, the tracked properties follow the current colour
+// even after a glMaterial of them; the others follow glMaterial.
+TEST(GlDriver, ColorMaterialTracksTheCurrentColourOverGlMaterial) {
+  Program gl;
+  gl.window(8, 8);
+  gl("glColorMaterial", {ev(en::FRONT), ev(en::DIFFUSE)});
+  gl("glEnable", {ev(en::COLOR_MATERIAL)});
+  gl("glEnable", {ev(en::LIGHTING)});
+  gl("glEnable", {ev(en::NORMALIZE)});
+  gl.clear();
+  gl.color(0.5f, 0.25f, 1.0f);
+  gl("glMaterialfv", {ev(en::FRONT), ev(en::DIFFUSE), av({0, 1, 0, 1})});        // tracked
+  gl("glMaterialfv", {ev(en::FRONT), ev(en::AMBIENT), av({0.1, 0.2, 0.3, 1})});  // not
+  gl("glBegin", {ev(en::TRIANGLES)});
+  gl.vertex(0, 0), gl.vertex(1, 0), gl.vertex(0, 1);
+  gl("glEnd");
+  const DriverFrame f = gl.swap();
+  ASSERT_EQ(f.scene.draws.size(), 1u);
+  EXPECT_EQ(f.scene.draws[0].material.diffuse, glm::vec4(0.5f, 0.25f, 1.0f, 1.0f));
+  EXPECT_EQ(f.scene.draws[0].material.ambient, glm::vec4(0.1f, 0.2f, 0.3f, 1.0f));
+}
+
 TEST(GlDriver, PointLightsCarryEyeSpacePositionAndAttenuation) {
   Program gl;
   gl.window(8, 8);
