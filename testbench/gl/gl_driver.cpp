@@ -359,7 +359,9 @@ struct GlDriver::State {
   uint64_t remap_serial = 0, emit_serial = 0;
   size_t remap_draw = 0;
 
-  bool mute_reports = false;  // while a call's second face pass repeats the first's checks
+  static constexpr float kUnitTolerance = 1e-3f;  // |normal| taken as 1 (0.26/255 at most)
+  std::vector<float> normal_lengths;  // of the emitting call's vertices; empty: all unit
+  bool mute_reports = false;          // while a call's second face pass repeats the first's checks
 
   std::unordered_map<std::string, Handler> handlers;
   std::unordered_map<std::string, AttribCall> attrib_calls = make_attrib_calls();
@@ -711,21 +713,35 @@ struct GlDriver::State {
       for (size_t i = 0; equal && i < l.size(); ++i) equal = same(l[i], frame.scene.lights[i]);
       if (!equal) unsupported("lights or light model changed between draws of a frame");
     }
-    // The GPU normalises every normal; GL does so only with GL_NORMALIZE.
+    // The GPU normalises every normal; GL does so only with GL_NORMALIZE:
+    // the eye-space lengths, for emit_pass to fold into the material.
+    normal_lengths.clear();
     if (!is_enabled(en::NORMALIZE) && !singular) {
       float scale = 1.0f;
       if (is_enabled(en::RESCALE_NORMAL)) {
         const glm::vec3 row(normal_matrix[0][2], normal_matrix[1][2], normal_matrix[2][2]);
         scale = 1.0f / std::sqrt(glm::dot(row, row));
       }
+      bool unit = true;
       for (const Vertex& x : v) {
         const glm::vec3 n = normal_matrix * x.normal * scale;
-        if (std::fabs(std::sqrt(glm::dot(n, n)) - 1.0f) > 1e-3f) {
-          unsupported("normals not of unit length in eye space with GL_NORMALIZE off");
-          break;
-        }
+        normal_lengths.push_back(std::sqrt(glm::dot(n, n)));
+        unit = unit && std::fabs(normal_lengths.back() - 1.0f) <= kUnitTolerance;
       }
+      if (unit) normal_lengths.clear();
     }
+  }
+
+  // GL_NORMALIZE off, a primitive's eye-space normal of length s: GL's
+  // diffuse term is s times the GPU's (unit normal) and its specular term
+  // s^shininess times, so the material carries the factors (GL's f, n·L > 0,
+  // keeps its sign). False when the factor does not fit a float.
+  static bool fold_normal_length(float s, Material& m) {
+    if (std::fabs(s - 1.0f) <= kUnitTolerance) return true;
+    const float k = std::pow(s, m.shininess);
+    if (!std::isfinite(k)) return false;
+    for (int i = 0; i < 3; ++i) m.diffuse[i] *= s, m.specular[i] *= k;
+    return true;
   }
 
   // Adds a call's geometry to the frame: GL_* primitive `mode` over `v`.
@@ -794,7 +810,7 @@ struct GlDriver::State {
                        : cls == PrimitiveClass::line     ? 2
                                                          : 1;
     const bool flat = shade_model == en::FLAT;
-    bool mixed = false;
+    bool mixed = false, uneven = false, unfoldable = false;
     ++emit_serial;
     const auto material_of = [&](const Vertex& x) -> const Material& {
       return key.back_lit ? x.back_material : x.material;
@@ -811,11 +827,25 @@ struct GlDriver::State {
         for (size_t k = 0; k + 1 < per; ++k) {
           if (!same(material_of(v[idx[k]]), key.material) && (!flat || strip)) mixed = true;
         }
+        if (!normal_lengths.empty()) {
+          const float s = normal_lengths[idx[per - 1]];
+          for (size_t k = 0; k + 1 < per; ++k) {
+            const float d = std::fabs(normal_lengths[idx[k]] - s);
+            if (d > kUnitTolerance * std::max(s, 1.0f) && (!flat || strip)) uneven = true;
+          }
+          if (!fold_normal_length(s, key.material)) unfoldable = true;
+        }
       }
       if (count) frame.primitives += strip ? primitive_count(assembly.type, per) : 1;
       if (!capture) continue;
       add_primitive(key, idx, per, v, normal_matrix, !strip, c);
     }
+    if (uneven && count) {
+      unsupported(
+          "normals of different eye-space lengths within a primitive with GL_NORMALIZE off");
+    }
+    if (unfoldable && count)
+      unsupported("a normal too long for its shininess with GL_NORMALIZE off");
     if (mixed && count) {
       unsupported(
           "material varying within a primitive (GL_COLOR_MATERIAL or glMaterial between vertices)");

@@ -422,6 +422,43 @@ TEST(GlDriver, ColorMaterialTracksTheCurrentColourOverGlMaterial) {
   EXPECT_EQ(f.scene.draws[0].material.ambient, glm::vec4(0.1f, 0.2f, 0.3f, 1.0f));
 }
 
+// GL_NORMALIZE off: GL lights with the eye-space normal as the modelview left
+// it (here twice as long, a scale of 0.5 along z); the driver folds the length
+// into the material. Lengths differing within a smooth primitive are reported.
+TEST(GlDriver, UnnormalizedNormalsScaleTheDiffuseTerm) {
+  Program gl;
+  gl.window(8, 8);
+  gl("glLightfv", {ev(en::LIGHT0), ev(en::DIFFUSE), av({0.3, 0.3, 0.3, 1})});
+  gl("glMaterialfv", {ev(en::FRONT), ev(en::DIFFUSE), av({0.4, 0.2, 0.1, 1})});
+  gl("glEnable", {ev(en::LIGHTING)});
+  gl("glEnable", {ev(en::LIGHT0)});  // directional, towards +z
+  gl.clear();
+  gl("glScalef", {fv(1), fv(1), fv(0.5)});
+  gl("glNormal3f", {fv(0), fv(0), fv(1)});
+  gl("glBegin", {ev(en::QUADS)});
+  gl.vertex(-1, -1), gl.vertex(1, -1), gl.vertex(1, 1), gl.vertex(-1, 1);
+  gl("glEnd");
+  DriverFrame f = gl.swap();
+  EXPECT_FALSE(f.features.any_unsupported()) << f.to_json().dump();
+  const golden::Result r = golden::render(f.scene);
+  const glm::vec4 ambient(0.2f, 0.2f, 0.2f, 1), none(0, 0, 0, 1), light(0.3f, 0.3f, 0.3f, 1);
+  expect_color(pixel(r, 4, 4),
+               gl_lighting(ambient, none, light, glm::vec4(1), {0, 0, 1}, ambient,
+                           {0.4f, 0.2f, 0.1f, 1}, none, none, 0.0f, {0, 0, 2}),
+               1.0f / 255.0f);
+
+  gl.clear();
+  gl("glBegin", {ev(en::TRIANGLES)});
+  gl("glNormal3f", {fv(0), fv(0), fv(1)}), gl.vertex(-1, -1);
+  gl("glNormal3f", {fv(1), fv(0), fv(0)}), gl.vertex(1, -1);  // length 1 in eye space
+  gl.vertex(1, 1);
+  gl("glEnd");
+  f = gl.swap();
+  EXPECT_EQ(f.features.unsupported().at(
+                "normals of different eye-space lengths within a primitive with GL_NORMALIZE off"),
+            1u);
+}
+
 TEST(GlDriver, PointLightsCarryEyeSpacePositionAndAttenuation) {
   Program gl;
   gl.window(8, 8);
