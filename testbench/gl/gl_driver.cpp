@@ -344,7 +344,6 @@ struct GlDriver::State {
 
   // The frame being built.
   DriverFrame frame;
-  bool frame_ready = false;
   bool capture = true;
   uint32_t frame_index = 0;
   bool frame_lights_set = false;
@@ -1324,7 +1323,6 @@ struct GlDriver::State {
         {"framebuffer", {{"width", fb.width}, {"height", fb.height}}},
         {"lights", frame.scene.lights.size()},
     };
-    frame_ready = true;
   }
 
   // ------------------------------------------------------------- handlers
@@ -1736,7 +1734,6 @@ bool GlDriver::call(const TraceCall& c) {
 
 DriverFrame GlDriver::take_frame() {
   DriverFrame out = std::move(m->frame);
-  m->frame_ready = false;
   ++m->frame_index;
   m->start_frame();
   return out;
