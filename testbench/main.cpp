@@ -531,6 +531,7 @@ int run_replay(const ReplayArgs& args, const ProgressArgs& progress_args) {
     config = gpu_config_from_json(load_gpu_config_json(args.config),
                                   args.config == "-" ? "standard input" : args.config);
   }
+  const Clock::time_point replay_start = Clock::now();
   Progress progress = make_progress(progress_args);
   progress.begin("driver", "reading " + printable(args.trace));
   gl::TraceReader reader(args.trace);
@@ -599,7 +600,14 @@ int run_replay(const ReplayArgs& args, const ProgressArgs& progress_args) {
     progress.begin("write", "frame_" + n + ".exr, .png, stats_" + n + ".json");
     OutputFiles files;
     write_frame_exr(fb, files.add(args.out_dir + "/frame_" + n + ".exr"));
-    write_frame_png(fb, files.add(args.out_dir + "/frame_" + n + ".png"));
+    // The PNG as the window shows it: opaque, like apitrace's images, so that
+    // a reader that premultiplies alpha compares the same colours (the EXR
+    // keeps the alpha channel).
+    Framebuffer opaque = fb;
+    for (size_t i = 3; i < opaque.color.size(); i += 4) {
+      opaque.color[i] = encode_color(opaque.color_format, 1.0f);
+    }
+    write_frame_png(opaque, files.add(args.out_dir + "/frame_" + n + ".png"));
     write_text_file_atomically(files.add(args.out_dir + "/stats_" + n + ".json"),
                                stats.dump(2) + "\n");
     files.commit();
@@ -634,7 +642,24 @@ int run_replay(const ReplayArgs& args, const ProgressArgs& progress_args) {
   for (const auto& [what, count] : total.ignored()) {
     std::printf("  ignored: %s: %llu\n", what.c_str(), static_cast<unsigned long long>(count));
   }
-  std::printf("  wall: %s\n", progress.wall_summary().c_str());
+  // The phases repeat per frame: their sums, in order of first appearance.
+  std::vector<std::pair<std::string, double>> sums;
+  for (const auto& [phase, seconds] : progress.phases()) {
+    auto it =
+        std::find_if(sums.begin(), sums.end(), [&](const auto& p) { return p.first == phase; });
+    if (it == sums.end()) {
+      sums.emplace_back(phase, seconds);
+    } else {
+      it->second += seconds;
+    }
+  }
+  std::string wall;
+  for (const auto& [phase, seconds] : sums) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%s%s %.3f s", wall.empty() ? "" : ", ", phase.c_str(), seconds);
+    wall += buf;
+  }
+  std::printf("  wall: %s; total %.3f s\n", wall.c_str(), seconds_since(replay_start));
   std::fflush(stdout);
   if (args.strict && total.any_unsupported()) {
     std::cerr << "gpusim: replay: " << total.unsupported().size()

@@ -344,7 +344,6 @@ struct GlDriver::State {
 
   // The frame being built.
   DriverFrame frame;
-  bool frame_ready = false;
   bool capture = true;
   uint32_t frame_index = 0;
   bool frame_lights_set = false;
@@ -359,7 +358,9 @@ struct GlDriver::State {
   uint64_t remap_serial = 0, emit_serial = 0;
   size_t remap_draw = 0;
 
-  bool mute_reports = false;  // while a call's second face pass repeats the first's checks
+  static constexpr float kUnitTolerance = 1e-3f;  // |normal| taken as 1 (0.26/255 at most)
+  std::vector<float> normal_lengths;  // of the emitting call's vertices; empty: all unit
+  bool mute_reports = false;          // while a call's second face pass repeats the first's checks
 
   std::unordered_map<std::string, Handler> handlers;
   std::unordered_map<std::string, AttribCall> attrib_calls = make_attrib_calls();
@@ -502,7 +503,8 @@ struct GlDriver::State {
   }
 
   // GL_COLOR_MATERIAL: the current colour tracks the chosen material property.
-  void apply_color_material() {
+  void apply_color_material() { apply_color_material(front, back); }
+  void apply_color_material(Material& f, Material& b) const {
     const auto apply = [&](Material& m) {
       switch (color_material_mode) {
         case en::AMBIENT:
@@ -524,8 +526,17 @@ struct GlDriver::State {
           break;
       }
     };
-    if (color_material_face != en::BACK) apply(front);
-    if (color_material_face != en::FRONT) apply(back);
+    if (color_material_face != en::BACK) apply(f);
+    if (color_material_face != en::FRONT) apply(b);
+  }
+
+  // A vertex with the current attributes. With GL_COLOR_MATERIAL on, the
+  // tracked properties are the current colour whatever glMaterial set since
+  // (Mesa's fixed-function vertex program reads them from the colour).
+  Vertex make_vertex(const glm::vec4& p) const {
+    Vertex v{p, normal, color, front, back};
+    if (is_enabled(en::COLOR_MATERIAL)) apply_color_material(v.material, v.back_material);
+    return v;
   }
 
   void vertex(const TraceCall& c, const glm::vec4& p) {
@@ -535,7 +546,7 @@ struct GlDriver::State {
       return;
     }
     if (capture)
-      begin_vertices.push_back({p, normal, color, front, back});
+      begin_vertices.push_back(make_vertex(p));
     else
       ++frame.vertices;
   }
@@ -701,21 +712,35 @@ struct GlDriver::State {
       for (size_t i = 0; equal && i < l.size(); ++i) equal = same(l[i], frame.scene.lights[i]);
       if (!equal) unsupported("lights or light model changed between draws of a frame");
     }
-    // The GPU normalises every normal; GL does so only with GL_NORMALIZE.
+    // The GPU normalises every normal; GL does so only with GL_NORMALIZE:
+    // the eye-space lengths, for emit_pass to fold into the material.
+    normal_lengths.clear();
     if (!is_enabled(en::NORMALIZE) && !singular) {
       float scale = 1.0f;
       if (is_enabled(en::RESCALE_NORMAL)) {
         const glm::vec3 row(normal_matrix[0][2], normal_matrix[1][2], normal_matrix[2][2]);
         scale = 1.0f / std::sqrt(glm::dot(row, row));
       }
+      bool unit = true;
       for (const Vertex& x : v) {
         const glm::vec3 n = normal_matrix * x.normal * scale;
-        if (std::fabs(std::sqrt(glm::dot(n, n)) - 1.0f) > 1e-3f) {
-          unsupported("normals not of unit length in eye space with GL_NORMALIZE off");
-          break;
-        }
+        normal_lengths.push_back(std::sqrt(glm::dot(n, n)));
+        unit = unit && std::fabs(normal_lengths.back() - 1.0f) <= kUnitTolerance;
       }
+      if (unit) normal_lengths.clear();
     }
+  }
+
+  // GL_NORMALIZE off, a primitive's eye-space normal of length s: GL's
+  // diffuse term is s times the GPU's (unit normal) and its specular term
+  // s^shininess times, so the material carries the factors (GL's f, n·L > 0,
+  // keeps its sign). False when the factor does not fit a float.
+  static bool fold_normal_length(float s, Material& m) {
+    if (std::fabs(s - 1.0f) <= kUnitTolerance) return true;
+    const float k = std::pow(s, m.shininess);
+    if (!std::isfinite(k)) return false;
+    for (int i = 0; i < 3; ++i) m.diffuse[i] *= s, m.specular[i] *= k;
+    return true;
   }
 
   // Adds a call's geometry to the frame: GL_* primitive `mode` over `v`.
@@ -784,7 +809,7 @@ struct GlDriver::State {
                        : cls == PrimitiveClass::line     ? 2
                                                          : 1;
     const bool flat = shade_model == en::FLAT;
-    bool mixed = false;
+    bool mixed = false, uneven = false, unfoldable = false;
     ++emit_serial;
     const auto material_of = [&](const Vertex& x) -> const Material& {
       return key.back_lit ? x.back_material : x.material;
@@ -801,11 +826,25 @@ struct GlDriver::State {
         for (size_t k = 0; k + 1 < per; ++k) {
           if (!same(material_of(v[idx[k]]), key.material) && (!flat || strip)) mixed = true;
         }
+        if (!normal_lengths.empty()) {
+          const float s = normal_lengths[idx[per - 1]];
+          for (size_t k = 0; k + 1 < per; ++k) {
+            const float d = std::fabs(normal_lengths[idx[k]] - s);
+            if (d > kUnitTolerance * std::max(s, 1.0f) && (!flat || strip)) uneven = true;
+          }
+          if (!fold_normal_length(s, key.material)) unfoldable = true;
+        }
       }
       if (count) frame.primitives += strip ? primitive_count(assembly.type, per) : 1;
       if (!capture) continue;
       add_primitive(key, idx, per, v, normal_matrix, !strip, c);
     }
+    if (uneven && count) {
+      unsupported(
+          "normals of different eye-space lengths within a primitive with GL_NORMALIZE off");
+    }
+    if (unfoldable && count)
+      unsupported("a normal too long for its shininess with GL_NORMALIZE off");
     if (mixed && count) {
       unsupported(
           "material varying within a primitive (GL_COLOR_MATERIAL or glMaterial between vertices)");
@@ -1284,7 +1323,6 @@ struct GlDriver::State {
         {"framebuffer", {{"width", fb.width}, {"height", fb.height}}},
         {"lights", frame.scene.lights.size()},
     };
-    frame_ready = true;
   }
 
   // ------------------------------------------------------------- handlers
@@ -1423,6 +1461,26 @@ void GlDriver::State::register_handlers() {
     };
   }
   h["glAlphaFunc"] = [](State& s, const TraceCall& c) { s.alpha_func = enum_arg(c, 0); };
+  // A program that reads a matrix back tells the driver what OpenGL computed:
+  // a driver matrix that differs (beyond float rounding) is reported, so a
+  // state-tracking error cannot go unnoticed.
+  h["glGetFloatv"] = h["glGetDoublev"] = [](State& s, const TraceCall& c) {
+    const uint32_t pname = enum_arg(c, 0);
+    if (pname != en::MODELVIEW_MATRIX && pname != en::PROJECTION_MATRIX) return;
+    if (c.args.size() < 2 || c.args[1].kind != TraceValue::Kind::array) return;
+    const std::vector<double> m = numbers(c, 1);
+    if (m.size() != 16) return;
+    const glm::mat4& ours = pname == en::MODELVIEW_MATRIX ? s.modelview.top() : s.projection.top();
+    for (int i = 0; i < 16; ++i) {
+      const double want = m[static_cast<size_t>(i)], got = ours[i / 4][i % 4];
+      if (std::fabs(got - want) > 1e-4 * std::max(1.0, std::fabs(want))) {
+        s.unsupported(
+            std::string("driver matrix differs from the program's glGet of ") +
+            (pname == en::MODELVIEW_MATRIX ? "GL_MODELVIEW_MATRIX" : "GL_PROJECTION_MATRIX"));
+        return;
+      }
+    }
+  };
 
   h["glViewport"] = [](State& s, const TraceCall& c) {
     s.viewport = {int_arg(c, 0), int_arg(c, 1), int_arg(c, 2), int_arg(c, 3)};
@@ -1524,7 +1582,7 @@ void GlDriver::State::register_handlers() {
     std::vector<Vertex> v;
     for (const glm::vec2 p :
          {glm::vec2(x1, y1), glm::vec2(x2, y1), glm::vec2(x2, y2), glm::vec2(x1, y2)}) {
-      v.push_back({glm::vec4(p, 0.0f, 1.0f), s.normal, s.color, s.front, s.back});
+      v.push_back(s.make_vertex(glm::vec4(p, 0.0f, 1.0f)));
     }
     if (s.capture) s.emit(en::POLYGON, v, c);
   };
@@ -1676,7 +1734,6 @@ bool GlDriver::call(const TraceCall& c) {
 
 DriverFrame GlDriver::take_frame() {
   DriverFrame out = std::move(m->frame);
-  m->frame_ready = false;
   ++m->frame_index;
   m->start_frame();
   return out;

@@ -54,6 +54,7 @@ constexpr uint32_t LIGHT_MODEL_LOCAL_VIEWER = 0x0B51, LIGHT_MODEL_TWO_SIDE = 0x0
 
 // Matrix modes, display lists, clear bits.
 constexpr uint32_t MODELVIEW = 0x1700, PROJECTION = 0x1701, TEXTURE = 0x1702;
+constexpr uint32_t MODELVIEW_MATRIX = 0x0BA6, PROJECTION_MATRIX = 0x0BA7;
 constexpr uint32_t COMPILE = 0x1300, COMPILE_AND_EXECUTE = 0x1301;
 constexpr uint32_t DEPTH_BUFFER_BIT = 0x0100, STENCIL_BUFFER_BIT = 0x0400,
                    ACCUM_BUFFER_BIT = 0x0200, COLOR_BUFFER_BIT = 0x4000;

@@ -400,6 +400,65 @@ TEST(GlDriver, TwoSidedLightingLightsBackFacesWithTheBackMaterial) {
                1.0f / 255.0f);
 }
 
+// With GL_COLOR_MATERIAL on, the tracked properties follow the current colour
+// even after a glMaterial of them; the others follow glMaterial.
+TEST(GlDriver, ColorMaterialTracksTheCurrentColourOverGlMaterial) {
+  Program gl;
+  gl.window(8, 8);
+  gl("glColorMaterial", {ev(en::FRONT), ev(en::DIFFUSE)});
+  gl("glEnable", {ev(en::COLOR_MATERIAL)});
+  gl("glEnable", {ev(en::LIGHTING)});
+  gl("glEnable", {ev(en::NORMALIZE)});
+  gl.clear();
+  gl.color(0.5f, 0.25f, 1.0f);
+  gl("glMaterialfv", {ev(en::FRONT), ev(en::DIFFUSE), av({0, 1, 0, 1})});        // tracked
+  gl("glMaterialfv", {ev(en::FRONT), ev(en::AMBIENT), av({0.1, 0.2, 0.3, 1})});  // not
+  gl("glBegin", {ev(en::TRIANGLES)});
+  gl.vertex(0, 0), gl.vertex(1, 0), gl.vertex(0, 1);
+  gl("glEnd");
+  const DriverFrame f = gl.swap();
+  ASSERT_EQ(f.scene.draws.size(), 1u);
+  EXPECT_EQ(f.scene.draws[0].material.diffuse, glm::vec4(0.5f, 0.25f, 1.0f, 1.0f));
+  EXPECT_EQ(f.scene.draws[0].material.ambient, glm::vec4(0.1f, 0.2f, 0.3f, 1.0f));
+}
+
+// GL_NORMALIZE off: GL lights with the eye-space normal as the modelview left
+// it (here twice as long, a scale of 0.5 along z); the driver folds the length
+// into the material. Lengths differing within a smooth primitive are reported.
+TEST(GlDriver, UnnormalizedNormalsScaleTheDiffuseTerm) {
+  Program gl;
+  gl.window(8, 8);
+  gl("glLightfv", {ev(en::LIGHT0), ev(en::DIFFUSE), av({0.3, 0.3, 0.3, 1})});
+  gl("glMaterialfv", {ev(en::FRONT), ev(en::DIFFUSE), av({0.4, 0.2, 0.1, 1})});
+  gl("glEnable", {ev(en::LIGHTING)});
+  gl("glEnable", {ev(en::LIGHT0)});  // directional, towards +z
+  gl.clear();
+  gl("glScalef", {fv(1), fv(1), fv(0.5)});
+  gl("glNormal3f", {fv(0), fv(0), fv(1)});
+  gl("glBegin", {ev(en::QUADS)});
+  gl.vertex(-1, -1), gl.vertex(1, -1), gl.vertex(1, 1), gl.vertex(-1, 1);
+  gl("glEnd");
+  DriverFrame f = gl.swap();
+  EXPECT_FALSE(f.features.any_unsupported()) << f.to_json().dump();
+  const golden::Result r = golden::render(f.scene);
+  const glm::vec4 ambient(0.2f, 0.2f, 0.2f, 1), none(0, 0, 0, 1), light(0.3f, 0.3f, 0.3f, 1);
+  expect_color(pixel(r, 4, 4),
+               gl_lighting(ambient, none, light, glm::vec4(1), {0, 0, 1}, ambient,
+                           {0.4f, 0.2f, 0.1f, 1}, none, none, 0.0f, {0, 0, 2}),
+               1.0f / 255.0f);
+
+  gl.clear();
+  gl("glBegin", {ev(en::TRIANGLES)});
+  gl("glNormal3f", {fv(0), fv(0), fv(1)}), gl.vertex(-1, -1);
+  gl("glNormal3f", {fv(1), fv(0), fv(0)}), gl.vertex(1, -1);  // length 1 in eye space
+  gl.vertex(1, 1);
+  gl("glEnd");
+  f = gl.swap();
+  EXPECT_EQ(f.features.unsupported().at(
+                "normals of different eye-space lengths within a primitive with GL_NORMALIZE off"),
+            1u);
+}
+
 TEST(GlDriver, PointLightsCarryEyeSpacePositionAndAttenuation) {
   Program gl;
   gl.window(8, 8);
@@ -471,6 +530,13 @@ TEST(GlDriver, ReportsUnsupportedFeaturesWithTheirCounts) {
     gl.vertex(0, 0), gl.vertex(1, 0), gl.vertex(0, 1);
     gl("glEnd");
   }
+  // A matrix read back by the program: the driver's equals it, then does not.
+  gl("glTranslatef", {fv(1), fv(2), fv(3)});
+  const std::vector<double> translated = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 1, 2, 3, 1};
+  gl("glGetFloatv", {ev(en::MODELVIEW_MATRIX), av(translated)});
+  std::vector<double> other = translated;
+  other[13] = 2.01;
+  gl("glGetFloatv", {ev(en::MODELVIEW_MATRIX), av(other)});
   gl("glFrobnicateSGIX", {iv(1)});
   gl("glFrobnicateSGIX", {iv(2)});
   gl.clear();  // after a draw
@@ -480,7 +546,8 @@ TEST(GlDriver, ReportsUnsupportedFeaturesWithTheirCounts) {
   EXPECT_EQ(u.at("GL_LIGHT_MODEL_LOCAL_VIEWER"), 2u);
   EXPECT_EQ(u.at("glFrobnicateSGIX"), 2u);
   EXPECT_EQ(u.at("glClear after the first draw of a frame"), 1u);
-  EXPECT_EQ(u.size(), 4u) << f.to_json().dump();
+  EXPECT_EQ(u.at("driver matrix differs from the program's glGet of GL_MODELVIEW_MATRIX"), 1u);
+  EXPECT_EQ(u.size(), 5u) << f.to_json().dump();
   EXPECT_EQ(f.features.ignored().at("glTexCoord* (texturing off)"), 2u);
   EXPECT_TRUE(f.to_json()["unsupported_used"].get<bool>());
 
@@ -494,6 +561,24 @@ TEST(GlDriver, ReportsUnsupportedFeaturesWithTheirCounts) {
   f = gl.swap();
   EXPECT_FALSE(f.features.any_unsupported()) << f.to_json().dump();
   EXPECT_EQ(f.index, 1u);
+}
+
+// A malformed call is bad input: one line naming the call, InputError.
+TEST(GlDriver, MalformedCallsAreInputErrorsNamingTheCall) {
+  Program gl;
+  gl.window(8, 8);
+  gl("glBegin", {ev(en::TRIANGLES)});
+  try {
+    gl("glVertex3f", {fv(1), fv(2)});  // the call number is 3
+    FAIL() << "no InputError";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "call 3 glVertex3f: argument 3 is missing");
+  }
+  TraceValue text;
+  text.kind = TraceValue::Kind::string;
+  text.bytes = "x";
+  EXPECT_THROW(gl("glLineWidth", {text}), InputError);
+  EXPECT_THROW(gl("glLightfv", {ev(en::LIGHT0), ev(en::DIFFUSE), av({1, 1})}), InputError);
 }
 
 TEST(GlDriver, ClientArraysDrawAsTheirElements) {
