@@ -222,7 +222,6 @@ LoadedFrame load_frame(const Scene& scene) {
     s.state.line_width = s.state.line_width * static_cast<float>(k);
     s.state.point_size = s.state.point_size * static_cast<float>(k);
     s.first_primitive_id = next_primitive;
-    s.varyings = varying_layout_for(s);
     DrawBuffers& b = s.buffers;
     b.vertex_count = static_cast<uint32_t>(d.positions.size());
     b.slot_count = static_cast<uint32_t>(d.vertex_count());
@@ -230,6 +229,7 @@ LoadedFrame load_frame(const Scene& scene) {
     if (s.lighting) b.normals = append(out.memory, d.normals.data(), d.normals.size());
     if (!d.colors.empty()) b.colors = append(out.memory, d.colors.data(), d.colors.size());
     if (!d.indices.empty()) b.indices = append(out.memory, d.indices.data(), d.indices.size());
+    s.varyings = varying_layout_for(s);  // after the buffers: a Phong layout needs normals
     next_primitive += static_cast<int64_t>(primitive_count(d.primitive, b.slot_count));
     f.draws.push_back(s);
   }
