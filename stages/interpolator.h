@@ -19,7 +19,11 @@
 // pixels lit by the per-pixel lighting unit: the normal and eye position
 // interpolated as above, the normal renormalised, section 2's equation with
 // the draw's material and the frame's lights. Its points and flat primitives
-// keep their vertex's colour.
+// keep their vertex's colour. The unit sits inside the interpolator, not in
+// a stage of its own, because its inputs are the interpolated varyings,
+// which never leave this stage (only colours go to the ROP): a separate
+// stage would need a packet of 6 more floats per pixel. It is always
+// present and costs nothing in a draw that is not lit per pixel.
 //
 // Output: the batch's stamps unchanged and one colour per covered pixel,
 // stamp order, then mask bit order. Only the colour leaves: it is all the
