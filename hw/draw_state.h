@@ -101,12 +101,22 @@ struct DrawState {
 };
 
 // The varyings a draw's vertices carry, laid out once per draw when the frame
-// state is built (testbench/sim/gpu_run.cpp, load_frame). Today every draw,
-// lit or not, Gouraud or flat, carries its colour and nothing else.
-inline VaryingLayout varying_layout_for(const DrawState& /*draw*/) {
+// state is built (testbench/sim/gpu_run.cpp, load_frame). Every draw carries
+// its colour (a point's, or a flat primitive's, even in a Phong draw). A lit
+// Phong draw (lighting on, normals present) adds the eye-space normal and
+// position (docs/pipeline-spec.md, section 9b): components 0-3 colour, 4-6
+// normal, 7-9 position.
+inline bool lit_per_pixel(const DrawState& draw) {
+  return draw.state.shading == Shading::phong && draw.lighting && draw.buffers.normals != kNoBuffer;
+}
+inline VaryingLayout varying_layout_for(const DrawState& draw) {
   VaryingLayout layout;
   layout.count = 0;
   layout.color = static_cast<uint8_t>(layout.append(kColorComponents));
+  if (lit_per_pixel(draw)) {
+    layout.normal = static_cast<uint8_t>(layout.append(3));
+    layout.eye = static_cast<uint8_t>(layout.append(3));
+  }
   return layout;
 }
 

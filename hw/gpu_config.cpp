@@ -179,6 +179,8 @@ bool GpuConfig::operator==(const GpuConfig& o) const {
       stamp != o.stamp || fifo_depth != o.fifo_depth || stages != o.stages || memory != o.memory ||
       vertex_cache_entries != o.vertex_cache_entries ||
       tile_cache_entries != o.tile_cache_entries || samples_per_pass != o.samples_per_pass ||
+      lighting_cycles_per_pixel != o.lighting_cycles_per_pixel ||
+      lighting_cycles_per_light != o.lighting_cycles_per_light ||
       watchdog_cycles != o.watchdog_cycles) {
     return false;
   }
@@ -192,10 +194,10 @@ GpuConfig gpu_config_from_json(const nlohmann::json& j, const std::string& sourc
   const Reader r(source_name);
   GpuConfig c;
   r.expect_object(j, "");
-  r.check_keys(
-      j, "",
-      {"clock_mhz", "units", "tile_size", "stamp", "fifo_depth", "fifo_depths", "stages", "memory",
-       "vertex_cache_entries", "tile_cache_entries", "samples_per_pass", "watchdog_cycles"});
+  r.check_keys(j, "",
+               {"clock_mhz", "units", "tile_size", "stamp", "fifo_depth", "fifo_depths", "stages",
+                "memory", "vertex_cache_entries", "tile_cache_entries", "samples_per_pass",
+                "lighting_cycles_per_pixel", "lighting_cycles_per_light", "watchdog_cycles"});
 
   if (j.contains("clock_mhz")) {
     const auto& v = j["clock_mhz"];
@@ -283,6 +285,14 @@ GpuConfig gpu_config_from_json(const nlohmann::json& j, const std::string& sourc
   }
   if (j.contains("samples_per_pass")) {
     c.samples_per_pass = r.get_unsigned(j["samples_per_pass"], "samples_per_pass", 1, 16);
+  }
+  if (j.contains("lighting_cycles_per_pixel")) {
+    c.lighting_cycles_per_pixel =
+        r.get_unsigned(j["lighting_cycles_per_pixel"], "lighting_cycles_per_pixel", 0, 1024);
+  }
+  if (j.contains("lighting_cycles_per_light")) {
+    c.lighting_cycles_per_light =
+        r.get_unsigned(j["lighting_cycles_per_light"], "lighting_cycles_per_light", 0, 1024);
   }
   if (j.contains("watchdog_cycles")) {
     c.watchdog_cycles = r.get_uint(j["watchdog_cycles"], "watchdog_cycles", 1, kMaxWatchdog);
@@ -431,6 +441,8 @@ nlohmann::json to_json(const GpuConfig& c) {
   j["vertex_cache_entries"] = c.vertex_cache_entries;
   j["tile_cache_entries"] = c.tile_cache_entries;
   j["samples_per_pass"] = c.samples_per_pass;
+  j["lighting_cycles_per_pixel"] = c.lighting_cycles_per_pixel;
+  j["lighting_cycles_per_light"] = c.lighting_cycles_per_light;
   j["watchdog_cycles"] = c.watchdog_cycles;
   return j;
 }

@@ -62,6 +62,12 @@ struct GpuConfig {
   // per pixel costs ii * ceil(N / samples_per_pass)), and the resolve per
   // output stamp.
   unsigned samples_per_pass = 4;
+  // Phong shading (docs/pipeline-spec.md, section 9b): each interpolator's
+  // per-pixel lighting unit spends, per lit pixel, cycles_per_pixel on
+  // renormalising the normal and clamping the colour, plus cycles_per_light
+  // per light (direction, attenuation, half vector, pow), one pixel at a time.
+  unsigned lighting_cycles_per_pixel = 1;
+  unsigned lighting_cycles_per_light = 2;
   uint64_t watchdog_cycles = 1000000;  // no stage progress for this long stops the run
 
   // The configurable stages and FIFOs, in pipeline order: the kinds of the

@@ -226,8 +226,8 @@ std::ostream& operator<<(std::ostream& os, const StampBatch& b);
 // Interpolator -> ROP, per unit: surviving stamps and a colour per covered
 // pixel (stamp order, then bit order). A colour, not the pixel's varyings:
 // the colour is what the ROP blends, and the interpolator takes it from the
-// layout's colour slot; a per-pixel shading stage placed before the ROP will
-// compute it from the other varyings.
+// layout's colour slot, or for a Phong draw lights the pixel from its
+// interpolated normal and eye position (docs/pipeline-spec.md, 9b).
 struct ShadedStampBatch {
   PacketKind kind = PacketKind::work;
   std::shared_ptr<const RasterPrimitive> triangle;

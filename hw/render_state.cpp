@@ -29,7 +29,7 @@ constexpr NameTable<BlendFactor, 11> kBlendFactorNames{"zero",
                                                        "one_minus_dst_alpha",
                                                        "src_alpha_saturate"};
 constexpr NameTable<BlendEquation, 3> kBlendEquationNames{"add", "subtract", "reverse_subtract"};
-constexpr NameTable<Shading, 2> kShadingNames{"flat", "gouraud"};
+constexpr NameTable<Shading, 3> kShadingNames{"flat", "gouraud", "phong"};
 constexpr NameTable<ColorFormat, 2> kColorFormatNames{"rgba8", "rgba16f"};
 constexpr NameTable<DepthFormat, 3> kDepthFormatNames{"unorm16", "unorm24", "float32"};
 

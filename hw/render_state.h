@@ -51,7 +51,10 @@ enum class BlendFactor : uint8_t {
   src_alpha_saturate,
 };
 enum class BlendEquation : uint8_t { add, subtract, reverse_subtract };
-enum class Shading : uint8_t { flat, gouraud };
+// phong: lit triangles and lines light every pixel from their interpolated
+// eye-space normal and position (docs/pipeline-spec.md, section 9b); on an
+// unlit draw it is gouraud.
+enum class Shading : uint8_t { flat, gouraud, phong };
 enum class ColorFormat : uint8_t { rgba8, rgba16f };
 enum class DepthFormat : uint8_t { unorm16, unorm24, float32 };
 

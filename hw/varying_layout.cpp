@@ -17,8 +17,10 @@ unsigned VaryingLayout::append(unsigned components) {
 }
 
 std::ostream& operator<<(std::ostream& os, const VaryingLayout& l) {
-  return os << "VaryingLayout{" << unsigned{l.count} << " components, colour at "
-            << unsigned{l.color} << "}";
+  os << "VaryingLayout{" << unsigned{l.count} << " components, colour at " << unsigned{l.color};
+  if (l.per_pixel_lighting())
+    os << ", normal at " << unsigned{l.normal} << ", eye position at " << unsigned{l.eye};
+  return os << "}";
 }
 
 }  // namespace gpusim

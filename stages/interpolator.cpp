@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cassert>
+#include <cmath>
 #include <vector>
 
 #if defined(__SSE2__)
@@ -21,7 +22,10 @@ Interpolator::Interpolator(sc_core::sc_module_name name, const GpuConfig& config
       in("in"),
       out("out"),
       m_stamp_shift(log2_side(config.stamp[0])),
-      m_stamp_pixels(static_cast<int>(config.stamp[0] * config.stamp[1])) {
+      m_stamp_pixels(static_cast<int>(config.stamp[0] * config.stamp[1])),
+      m_lighting_cycles_per_pixel_total(uint64_t{config.lighting_cycles_per_pixel} +
+                                        uint64_t{config.lighting_cycles_per_light} *
+                                            frame.lights.size()) {
   SC_HAS_PROCESS(Interpolator);
   SC_THREAD(run);
 }
@@ -43,7 +47,11 @@ void Interpolator::run() {
     if (batch.kind == PacketKind::work) {
       cycles = m_cost.ii * std::max<uint64_t>(batch.stamps.size(), 1);
       m_stamps += batch.stamps.size();
+      const uint64_t lit_before = m_pixels_lit;
       shade(batch, result);
+      // The lighting unit follows the interpolation lanes, one pixel at a
+      // time: its cycles add to the batch's.
+      cycles += (m_pixels_lit - lit_before) * m_lighting_cycles_per_pixel_total;
       result.stamps.swap(batch.stamps);
       result.samples.swap(batch.samples);  // multisampled: where each colour goes
       m_fragments += result.colors.size();
@@ -52,6 +60,77 @@ void Interpolator::run() {
     work(cycles);
     emit(out, std::move(result));
   }
+}
+
+void Interpolator::load_lighting(uint32_t draw_id) {
+  m_lighting_draw = draw_id;
+  const Material& m = m_frame.draws[draw_id].material;
+  for (int i = 0; i < 3; ++i)
+    m_base_color[i] = m.emission[i] + m_frame.global_ambient[i] * m.ambient[i];
+  m_light_terms.resize(m_frame.lights.size());
+  for (size_t l = 0; l < m_frame.lights.size(); ++l) {
+    const Light& light = m_frame.lights[l];
+    for (int i = 0; i < 3; ++i) {
+      m_light_terms[l].ambient[i] = light.ambient[i] * m.ambient[i];
+      m_light_terms[l].diffuse[i] = light.diffuse[i] * m.diffuse[i];
+      m_light_terms[l].specular[i] = light.specular[i] * m.specular[i];
+    }
+  }
+  m_shininess = m.shininess;
+  m_alpha = m.diffuse.w;
+}
+
+namespace {
+
+float dot3(const float* a, const float* b) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+}  // namespace
+
+glm::vec4 Interpolator::light_pixel(const float* normal, const float* eye) const {
+  // Renormalise the interpolated normal (a zero vector stays zero).
+  float n[3] = {normal[0], normal[1], normal[2]};
+  const float len2 = dot3(n, n);
+  if (len2 > 0.0f) {
+    const float inv = 1.0f / std::sqrt(len2);
+    for (float& c : n) c = c * inv;
+  }
+  float c[3] = {m_base_color[0], m_base_color[1], m_base_color[2]};
+  for (size_t l = 0; l < m_frame.lights.size(); ++l) {
+    const Light& light = m_frame.lights[l];
+    float to_light[3] = {light.vector.x, light.vector.y, light.vector.z};
+    float attenuation = 1.0f;
+    if (light.type == LightType::point) {
+      const float d[3] = {light.vector.x - eye[0], light.vector.y - eye[1],
+                          light.vector.z - eye[2]};
+      const float dist2 = dot3(d, d);
+      const float dist = std::sqrt(dist2);
+      const float inv = dist > 0.0f ? 1.0f / dist : 1.0f;  // d itself when dist = 0
+      for (int i = 0; i < 3; ++i) to_light[i] = dist > 0.0f ? d[i] * inv : d[i];
+      attenuation = 1.0f / (light.constant_attenuation + light.linear_attenuation * dist +
+                            light.quadratic_attenuation * dist2);
+    }
+    // max(x, 0) as std::max evaluates it: a NaN stays NaN (spec section 2).
+    const float n_dot_l = std::max(dot3(n, to_light), 0.0f);
+    float specular = 0.0f;
+    if (n_dot_l > 0.0f) {
+      // Infinite viewer: the half vector of the light direction and +z.
+      float h[3] = {to_light[0], to_light[1], to_light[2] + 1.0f};
+      const float h2 = dot3(h, h);
+      if (h2 > 0.0f) {
+        const float inv = 1.0f / std::sqrt(h2);
+        for (float& x : h) x = x * inv;
+      }
+      specular = std::pow(std::max(dot3(n, h), 0.0f), m_shininess);
+    }
+    const LightTerms& t = m_light_terms[l];
+    for (int i = 0; i < 3; ++i) {
+      const float term = t.ambient[i] + t.diffuse[i] * n_dot_l + t.specular[i] * specular;
+      c[i] = c[i] + attenuation * term;
+    }
+  }
+  return glm::vec4(clamp01(c[0]), clamp01(c[1]), clamp01(c[2]), clamp01(m_alpha));
 }
 
 void Interpolator::update_offsets(const RasterPrimitive& tri) {
@@ -74,12 +153,12 @@ void Interpolator::update_offsets(const RasterPrimitive& tri) {
   m_offset_valid = true;
 }
 
-namespace {
-
 // Per-pixel edge offsets within a stamp, one table per edge.
 struct EdgeOffsets {
   const EdgeValue *o0, *o1, *o2;
 };
+
+namespace {
 
 #if defined(__SSE2__)
 // Gouraud interpolation of a primitive whose draw has G groups of 4 varying
@@ -135,6 +214,36 @@ void interpolate(const std::vector<Stamp>& stamps, const EdgeOffsets& o,
 
 }  // namespace
 
+void Interpolator::shade_phong(const std::vector<Stamp>& stamps, const EdgeOffsets& o,
+                               const RasterPrimitive& prim, const VaryingLayout& layout,
+                               glm::vec4* out) {
+  if (m_lighting_draw != prim.draw_id) load_lighting(prim.draw_id);
+  const std::array<float, 3>& q = prim.inv_w;
+  const float* vw0 = prim.varyings_over_w[0].data();
+  const float* vw1 = prim.varyings_over_w[1].data();
+  const float* vw2 = prim.varyings_over_w[2].data();
+  // The interpolated normal (0-2) and eye position (3-5) of the pixel, each
+  // by section 9's perspective-correct formula.
+  const unsigned slot[6] = {layout.normal,   layout.normal + 1u, layout.normal + 2u,
+                            layout.eye + 0u, layout.eye + 1u,    layout.eye + 2u};
+  float v[6];
+  for (const Stamp& s : stamps) {
+    const EdgeValue e0 = s.e[0], e1 = s.e[1], e2 = s.e[2];
+    for (uint64_t bits = s.mask; bits != 0; bits &= bits - 1) {
+      const int idx = __builtin_ctzll(bits);
+      const float f0 = static_cast<float>(e0 + o.o0[idx]);
+      const float f1 = static_cast<float>(e1 + o.o1[idx]);
+      const float f2 = static_cast<float>(e2 + o.o2[idx]);
+      const float den = f0 * q[0] + f1 * q[1] + f2 * q[2];
+      for (int k = 0; k < 6; ++k) {
+        const unsigned c = slot[k];
+        v[k] = (f0 * vw0[c] + f1 * vw1[c] + f2 * vw2[c]) / den;
+      }
+      *out++ = light_pixel(v, v + 3);
+    }
+  }
+}
+
 void Interpolator::shade(const StampBatch& batch, ShadedStampBatch& result) {
   const RasterPrimitive& prim = *batch.triangle;
   const DrawState& draw = m_frame.draws.at(prim.draw_id);
@@ -170,6 +279,12 @@ void Interpolator::shade(const StampBatch& batch, ShadedStampBatch& result) {
   // stepping per pixel, looked up instead of multiplied.
   update_offsets(prim);
   const EdgeOffsets o{m_offset[0].data(), m_offset[1].data(), m_offset[2].data()};
+  if (layout.per_pixel_lighting()) {
+    shade_phong(batch.stamps, o, prim, layout, out);
+    m_pixels_lit += n;
+    m_light_evaluations += n * m_frame.lights.size();
+    return;
+  }
 #if defined(__SSE2__)
   switch (layout.groups()) {
     case 1:

@@ -14,20 +14,33 @@
 // with its parameter along it as the edge values (E2 = 0, vertices
 // (a, b, a): setup's interpolation functions, hw/packets.h).
 //
+// Phong shading (section 9b): a draw whose layout holds a normal (a lit
+// draw with shading "phong", hw/draw_state.h) has its triangles' and lines'
+// pixels lit by the per-pixel lighting unit: the normal and eye position
+// interpolated as above, the normal renormalised, section 2's equation with
+// the draw's material and the frame's lights. Its points and flat primitives
+// keep their vertex's colour. The unit sits inside the interpolator, not in
+// a stage of its own, because its inputs are the interpolated varyings,
+// which never leave this stage (only colours go to the ROP): a separate
+// stage would need a packet of 6 more floats per pixel. It is always
+// present and costs nothing in a draw that is not lit per pixel.
+//
 // Output: the batch's stamps unchanged and one colour per covered pixel,
 // stamp order, then mask bit order. Only the colour leaves: it is all the
-// ROP consumes. A per-pixel shading stage (lighting from interpolated
-// normals, texturing) will sit between this stage and the ROP and turn the
-// other varyings into the colour.
+// ROP consumes.
 //
 // Cost model, per token read at time t: busy = ii * stamps (at least ii for
-// any token, control tokens included); the result is written at t + busy,
-// readable `latency` cycles later. ii and latency are
-// config.stage("interpolator"). No memory traffic.
+// any token, control tokens included), plus, for a batch lit per pixel,
+// pixels * (lighting_cycles_per_pixel + lighting_cycles_per_light * lights):
+// the lighting unit takes one pixel at a time after the interpolation lanes
+// (hw/gpu_config.h). A frame without Phong draws pays nothing for it. The
+// result is written at t + busy, readable `latency` cycles later. ii and
+// latency are config.stage("interpolator"). No memory traffic.
 #pragma once
 
 #include <array>
 #include <systemc>
+#include <vector>
 
 #include "hw/draw_state.h"
 #include "hw/fifo.h"
@@ -37,6 +50,8 @@
 #include "hw/stats.h"
 
 namespace gpusim {
+
+struct EdgeOffsets;
 
 class Interpolator : public PipelineStage {
  public:
@@ -51,6 +66,14 @@ class Interpolator : public PipelineStage {
   void shade(const StampBatch& batch, ShadedStampBatch& result);
   // Fills m_offset for the triangle's edge steps (kept while they are unchanged).
   void update_offsets(const RasterPrimitive& tri);
+  // Phong (section 9b): the lit colour of every covered pixel to `out`.
+  void shade_phong(const std::vector<Stamp>& stamps, const EdgeOffsets& o,
+                   const RasterPrimitive& prim, const VaryingLayout& layout, glm::vec4* out);
+  // Per-draw lighting constants, loaded when a primitive of a new draw is lit.
+  void load_lighting(uint32_t draw_id);
+  // Section 2's colour at eye position eye[0..2] with the interpolated
+  // (not yet renormalised) normal normal[0..2].
+  glm::vec4 light_pixel(const float* normal, const float* eye) const;
 
   const int m_stamp_shift;  // log2 of the stamp width: a mask bit's row is bit >> shift
   const int m_stamp_pixels;
@@ -63,11 +86,26 @@ class Interpolator : public PipelineStage {
   std::array<EdgeValue, 3> m_step_x{}, m_step_y{};
   bool m_offset_valid = false;
 
+  // The lighting unit's registers: products of light and material colours
+  // that do not depend on the pixel, for draw m_lighting_draw.
+  struct LightTerms {
+    std::array<float, 3> ambient{}, diffuse{}, specular{};
+  };
+  const uint64_t m_lighting_cycles_per_pixel_total;  // per lit pixel, all lights
+  uint32_t m_lighting_draw = ~uint32_t{0};
+  std::array<float, 3> m_base_color{};  // emission + global_ambient * material.ambient
+  std::vector<LightTerms> m_light_terms;
+  float m_shininess = 0.0f, m_alpha = 1.0f;
+
   uint64_t& m_stamps = m_stats.counter("stamps", "stamps", "stamps interpolated");
   uint64_t& m_fragments = m_stats.counter("fragments", "fragments", "pixels given a colour");
   uint64_t& m_flat_fragments =
       m_stats.counter("flat_fragments", "fragments",
                       "pixels of flat-shaded primitives and of points (no interpolation)");
+  uint64_t& m_pixels_lit =
+      m_stats.counter("pixels_lit", "fragments", "pixels lit per pixel (Phong shading)");
+  uint64_t& m_light_evaluations = m_stats.counter("light_evaluations", "evaluations",
+                                                  "lights evaluated for pixels lit per pixel");
 };
 
 }  // namespace gpusim

@@ -72,10 +72,8 @@ void VertexShader::load_draw(uint32_t draw_id) {
   }
 }
 
-glm::vec4 VertexShader::light(const DrawState& draw, const glm::vec4& position,
-                              const glm::vec3& normal) const {
-  const glm::vec4 eye = transform(draw.model_view, position);
-  const glm::vec3 n = normalize(transform(draw.normal_matrix, normal));
+glm::vec4 VertexShader::light(const DrawState& draw, const glm::vec4& eye,
+                              const glm::vec3& n) const {
   const float shininess = draw.material.shininess;
   glm::vec3 c = m_base_color;
   for (size_t l = 0; l < m_frame.lights.size(); ++l) {
@@ -122,15 +120,29 @@ void VertexShader::run() {
       const DrawState& draw = m_frame.draws[batch.draw_id];
       const bool lit = draw.lighting && draw.buffers.normals != kNoBuffer;
       const bool colors = draw.buffers.colors != kNoBuffer;
-      const unsigned color_slot = draw.varyings.color;
+      const VaryingLayout& layout = draw.varyings;
+      const unsigned color_slot = layout.color;
       for (uint32_t v = 0; v < batch.vertex_count; ++v) {
         const glm::vec4& p = batch.positions[v];
         ShadedVertex& sv = o.vertices[v];
         sv.clip = transform(draw.mvp, p);
-        const glm::vec4 color = lit ? light(draw, p, batch.normals[v])
-                                    : clamp01(colors ? batch.colors[v] : draw.material.diffuse);
         // Zeroed first: the slot may hold a vertex of a draw with more varyings.
         sv.varyings = Varyings{};
+        glm::vec4 color;
+        if (lit) {
+          const glm::vec4 eye = transform(draw.model_view, p);
+          const glm::vec3 n = normalize(transform(draw.normal_matrix, batch.normals[v]));
+          color = light(draw, eye, n);
+          // Phong: the interpolator lights each pixel from these (spec 9b).
+          if (layout.per_pixel_lighting()) {
+            for (unsigned k = 0; k < 3; ++k) {
+              sv.varyings[layout.normal + k] = n[k];
+              sv.varyings[layout.eye + k] = eye[k];
+            }
+          }
+        } else {
+          color = clamp01(colors ? batch.colors[v] : draw.material.diffuse);
+        }
         for (unsigned k = 0; k < kColorComponents; ++k) sv.varyings[color_slot + k] = color[k];
       }
       m_vertices += batch.vertex_count;

@@ -1,7 +1,8 @@
 // Vertex shader: fixed-function transform and lighting of every fetched
 // vertex of a batch (docs/pipeline-spec.md, section 2), in the spec's exact
 // floating-point order. The colour goes into the components of the vertex's
-// varyings that the draw's VaryingLayout names. Cached and invalid slots pass
+// varyings that the draw's VaryingLayout names; for a lit Phong draw the
+// eye-space unit normal and position too (section 9b). Cached and invalid slots pass
 // through untouched; the clipper resolves them.
 //
 // Cost model, per batch: busy = ii(vertex_shader) x fetched vertices, the same
@@ -44,7 +45,8 @@ class VertexShader : public PipelineStage {
 
   void run();
   void load_draw(uint32_t draw_id);
-  glm::vec4 light(const DrawState& draw, const glm::vec4& position, const glm::vec3& normal) const;
+  // The lit colour of a vertex at eye-space position `eye` with unit normal `n`.
+  glm::vec4 light(const DrawState& draw, const glm::vec4& eye, const glm::vec3& n) const;
 
   ShadedBatch m_out;
   bool m_loaded = false;

@@ -1634,6 +1634,159 @@ def scissor_prims():
                       "depth_test": "off"}}]}
 
 
+# ---------------------------------------------------------- Phong shading
+
+PHONG_SPHERE = "phong_sphere.obj"
+PHONG_LOWPOLY = "phong_lowpoly.obj"
+
+
+def sphere_obj(n_lon, n_lat, comment):
+    """A unit UV sphere as OBJ with smooth normals (the position itself):
+    n_lat bands of n_lon quads, each two counter-clockwise triangles seen
+    from outside; the poles are fans."""
+    lines = ["# written by scripts/gen/make_regress_scenes.py: " + comment]
+    verts = [(0.0, 1.0, 0.0)]
+    for i in range(1, n_lat):
+        theta = math.pi * i / n_lat
+        for j in range(n_lon):
+            phi = 2 * math.pi * j / n_lon
+            verts.append((math.sin(theta) * math.cos(phi), math.cos(theta),
+                          -math.sin(theta) * math.sin(phi)))
+    verts.append((0.0, -1.0, 0.0))
+    for v in verts:
+        lines.append("v %.6f %.6f %.6f" % v)
+    for v in verts:
+        lines.append("vn %.6f %.6f %.6f" % v)
+
+    def ring(i, j):  # 1-based OBJ index of ring i (1..n_lat-1), longitude j
+        return 2 + (i - 1) * n_lon + (j % n_lon)
+
+    faces = []
+    for j in range(n_lon):
+        faces.append((1, ring(1, j), ring(1, j + 1)))
+    for i in range(1, n_lat - 1):
+        for j in range(n_lon):
+            a, b = ring(i, j), ring(i, j + 1)
+            c, d = ring(i + 1, j), ring(i + 1, j + 1)
+            faces.append((a, c, d))
+            faces.append((a, d, b))
+    last = len(verts)
+    for j in range(n_lon):
+        faces.append((ring(n_lat - 1, j), last, ring(n_lat - 1, j + 1)))
+    for f in faces:
+        lines.append("f " + " ".join("%d//%d" % (k, k) for k in f))
+    return "\n".join(lines) + "\n"
+
+
+def phong_sphere_obj():
+    return sphere_obj(48, 24, "a smooth UV sphere (48 x 24) for the Phong scenes")
+
+
+def phong_lowpoly_obj():
+    return sphere_obj(8, 4, "a low-polygon UV sphere (8 x 4) with smooth normals")
+
+
+@scene("phong_sphere_point_light", "shading", "2, 9, 9b",
+       "Phong: " + PHONG_SPHERE + " (written by the generator, smooth normals) lit by a white point "
+       "light just 0.6 above its surface (strong attenuation) and a dim directional fill light; the "
+       "direction to the light and the attenuation change fast across each triangle")
+def phong_sphere_point_light():
+    return {
+        "framebuffer": {"width": 192, "height": 192, "clear_color": [0.05, 0.05, 0.08, 1]},
+        "camera": {"type": "perspective", "fovy": 40, "near": 0.5, "far": 20,
+                   "eye": [0, 0.6, 3.6], "target": [0, 0, 0]},
+        "ambient": [0.1, 0.1, 0.1, 1],
+        "lights": [
+            {"type": "point", "position": [0.7, 0.9, 1.2], "diffuse": [1, 0.95, 0.9, 1],
+             "specular": [1, 1, 1, 1], "attenuation": [0.2, 0.5, 1.0]},
+            {"type": "directional", "direction": [1, -0.3, -0.5], "diffuse": [0.15, 0.2, 0.3, 1],
+             "specular": [0, 0, 0, 1]},
+        ],
+        "draws": [{"mesh": PHONG_SPHERE,
+                   "material": {"color": [0.7, 0.3, 0.25, 1], "specular": [0.9, 0.9, 0.9, 1],
+                                "shininess": 60},
+                   "state": {"cull": "back", "shading": "phong"}}],
+    }
+
+
+@scene("phong_lowpoly_highlight", "shading", "2, 9, 9b",
+       "Phong against Gouraud: " + PHONG_LOWPOLY + " (an 8 x 4 sphere, smooth normals) twice, "
+       "Gouraud on the left and Phong on the right, under a directional light whose sharp "
+       "highlight (shininess 80) falls inside a triangle: Gouraud's vertices miss it, Phong "
+       "draws it")
+def phong_lowpoly_highlight():
+    # Turned 22.5 degrees about y, the sphere has no vertex at the normal
+    # (0, sin 22.5, cos 22.5), the middle of a quad of its upper band; the
+    # light's half vector with the viewer's +z is that normal, so Phong puts
+    # the highlight's peak there, while the nearest vertices see n.H <= 0.874
+    # and pow(0.874, 80) < 3e-5: no highlight at all with Gouraud.
+    light = {"type": "directional", "direction": [0, -1, -1], "diffuse": [0.8, 0.8, 0.8, 1],
+             "specular": [1, 1, 1, 1]}
+    material = {"color": [0.2, 0.4, 0.8, 1], "specular": [1, 1, 1, 1], "shininess": 80}
+    return {
+        "framebuffer": {"width": 256, "height": 128, "clear_color": [0, 0, 0, 1]},
+        "camera": {"type": "perspective", "fovy": 32, "near": 1, "far": 20,
+                   "eye": [0, 0, 6], "target": [0, 0, 0]},
+        "lights": [light],
+        "draws": [
+            {"mesh": PHONG_LOWPOLY,
+             "transform": {"translate": [-1.15, 0, 0], "rotate": [22.5, 0, 1, 0]},
+             "material": material, "state": {"cull": "back", "shading": "gouraud"}},
+            {"mesh": PHONG_LOWPOLY,
+             "transform": {"translate": [1.15, 0, 0], "rotate": [22.5, 0, 1, 0]},
+             "material": material, "state": {"cull": "back", "shading": "phong"}},
+        ],
+    }
+
+
+@scene("phong_three_lights", "shading", "2, 9, 9b",
+       "Phong under three lights: a red and a blue point light on either side (attenuated) and a "
+       "white directional light from above, on " + PHONG_SPHERE + " and a flattened copy of it; "
+       "overlapping coloured highlights, depth test between the two")
+def phong_three_lights():
+    return {
+        "framebuffer": {"width": 192, "height": 160, "clear_color": [0.02, 0.02, 0.02, 1]},
+        "camera": {"type": "perspective", "fovy": 45, "near": 1, "far": 20,
+                   "eye": [0.5, 1.5, 4.5], "target": [0, 0, 0]},
+        "ambient": [0.05, 0.05, 0.05, 1],
+        "lights": [
+            {"type": "point", "position": [-1.8, 0.5, 1.2], "diffuse": [0.9, 0.2, 0.1, 1],
+             "specular": [1, 0.4, 0.3, 1], "attenuation": [0.5, 0.3, 0.1]},
+            {"type": "point", "position": [1.8, 0.3, 1.0], "diffuse": [0.1, 0.3, 0.9, 1],
+             "specular": [0.3, 0.5, 1, 1], "attenuation": [0.5, 0.3, 0.1]},
+            {"type": "directional", "direction": [0, -1, -0.4], "diffuse": [0.4, 0.4, 0.4, 1],
+             "specular": [0.8, 0.8, 0.8, 1], "ambient": [0.05, 0.05, 0.05, 1]},
+        ],
+        "draws": [
+            {"mesh": PHONG_SPHERE, "material": {"color": [0.8, 0.8, 0.8, 1],
+                                                "specular": [0.7, 0.7, 0.7, 1], "shininess": 30},
+             "state": {"cull": "back", "shading": "phong"}},
+            {"mesh": PHONG_SPHERE, "transform": {"translate": [0, -1.0, 0], "scale": [2.2, 0.3, 1.6]},
+             "material": {"color": [0.5, 0.6, 0.5, 1], "specular": [0.5, 0.5, 0.5, 1],
+                          "shininess": 12},
+             "state": {"cull": "back", "shading": "phong"}},
+        ],
+    }
+
+
+@scene("phong_mesh_wuson", "mesh", "2, 7, 9, 9b, 11",
+       "Phong on a real mesh: WusonOBJ.obj as mesh_wuson_lit (a directional and an attenuated "
+       "point light, specular highlights, back faces culled), shaded per pixel")
+def phong_mesh_wuson():
+    s = mesh_wuson_lit()
+    s["draws"][0]["state"]["shading"] = "phong"
+    return s
+
+
+@scene("msaa_phong_duck", "multisampling", "2, 9b, 14",
+       "4 samples: duck.dae as msaa_mesh_duck, shaded per pixel (Phong): lit once per pixel at "
+       "its centre, stored in every covered sample")
+def msaa_phong_duck():
+    s = msaa_mesh_duck()
+    s["draws"][0]["state"]["shading"] = "phong"
+    return s
+
+
 def dump(value):
     """JSON with one line per vertex: arrays of numbers (and of booleans) stay on
     one line, and so do the index lists."""
@@ -1669,8 +1822,10 @@ def main(argv=None):
     if args.out is not None:
         OUT = args.out
     os.makedirs(OUT, exist_ok=True)
-    with open(os.path.join(OUT, LINE_MESH), "w") as f:
-        f.write(line_mesh_obj())
+    for mesh, text in ((LINE_MESH, line_mesh_obj), (PHONG_SPHERE, phong_sphere_obj),
+                       (PHONG_LOWPOLY, phong_lowpoly_obj)):
+        with open(os.path.join(OUT, mesh), "w") as f:
+            f.write(text())
     for name, _, _, _, fn in SCENES:
         with open(os.path.join(OUT, name + ".json"), "w") as f:
             f.write(dump(fn()))

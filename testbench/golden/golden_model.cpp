@@ -35,11 +35,9 @@ glm::vec4 clamp01(const glm::vec4& c) {
                    gpusim::clamp01(c.w));
 }
 
-glm::vec4 light_vertex(const Scene& scene, const Draw& draw, const glm::vec4& eye,
-                       const glm::vec3& normal) {
-  const Material& m = draw.material;
-  const glm::vec3 n = normalized(mul(draw.normal_matrix, normal));
-  const glm::vec3 p(eye.x, eye.y, eye.z);
+}  // namespace
+
+glm::vec4 light(const Scene& scene, const Material& m, const glm::vec3& p, const glm::vec3& n) {
   glm::vec3 c;
   for (int i = 0; i < 3; ++i) c[i] = m.emission[i] + scene.global_ambient[i] * m.ambient[i];
   for (const Light& l : scene.lights) {
@@ -70,6 +68,17 @@ glm::vec4 light_vertex(const Scene& scene, const Draw& draw, const glm::vec4& ey
   }
   return clamp01(glm::vec4(c, m.diffuse.w));
 }
+
+glm::vec4 light_pixel(const Scene& scene, const Material& material, const glm::vec3& normal,
+                      const glm::vec3& eye) {
+  return light(scene, material, eye, normalized(normal));
+}
+
+bool lit_per_pixel(const Draw& draw) {
+  return draw.state.shading == Shading::phong && draw.lighting && !draw.normals.empty();
+}
+
+namespace {
 
 // Blend factor for channel i (3 = alpha) given source s and destination d.
 float blend_factor(BlendFactor f, const glm::vec4& s, const glm::vec4& d, int i) {
@@ -156,6 +165,10 @@ ShadedVertex clip_intersection(const ShadedVertex& p, float dp, const ShadedVert
   for (int k = 0; k < 4; ++k) {
     v.clip[k] = a.clip[k] + t * (b.clip[k] - a.clip[k]);
     v.color[k] = a.color[k] + t * (b.color[k] - a.color[k]);
+  }
+  for (int k = 0; k < 3; ++k) {
+    v.normal[k] = a.normal[k] + t * (b.normal[k] - a.normal[k]);
+    v.eye[k] = a.eye[k] + t * (b.eye[k] - a.eye[k]);
   }
   // Rounding can leave a cut on the w plane at or below 0; 1/w must stay finite.
   if (plane == 0) v.clip.w = std::max(v.clip.w, kMinClipW);
@@ -250,6 +263,8 @@ class Renderer {
   }
 
   void render_draw(const Draw& draw) {
+    m_draw = &draw;
+    m_phong = lit_per_pixel(draw);
     // Supersampling: widths and sizes keep their size in output pixels.
     RenderState state = draw.state;
     state.line_width = state.line_width * static_cast<float>(m_k);
@@ -610,15 +625,25 @@ class Renderer {
   }
 
   // Colour from the three weights e: flat, or perspective-correct
-  // sum(e_i * c_i / w_i) / sum(e_i / w_i) (spec section 9).
-  static glm::vec4 color_at(const RenderState& st, const SetupTriangle& t,
-                            const glm::vec4& flat_color, const std::array<EdgeValue, 3>& e) {
+  // sum(e_i * c_i / w_i) / sum(e_i / w_i) (spec section 9); a lit Phong
+  // draw's lit from the normal and eye position interpolated so (9b).
+  glm::vec4 color_at(const RenderState& st, const SetupTriangle& t, const glm::vec4& flat_color,
+                     const std::array<EdgeValue, 3>& e) const {
     if (st.shading == Shading::flat) return flat_color;
     const float f0 = static_cast<float>(e[0]);
     const float f1 = static_cast<float>(e[1]);
     const float f2 = static_cast<float>(e[2]);
     const WindowVertex &v0 = t.v[0], &v1 = t.v[1], &v2 = t.v[2];
     const float den = f0 * v0.inv_w + f1 * v1.inv_w + f2 * v2.inv_w;
+    if (m_phong) {
+      glm::vec3 n, p;
+      for (int i = 0; i < 3; ++i) {
+        n[i] =
+            (f0 * v0.normal_over_w[i] + f1 * v1.normal_over_w[i] + f2 * v2.normal_over_w[i]) / den;
+        p[i] = (f0 * v0.eye_over_w[i] + f1 * v1.eye_over_w[i] + f2 * v2.eye_over_w[i]) / den;
+      }
+      return light_pixel(m_scene, m_draw->material, n, p);
+    }
     glm::vec4 src;
     for (int i = 0; i < 4; ++i) {
       const float num = f0 * v0.color_over_w[i] + f1 * v1.color_over_w[i] + f2 * v2.color_over_w[i];
@@ -674,9 +699,11 @@ class Renderer {
   }
 
   const Scene& m_scene;
-  const unsigned m_k;        // supersample factor
-  const unsigned m_samples;  // per pixel
-  Framebuffer m_fb;          // the render target, m_samples per pixel
+  const Draw* m_draw = nullptr;  // the draw being rendered
+  bool m_phong = false;          // it is lit per pixel
+  const unsigned m_k;            // supersample factor
+  const unsigned m_samples;      // per pixel
+  Framebuffer m_fb;              // the render target, m_samples per pixel
   // The current draw's viewport transform, guard band and draw rectangle.
   ViewportTransform m_viewport;
   GuardBand m_guard_band{};
@@ -696,7 +723,14 @@ ShadedVertex shade_vertex(const Scene& scene, const Draw& draw, uint32_t i) {
   const glm::vec4& p = draw.positions[i];
   out.clip = mul(draw.mvp, p);
   if (draw.lighting && i < draw.normals.size()) {
-    out.color = light_vertex(scene, draw, mul(draw.model_view, p), draw.normals[i]);
+    const glm::vec4 e = mul(draw.model_view, p);
+    const glm::vec3 eye(e.x, e.y, e.z);
+    const glm::vec3 n = normalized(mul(draw.normal_matrix, draw.normals[i]));
+    out.color = light(scene, draw.material, eye, n);
+    if (lit_per_pixel(draw)) {
+      out.normal = n;
+      out.eye = eye;
+    }
   } else {
     out.color = clamp01(i < draw.colors.size() ? draw.colors[i] : draw.material.diffuse);
   }
@@ -895,6 +929,10 @@ WindowVertex to_window(const ShadedVertex& v, const ViewportTransform& vp) {
   w.y = snap_to_subpixel(xy.y);
   w.z = (v.clip.z * w.inv_w + 1.0f) * 0.5f * (vp.far - vp.near) + vp.near;
   for (int k = 0; k < 4; ++k) w.color_over_w[k] = v.color[k] * w.inv_w;
+  for (int k = 0; k < 3; ++k) {
+    w.normal_over_w[k] = v.normal[k] * w.inv_w;
+    w.eye_over_w[k] = v.eye[k] * w.inv_w;
+  }
   return w;
 }
 

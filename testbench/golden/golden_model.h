@@ -18,14 +18,30 @@
 
 namespace gpusim::golden {
 
-// A vertex after transform and lighting: clip-space position and colour.
+// A vertex after transform and lighting: clip-space position and colour; in
+// a lit Phong draw also its eye-space unit normal and position, interpolated
+// per pixel (spec section 9b); 0 otherwise.
 struct ShadedVertex {
   glm::vec4 clip{0.0f};
   glm::vec4 color{0.0f};
+  glm::vec3 normal{0.0f};
+  glm::vec3 eye{0.0f};
 };
 
 // Transform and light vertex `i` of the draw (spec: "Vertex transform and lighting").
 ShadedVertex shade_vertex(const Scene& scene, const Draw& draw, uint32_t i);
+
+// Whether the draw's triangles and lines are lit per pixel (spec section 9b):
+// shading "phong", lighting on, normals present.
+bool lit_per_pixel(const Draw& draw);
+// Section 2's equation for eye position `eye` and unit normal `n`, the
+// scene's lights and the draw's material: the lit colour, clamped.
+glm::vec4 light(const Scene& scene, const Material& material, const glm::vec3& eye,
+                const glm::vec3& n);
+// Section 9b: the colour of a pixel whose interpolated normal and eye
+// position are `normal` (not yet unit) and `eye`.
+glm::vec4 light_pixel(const Scene& scene, const Material& material, const glm::vec3& normal,
+                      const glm::vec3& eye);
 
 // Primitive assembly: the draw's triangles as triples of vertex slots (positions
 // in the index list, or vertex numbers when not indexed) in API order. The
@@ -95,10 +111,12 @@ bool point_in_view_volume(const glm::vec4& clip);
 
 // A vertex in window space, snapped.
 struct WindowVertex {
-  Subpixel x = 0, y = 0;         // 1/256 pixel
-  float z = 0.0f;                // window depth, [0, 1] inside the frustum
-  float inv_w = 0.0f;            // 1 / w_clip
-  glm::vec4 color_over_w{0.0f};  // colour * (1 / w), for perspective correction
+  Subpixel x = 0, y = 0;          // 1/256 pixel
+  float z = 0.0f;                 // window depth, [0, 1] inside the frustum
+  float inv_w = 0.0f;             // 1 / w_clip
+  glm::vec4 color_over_w{0.0f};   // colour * (1 / w), for perspective correction
+  glm::vec3 normal_over_w{0.0f};  // Phong: normal * (1 / w)
+  glm::vec3 eye_over_w{0.0f};     // Phong: eye position * (1 / w)
 };
 // The viewport transform's parameters (spec section 5): the viewport in
 // render-target pixels and the depth range.

@@ -84,6 +84,8 @@ namespace {
   X(PFNGLUSEPROGRAMPROC, glUseProgram)                                         \
   X(PFNGLGETUNIFORMLOCATIONPROC, glGetUniformLocation)                         \
   X(PFNGLUNIFORM1IPROC, glUniform1i)                                           \
+  X(PFNGLUNIFORM1FPROC, glUniform1f)                                           \
+  X(PFNGLUNIFORM4FVPROC, glUniform4fv)                                         \
   X(PFNGLLINEWIDTHPROC, glLineWidth)                                           \
   X(PFNGLPOINTSIZEPROC, glPointSize)                                           \
   X(PFNGLPOLYGONMODEPROC, glPolygonMode)
@@ -106,22 +108,40 @@ struct Gl {
 constexpr int kModeWindowGouraud = 0;  // window-space vertex: colour/w over 1/w, per fragment
 constexpr int kModeClipGouraud = 1;    // clip-space vertex: OpenGL's perspective correction
 constexpr int kModeFlat = 2;           // provoking vertex's colour (GL's last-vertex convention)
+// Phong (spec section 9b): the colour lit per fragment from the normal and
+// eye position, interpolated as modes 0 and 1 interpolate the colour.
+constexpr int kModeWindowPhong = 3;
+constexpr int kModeClipPhong = 4;
+// Lights the fragment shader's Phong lighting takes (uniform arrays).
+constexpr size_t kMaxPhongLights = 8;
 
 const char* const kVertexShader = R"(#version 330 core
 layout(location = 0) in vec4 a_position;
 layout(location = 1) in vec4 a_color;
 layout(location = 2) in vec4 a_color_over_w;
 layout(location = 3) in float a_inv_w;
+layout(location = 4) in vec3 a_normal;
+layout(location = 5) in vec3 a_eye;
+layout(location = 6) in vec3 a_normal_over_w;
+layout(location = 7) in vec3 a_eye_over_w;
 smooth out vec4 v_color;
 flat out vec4 v_flat_color;
 noperspective out vec4 v_color_over_w;
 noperspective out float v_inv_w;
+smooth out vec3 v_normal;
+smooth out vec3 v_eye;
+noperspective out vec3 v_normal_over_w;
+noperspective out vec3 v_eye_over_w;
 void main() {
   gl_Position = a_position;
   v_color = a_color;
   v_flat_color = a_color;
   v_color_over_w = a_color_over_w;
   v_inv_w = a_inv_w;
+  v_normal = a_normal;
+  v_eye = a_eye;
+  v_normal_over_w = a_normal_over_w;
+  v_eye_over_w = a_eye_over_w;
 }
 )";
 
@@ -131,6 +151,58 @@ smooth in vec4 v_color;
 flat in vec4 v_flat_color;
 noperspective in vec4 v_color_over_w;
 noperspective in float v_inv_w;
+smooth in vec3 v_normal;
+smooth in vec3 v_eye;
+noperspective in vec3 v_normal_over_w;
+noperspective in vec3 v_eye_over_w;
+// Phong: the scene's lights in eye space (u_light_vector.w: 1 point, 0
+// directional; u_light_attenuation: constant, linear, quadratic) and the
+// draw's material (u_emission.a unused, u_diffuse.a the colour's alpha).
+uniform int u_light_count;
+uniform vec4 u_light_vector[8];
+uniform vec4 u_light_ambient[8];
+uniform vec4 u_light_diffuse[8];
+uniform vec4 u_light_specular[8];
+uniform vec4 u_light_attenuation[8];
+uniform vec4 u_global_ambient;
+uniform vec4 u_emission;
+uniform vec4 u_ambient;
+uniform vec4 u_diffuse;
+uniform vec4 u_specular;
+uniform float u_shininess;
+// The spec's normalize: v unchanged when its squared length is not > 0.
+vec3 spec_normalize(vec3 v) {
+  float len2 = dot(v, v);
+  return len2 > 0.0 ? v * (1.0 / sqrt(len2)) : v;
+}
+// Section 2's equation, evaluated at the fragment (section 9b).
+vec4 phong(vec3 normal, vec3 e) {
+  vec3 n = spec_normalize(normal);
+  vec3 c = u_emission.rgb + u_global_ambient.rgb * u_ambient.rgb;
+  for (int i = 0; i < u_light_count; ++i) {
+    vec3 L = u_light_vector[i].xyz;
+    float att = 1.0;
+    if (u_light_vector[i].w > 0.5) {
+      vec3 d = u_light_vector[i].xyz - e;
+      float d2 = dot(d, d);
+      float dist = sqrt(d2);
+      L = dist > 0.0 ? d * (1.0 / dist) : d;
+      vec3 k = u_light_attenuation[i].xyz;
+      att = 1.0 / (k.x + k.y * dist + k.z * d2);
+    }
+    float ndotl = max(dot(n, L), 0.0);
+    float spec = 0.0;
+    if (ndotl > 0.0) {
+      vec3 H = spec_normalize(L + vec3(0.0, 0.0, 1.0));
+      // C's pow(0, 0) is 1; GLSL leaves it undefined.
+      float x = max(dot(n, H), 0.0);
+      spec = u_shininess == 0.0 ? 1.0 : pow(x, u_shininess);
+    }
+    c += att * (u_light_ambient[i].rgb * u_ambient.rgb + u_light_diffuse[i].rgb * u_diffuse.rgb * ndotl
+                + u_light_specular[i].rgb * u_specular.rgb * spec);
+  }
+  return vec4(c, u_diffuse.a);
+}
 out vec4 o_color;
 void main() {
   vec4 c;
@@ -138,6 +210,10 @@ void main() {
     c = v_color_over_w / v_inv_w;
   } else if (u_mode == 1) {
     c = v_color;
+  } else if (u_mode == 3) {
+    c = phong(v_normal_over_w / v_inv_w, v_eye_over_w / v_inv_w);
+  } else if (u_mode == 4) {
+    c = phong(v_normal, v_eye);
   } else {
     c = v_flat_color;
   }
@@ -153,6 +229,11 @@ struct GlVertex {
   float color[4];
   float color_over_w[4];
   float inv_w;
+  // Phong draws (spec section 9b); 0 in others.
+  float normal[3];
+  float eye[3];
+  float normal_over_w[3];
+  float eye_over_w[3];
 };
 
 GLenum gl_primitive(PrimitiveType p) {
@@ -303,14 +384,16 @@ struct GlReference::Impl {
     PixelBounds bounds;            // the draw rectangle (spec section 8d)
     bool window_space = true;
     Viewport viewport = Viewport::centered;
-    bool flat = false;  // flat colour whatever the state says (points, section 9)
+    bool flat = false;                // flat colour whatever the state says (points, section 9)
+    const Material* phong = nullptr;  // lit per fragment with this material (section 9b)
     GLenum primitive = GL_TRIANGLES;
     GLsizei count = 0;
     bool indexed = false;
     GLuint vertex_buffer = 0, index_buffer = 0;
   };
   std::vector<Batch> batches;
-  std::vector<GLuint> batch_buffers;  // every buffer object of `batches`
+  std::vector<GLuint> batch_buffers;           // every buffer object of `batches`
+  const Material* m_phong_material = nullptr;  // the draw being prepared's, if Phong
 
   // Separate from the constructor so that ~Impl releases what a failed
   // init() had already created.
@@ -393,7 +476,15 @@ struct GlReference::Impl {
                              reinterpret_cast<const void*>(offsetof(GlVertex, color_over_w)));
     gl.glVertexAttribPointer(3, 1, GL_FLOAT, GL_FALSE, stride,
                              reinterpret_cast<const void*>(offsetof(GlVertex, inv_w)));
-    for (GLuint i = 0; i < 4; ++i) gl.glEnableVertexAttribArray(i);
+    gl.glVertexAttribPointer(4, 3, GL_FLOAT, GL_FALSE, stride,
+                             reinterpret_cast<const void*>(offsetof(GlVertex, normal)));
+    gl.glVertexAttribPointer(5, 3, GL_FLOAT, GL_FALSE, stride,
+                             reinterpret_cast<const void*>(offsetof(GlVertex, eye)));
+    gl.glVertexAttribPointer(6, 3, GL_FLOAT, GL_FALSE, stride,
+                             reinterpret_cast<const void*>(offsetof(GlVertex, normal_over_w)));
+    gl.glVertexAttribPointer(7, 3, GL_FLOAT, GL_FALSE, stride,
+                             reinterpret_cast<const void*>(offsetof(GlVertex, eye_over_w)));
+    for (GLuint i = 0; i < 8; ++i) gl.glEnableVertexAttribArray(i);
   }
 
   ~Impl() {
@@ -455,6 +546,34 @@ struct GlReference::Impl {
     mode_location = gl.glGetUniformLocation(program, "u_mode");
   }
 
+  GLint uniform(const char* name) const { return gl.glGetUniformLocation(program, name); }
+
+  // The frame's lights for Phong draws (spec section 9b), eye space. render()
+  // refuses a Phong draw under more lights than the shader takes.
+  void set_lights(const Scene& scene) {
+    const size_t n = std::min(scene.lights.size(), kMaxPhongLights);
+    std::vector<glm::vec4> vec(n), amb(n), dif(n), spe(n), att(n);
+    for (size_t i = 0; i < n; ++i) {
+      const Light& l = scene.lights[i];
+      vec[i] = glm::vec4(l.vector, l.type == LightType::point ? 1.0f : 0.0f);
+      amb[i] = l.ambient;
+      dif[i] = l.diffuse;
+      spe[i] = l.specular;
+      att[i] = glm::vec4(l.constant_attenuation, l.linear_attenuation, l.quadratic_attenuation, 0);
+    }
+    const GLsizei count = static_cast<GLsizei>(n);
+    gl.glUniform1i(uniform("u_light_count"), count);
+    if (n > 0) {
+      gl.glUniform4fv(uniform("u_light_vector"), count, &vec[0][0]);
+      gl.glUniform4fv(uniform("u_light_ambient"), count, &amb[0][0]);
+      gl.glUniform4fv(uniform("u_light_diffuse"), count, &dif[0][0]);
+      gl.glUniform4fv(uniform("u_light_specular"), count, &spe[0][0]);
+      gl.glUniform4fv(uniform("u_light_attenuation"), count, &att[0][0]);
+    }
+    gl.glUniform4fv(uniform("u_global_ambient"), 1, &scene.global_ambient[0]);
+    check("light uniforms");
+  }
+
   // A vertex the spec leaves unclipped, in window space (see the header).
   GlVertex window_vertex(const golden::ShadedVertex& v) const {
     const golden::WindowVertex w = golden::to_window(v, vp);
@@ -471,6 +590,10 @@ struct GlReference::Impl {
       out.color_over_w[k] = w.color_over_w[k];
     }
     out.inv_w = w.inv_w;
+    for (int k = 0; k < 3; ++k) {
+      out.normal_over_w[k] = w.normal_over_w[k];
+      out.eye_over_w[k] = w.eye_over_w[k];
+    }
     return out;
   }
 
@@ -489,6 +612,10 @@ struct GlReference::Impl {
     out.position[3] = v.clip.w;
     for (int k = 0; k < 4; ++k) out.color[k] = v.color[k];
     out.inv_w = 1.0f;
+    for (int k = 0; k < 3; ++k) {
+      out.normal[k] = v.normal[k];
+      out.eye[k] = v.eye[k];
+    }
     return out;
   }
 
@@ -579,9 +706,17 @@ struct GlReference::Impl {
     check("render state");
   }
 
-  void set_mode(bool window_space, Shading shading) {
+  void set_mode(bool window_space, Shading shading, const Material* phong) {
     int mode = shading == Shading::flat ? kModeFlat
                                         : (window_space ? kModeWindowGouraud : kModeClipGouraud);
+    if (mode != kModeFlat && phong != nullptr) {
+      mode = window_space ? kModeWindowPhong : kModeClipPhong;
+      gl.glUniform4fv(uniform("u_emission"), 1, &phong->emission[0]);
+      gl.glUniform4fv(uniform("u_ambient"), 1, &phong->ambient[0]);
+      gl.glUniform4fv(uniform("u_diffuse"), 1, &phong->diffuse[0]);
+      gl.glUniform4fv(uniform("u_specular"), 1, &phong->specular[0]);
+      gl.glUniform1f(uniform("u_shininess"), phong->shininess);
+    }
     gl.glUniform1i(mode_location, mode);
     // Window-space triangles are not clipped in z (the spec does not clip
     // them); clip-space ones are, by OpenGL's near and far planes.
@@ -613,6 +748,7 @@ struct GlReference::Impl {
     b.window_space = window_space;
     b.viewport = viewport;
     b.flat = flat;
+    b.phong = m_phong_material;
     b.primitive = primitive;
     b.count = count;
     b.vertex_buffer = upload(GL_ARRAY_BUFFER, vertices.data(), vertices.size() * sizeof(GlVertex));
@@ -656,7 +792,7 @@ struct GlReference::Impl {
       gl.glScissor(r.x0, r.y0, std::max(0, r.x1 - r.x0 + 1), std::max(0, r.y1 - r.y0 + 1));
     }
     apply_state(*b.state);
-    set_mode(b.window_space, b.flat ? Shading::flat : b.state->shading);
+    set_mode(b.window_space, b.flat ? Shading::flat : b.state->shading, b.phong);
     gl.glBindBuffer(GL_ARRAY_BUFFER, b.vertex_buffer);
     set_attribute_pointers();
     if (b.indexed) {
@@ -802,6 +938,9 @@ struct GlReference::Impl {
   // as filled ones are; OpenGL's glPolygonMode (apply_state) then culls and
   // draws their edges or vertices, with the edge flags of its own clipper.
   void prepare_draw(const Scene& scene, const Draw& draw) {
+    // Phong draws: every batch of the draw carries its material (points are
+    // flat and ignore it).
+    m_phong_material = golden::lit_per_pixel(draw) ? &draw.material : nullptr;
     std::vector<golden::ShadedVertex> shaded(draw.positions.size());
     for (uint32_t i = 0; i < shaded.size(); ++i) shaded[i] = golden::shade_vertex(scene, draw, i);
     const RenderState st = scaled_state(draw.state);
@@ -912,6 +1051,12 @@ struct GlReference::Impl {
       const bool draws_lines = primitive_class(draw.primitive) == PrimitiveClass::line ||
                                (primitive_class(draw.primitive) == PrimitiveClass::triangle &&
                                 draw.state.polygon_mode == PolygonMode::line);
+      if (golden::lit_per_pixel(draw) && scene.lights.size() > kMaxPhongLights) {
+        throw NotRenderable("draw " + std::to_string(d) + " is lit per pixel with " +
+                            std::to_string(scene.lights.size()) +
+                            " lights: the reference's fragment shader takes at most " +
+                            std::to_string(kMaxPhongLights));
+      }
       if (draws_lines && draw.state.line_rasterization == LineRasterization::bresenham) {
         throw NotRenderable("draw " + std::to_string(d) +
                             " asks for line_rasterization \"bresenham\", which OpenGL has no "
@@ -1007,6 +1152,7 @@ struct GlReference::Impl {
       prepare_draw(scene, draw);
     }
     first_batch.push_back(batches.size());
+    set_lights(scene);
     gl.glFinish();
     result.prepare_seconds = seconds_since(prepare_start);
 

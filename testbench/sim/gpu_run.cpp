@@ -233,7 +233,6 @@ LoadedFrame load_frame(const Scene& scene) {
     if (s.state.viewport) s.state.viewport = scaled(*s.state.viewport, static_cast<int>(k));
     if (s.state.scissor) s.state.scissor = scaled(*s.state.scissor, static_cast<int>(k));
     s.first_primitive_id = next_primitive;
-    s.varyings = varying_layout_for(s);
     DrawBuffers& b = s.buffers;
     b.vertex_count = static_cast<uint32_t>(d.positions.size());
     b.slot_count = static_cast<uint32_t>(d.vertex_count());
@@ -241,6 +240,7 @@ LoadedFrame load_frame(const Scene& scene) {
     if (s.lighting) b.normals = append(out.memory, d.normals.data(), d.normals.size());
     if (!d.colors.empty()) b.colors = append(out.memory, d.colors.data(), d.colors.size());
     if (!d.indices.empty()) b.indices = append(out.memory, d.indices.data(), d.indices.size());
+    s.varyings = varying_layout_for(s);  // after the buffers: a Phong layout needs normals
     next_primitive += static_cast<int64_t>(primitive_count(d.primitive, b.slot_count));
     f.draws.push_back(s);
   }

@@ -61,12 +61,15 @@ uint64_t scene_array_bytes(const Scene& s) {
 }
 
 // What golden::render holds for its largest draw: a shaded vertex (clip
-// position and colour) per position and the assembled triangles (3 slots).
+// position and colour, and the normal and eye position of Phong shading,
+// golden::ShadedVertex) per position and the assembled triangles (3 slots).
 uint64_t golden_draw_bytes(const Scene& s) {
   uint64_t most = 0;
   for (const Draw& d : s.draws) {
     const uint64_t triangles = primitive_count(d.primitive, d.vertex_count());
-    most = std::max<uint64_t>(most, d.positions.size() * 2 * sizeof(glm::vec4) + triangles * 12);
+    most = std::max<uint64_t>(
+        most,
+        d.positions.size() * (2 * sizeof(glm::vec4) + 2 * sizeof(glm::vec3)) + triangles * 12);
   }
   return most;
 }

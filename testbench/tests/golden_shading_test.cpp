@@ -347,5 +347,149 @@ TEST(GoldenShading, PerspectiveCorrectColourAndLinearDepth) {
   }
 }
 
+// ---------------------------------------------------------------------------
+// Section 9b: Phong shading.
+
+TEST(GoldenPhong, LitPhongVertexCarriesItsUnitNormalAndEyePosition) {
+  Scene s = dark_scene();
+  s.lights.push_back(directional({0, 0, 1}));
+  Draw d = lit_point({0, 3, 4}, plain_material({1, 1, 1, 1}));
+  d.positions = {{1.0f, 2.0f, 3.0f, 1.0f}};
+  d.model_view = glm::mat4(2.0f);  // scales x, y, z by 2, w by 2
+  d.state.shading = Shading::phong;
+  ASSERT_TRUE(golden::lit_per_pixel(d));
+  const golden::ShadedVertex v = golden::shade_vertex(s, d, 0);
+  expect_rgb_near(glm::vec4(v.normal, 0), {0.0f, 0.6f, 0.8f}, kTol, "unit normal");
+  EXPECT_EQ(v.eye, glm::vec3(2.0f, 4.0f, 6.0f));
+  // The vertex keeps its Gouraud colour (for points): n.L = 0.8.
+  expect_rgb_near(v.color, {0.8f, 0.8f, 0.8f}, kTol, "vertex colour");
+  // Gouraud, or unlit: no normal or position.
+  for (int k = 0; k < 2; ++k) {
+    Draw other = d;
+    if (k == 0) other.state.shading = Shading::gouraud;
+    if (k == 1) other.lighting = false;
+    EXPECT_FALSE(golden::lit_per_pixel(other)) << k;
+    EXPECT_EQ(golden::shade_vertex(s, other, 0).normal, glm::vec3(0.0f)) << k;
+    EXPECT_EQ(golden::shade_vertex(s, other, 0).eye, glm::vec3(0.0f)) << k;
+  }
+}
+
+TEST(GoldenPhong, PixelLightingRenormalisesTheInterpolatedNormal) {
+  Scene s = dark_scene();
+  s.lights.push_back(directional({0, 0, 1}));
+  const Material m = plain_material({0.5f, 0.25f, 0.75f, 0.6f});
+  // (0, 3, 4) / 10, shortened as interpolation between unit normals does:
+  // renormalised to (0, 0.6, 0.8), n.L = 0.8 (unrenormalised it would be 0.08).
+  const glm::vec4 c = golden::light_pixel(s, m, {0.0f, 0.3f, 0.4f}, {0, 0, 0});
+  expect_rgb_near(c, {0.4f, 0.2f, 0.6f}, kTol, "0.8 * diffuse");
+  EXPECT_EQ(c.a, 0.6f);
+  // A zero normal stays zero: diffuse 0, the colour is emission + ambient = 0.
+  expect_rgb_near(golden::light_pixel(s, m, {0, 0, 0}, {0, 0, 0}), {0, 0, 0}, 0.0f, "zero normal");
+}
+
+// A 64x64 square in the eye-space plane z = -2, seen orthographically
+// (window x = 32 (x_eye + 1)), normals +z, under a point light at height h
+// above its centre, no attenuation, diffuse only: the exact lit value at eye
+// position (x, y, -2) is n.L = h / sqrt(x^2 + y^2 + h^2).
+Scene square_under_point_light(Shading shading, float h) {
+  Scene s = dark_scene();
+  s.framebuffer.width = 64;
+  s.framebuffer.height = 64;
+  Light l;
+  l.type = LightType::point;
+  l.vector = {0.0f, 0.0f, -2.0f + h};
+  l.ambient = {0, 0, 0, 1};
+  l.diffuse = {1, 1, 1, 1};
+  l.specular = {0, 0, 0, 1};
+  s.lights.push_back(l);
+  Draw d;
+  d.lighting = true;
+  d.positions = {{-1, -1, -2, 1}, {1, -1, -2, 1}, {1, 1, -2, 1}, {-1, 1, -2, 1}};
+  d.normals = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
+  d.indices = {0, 1, 2, 0, 2, 3};
+  d.material = plain_material({1, 1, 1, 1});
+  d.model_view = glm::mat4(1.0f);
+  d.mvp = glm::mat4(1.0f);
+  d.mvp[2][2] = 0.0f;  // clip z = 0: the eye z of -2 is not a clip depth
+  d.state.shading = shading;
+  d.state.depth_test = false;
+  s.draws.push_back(d);
+  return s;
+}
+
+TEST(GoldenPhong, PointLightCloseToASquareIsLitPerPixel) {
+  const float h = 0.25f;
+  const golden::Result phong = golden::render(square_under_point_light(Shading::phong, h));
+  const golden::Result gouraud = golden::render(square_under_point_light(Shading::gouraud, h));
+  // The corners see n.L = h / sqrt(2 + h^2) = 0.1741: Gouraud spreads that
+  // over the whole square. Phong follows the exact value pixel by pixel,
+  // within half an rgba8 step (the store's rounding) and float error.
+  const float corner = h / std::sqrt(2.0f + h * h);
+  double max_error = 0.0;
+  for (int y = 0; y < 64; ++y) {
+    for (int x = 0; x < 64; ++x) {
+      const double ex = (x + 0.5) / 32.0 - 1.0, ey = (y + 0.5) / 32.0 - 1.0;
+      const double want = h / std::sqrt(ex * ex + ey * ey + double{h} * h);
+      for (int k = 0; k < 3; ++k) {
+        const double got = decode_color(ColorFormat::rgba8, phong.framebuffer.color_at(x, y)[k]);
+        max_error = std::max(max_error, std::fabs(got - want));
+        const double g = decode_color(ColorFormat::rgba8, gouraud.framebuffer.color_at(x, y)[k]);
+        ASSERT_NEAR(g, corner, 0.5 / 255 + 1e-6) << x << "," << y;
+      }
+    }
+  }
+  EXPECT_LE(max_error, 0.5 / 255 + 1e-5);
+  // At the centre pixels the light is nearly overhead: n.L > 0.98.
+  EXPECT_GE(phong.framebuffer.color_at(32, 32)[0], 250);
+  EXPECT_EQ(gouraud.framebuffer.color_at(32, 32)[0], 44);  // round(255 * 0.1741)
+}
+
+// Perspective: the same square tilted away from the viewer. The eye-space
+// position interpolated perspective-correctly at a pixel centre is the
+// point of the plane seen through that centre, so the lit value is the
+// exact one at that point; interpolated linearly in the window it would not
+// be.
+TEST(GoldenPhong, EyePositionIsInterpolatedPerspectiveCorrectly) {
+  Scene s = square_under_point_light(Shading::phong, 0.5f);
+  s.framebuffer.clear_color = {0, 0, 0, 0};  // alpha 0 where the square is not
+  Draw& d = s.draws[0];
+  // Eye-space square: x in [-1, 1], z = -3 + y_obj (y_obj in [-1, 1]), eye
+  // y = 0.5 y_obj: the plane z = -3 + 2 y, tilted.
+  d.model_view = glm::mat4(1.0f);
+  d.model_view[1] = glm::vec4(0.0f, 0.5f, 1.0f, 0.0f);  // column y: (0, 0.5, 1)
+  d.model_view[3] = glm::vec4(0.0f, 0.0f, -3.0f, 1.0f);
+  // The plane z - 2 y = -3; its normal towards the viewer (the origin).
+  const glm::vec3 n = glm::normalize(glm::vec3(0.0f, -2.0f, 1.0f));
+  for (auto& nv : d.normals) nv = n;
+  d.positions = {{-1, -1, 0, 1}, {1, -1, 0, 1}, {1, 1, 0, 1}, {-1, 1, 0, 1}};
+  // Projection: x_clip = x, y_clip = y, w_clip = -z (a 90-degree frustum),
+  // z_clip = 0.
+  glm::mat4 proj(0.0f);
+  proj[0][0] = 1.0f;
+  proj[1][1] = 1.0f;
+  proj[2][3] = -1.0f;
+  d.mvp = proj * d.model_view;
+  d.normal_matrix = glm::mat3(1.0f);  // the normals are already eye space
+  s.lights[0].vector = {0.0f, 0.2f, -2.0f};
+  const golden::Result r = golden::render(s);
+  int checked = 0;
+  for (int y = 0; y < 64; ++y) {
+    for (int x = 0; x < 64; ++x) {
+      if (decode_color(ColorFormat::rgba8, r.framebuffer.color_at(x, y)[3]) == 0.0f) continue;
+      // The ray through the pixel centre: (sx t, sy t, -t) with s = NDC;
+      // it meets the plane z = -3 + 2 y_eye, i.e. -t = -3 + 2 sy t.
+      const double sx = (x + 0.5) / 32.0 - 1.0, sy = (y + 0.5) / 32.0 - 1.0;
+      const double t = 3.0 / (1.0 + 2.0 * sy);
+      const glm::dvec3 p(sx * t, sy * t, -t);
+      const glm::dvec3 to_light = glm::dvec3(0.0, 0.2, -2.0) - p;
+      const double want = std::max(0.0, glm::dot(glm::dvec3(n), glm::normalize(to_light)));
+      const double got = decode_color(ColorFormat::rgba8, r.framebuffer.color_at(x, y)[0]);
+      ASSERT_NEAR(got, want, 0.5 / 255 + 1e-4) << x << "," << y;
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 250);  // the square covers 288 pixels
+}
+
 }  // namespace
 }  // namespace gpusim

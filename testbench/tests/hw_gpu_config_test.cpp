@@ -55,6 +55,8 @@ TEST(GpuConfig, Defaults) {
   EXPECT_EQ(c.sample_passes(1), 1u);
   EXPECT_EQ(c.sample_passes(4), 1u);
   EXPECT_EQ(c.sample_passes(16), 4u);
+  EXPECT_EQ(c.lighting_cycles_per_pixel, 1u);
+  EXPECT_EQ(c.lighting_cycles_per_light, 2u);
   EXPECT_EQ(c.watchdog_cycles, 1000000u);
 
   ASSERT_EQ(GpuConfig::stage_names().size(), 11u);
@@ -113,6 +115,8 @@ TEST(GpuConfig, RoundTrip) {
   c.memory = {100, 8};
   c.vertex_cache_entries = 0;
   c.tile_cache_entries = 18;
+  c.lighting_cycles_per_pixel = 0;
+  c.lighting_cycles_per_light = 7;
   c.watchdog_cycles = 5000;
 
   const json j = to_json(c);
@@ -146,6 +150,12 @@ TEST(GpuConfig, RoundTrip) {
   d = c;
   d.tile_cache_entries = 1;
   EXPECT_NE(d, c);
+  d = c;
+  d.lighting_cycles_per_pixel = 3;
+  EXPECT_NE(d, c);
+  d = c;
+  d.lighting_cycles_per_light = 3;
+  EXPECT_NE(d, c);
   // An override equal to the default depth is the same resolved config.
   d = c;
   d.fifo_depths["interpolator_to_rop"] = 3;
@@ -153,10 +163,11 @@ TEST(GpuConfig, RoundTrip) {
 }
 
 TEST(GpuConfig, UnknownKeysNameTheirPathAndTheAllowedKeys) {
-  EXPECT_EQ(error_of(json{{"unitz", 4}}),
-            "gpu.json: unitz: unknown key (allowed: clock_mhz, units, tile_size, stamp, "
-            "fifo_depth, fifo_depths, stages, memory, vertex_cache_entries, tile_cache_entries, "
-            "samples_per_pass, watchdog_cycles)");
+  EXPECT_EQ(
+      error_of(json{{"unitz", 4}}),
+      "gpu.json: unitz: unknown key (allowed: clock_mhz, units, tile_size, stamp, "
+      "fifo_depth, fifo_depths, stages, memory, vertex_cache_entries, tile_cache_entries, "
+      "samples_per_pass, lighting_cycles_per_pixel, lighting_cycles_per_light, watchdog_cycles)");
   // The old name of the tile rasterizer is refused with the list of stages.
   EXPECT_EQ(error_of(json::parse(R"({"stages": {"rasterizer": {"ii": 1}}})")),
             "gpu.json: stages.rasterizer: unknown key (allowed: command_processor, "
@@ -229,6 +240,10 @@ TEST(GpuConfig, OutOfRangeValues) {
             "gpu.json: watchdog_cycles: 0 is out of range 1..1000000000000");
   EXPECT_EQ(error_of(json{{"vertex_cache_entries", 70000}}),
             "gpu.json: vertex_cache_entries: 70000 is out of range 0..65536");
+  EXPECT_EQ(error_of(json{{"lighting_cycles_per_light", 1025}}),
+            "gpu.json: lighting_cycles_per_light: 1025 is out of range 0..1024");
+  EXPECT_EQ(error_of(json{{"lighting_cycles_per_pixel", -1}}),
+            "gpu.json: lighting_cycles_per_pixel: -1 is out of range 0..1024");
   EXPECT_EQ(error_of(json{{"tile_cache_entries", 0}}),
             "gpu.json: tile_cache_entries: 0 is out of range 1..1024");
   EXPECT_EQ(error_of(json{{"tile_cache_entries", 1025}}),
@@ -240,9 +255,12 @@ TEST(GpuConfig, OutOfRangeValues) {
                       "stages": {"rop": {"ii": 1, "latency": 0}},
                       "memory": {"latency": 0, "bytes_per_cycle": 1},
                       "vertex_cache_entries": 0, "tile_cache_entries": 1024,
+                      "lighting_cycles_per_pixel": 0, "lighting_cycles_per_light": 1024,
                       "watchdog_cycles": 1})"),
       "gpu.json");
   EXPECT_EQ(c.units, 64u);
+  EXPECT_EQ(c.lighting_cycles_per_pixel, 0u);
+  EXPECT_EQ(c.lighting_cycles_per_light, 1024u);
   EXPECT_EQ(c.stamp[0], 64u);
   EXPECT_EQ(c.vertex_cache_entries, 0u);
   EXPECT_EQ(c.tile_cache_entries, 1024u);
@@ -350,10 +368,11 @@ TEST(GpuConfigOverrides, ErrorsNameTheOverride) {
             "1..1000000");
   EXPECT_EQ(override_error(json::object(), sets({"units=eight"})),
             "--set units=eight: units: expected an integer, got string");
-  EXPECT_EQ(override_error(json::object(), sets({"unitz=4"})),
-            "--set unitz=4: unitz: unknown key (allowed: clock_mhz, units, tile_size, stamp, "
-            "fifo_depth, fifo_depths, stages, memory, vertex_cache_entries, tile_cache_entries, "
-            "samples_per_pass, watchdog_cycles)");
+  EXPECT_EQ(
+      override_error(json::object(), sets({"unitz=4"})),
+      "--set unitz=4: unitz: unknown key (allowed: clock_mhz, units, tile_size, stamp, "
+      "fifo_depth, fifo_depths, stages, memory, vertex_cache_entries, tile_cache_entries, "
+      "samples_per_pass, lighting_cycles_per_pixel, lighting_cycles_per_light, watchdog_cycles)");
   // An unknown stage is reported at the stage, which the key leads through.
   EXPECT_EQ(override_error(json::object(), sets({"stages.setup.ii=1"})),
             "--set stages.setup.ii=1: stages.setup: unknown key (allowed: command_processor, "

@@ -138,6 +138,34 @@ TEST(VaryingLayout, DefaultIsTheColourAloneAsEveryDrawCarriesToday) {
   EXPECT_EQ(print(l), "VaryingLayout{4 components, colour at 0}");
 }
 
+TEST(VaryingLayout, LitPhongDrawAddsTheNormalAndEyePosition) {
+  DrawState d;
+  d.state.shading = Shading::phong;
+  d.lighting = true;
+  d.buffers.normals = 64;
+  const VaryingLayout l = varying_layout_for(d);
+  EXPECT_EQ(l.count, 10);
+  EXPECT_EQ(l.color, 0);
+  EXPECT_EQ(l.normal, 4);
+  EXPECT_EQ(l.eye, 7);
+  EXPECT_EQ(l.groups(), 3u);
+  EXPECT_TRUE(l.per_pixel_lighting());
+  EXPECT_EQ(print(l), "VaryingLayout{10 components, colour at 0, normal at 4, eye position at 7}");
+  // Not lit (no lighting, or no normals) or not Phong: the colour alone.
+  for (int k = 0; k < 3; ++k) {
+    DrawState other = d;
+    if (k == 0) other.lighting = false;
+    if (k == 1) other.buffers.normals = kNoBuffer;
+    if (k == 2) other.state.shading = Shading::gouraud;
+    EXPECT_EQ(varying_layout_for(other), VaryingLayout{}) << k;
+    EXPECT_FALSE(varying_layout_for(other).per_pixel_lighting()) << k;
+  }
+  // Equality sees the new slots.
+  VaryingLayout m = l;
+  m.eye = 8;
+  EXPECT_NE(m, l);
+}
+
 TEST(VaryingLayout, AppendHandsOutComponentsUpToTheCapacity) {
   // The planned varyings after the colour: normal, eye position, texture
   // coordinate. They fill the capacity.

@@ -70,7 +70,7 @@ TEST_P(SameBytes, GoldenAndCycleModel) {
 
 INSTANTIATE_TEST_SUITE_P(Scenes, SameBytes,
                          ::testing::Values("default", "spider", "clipping", "states",
-                                           "zfight_offset", "shared_edges"));
+                                           "zfight_offset", "shared_edges", "phong"));
 
 // Pairs of `gpusim run` on the default scene that differ only in something
 // outside the modelled GPU: stats.json must be the same bytes. Each of these

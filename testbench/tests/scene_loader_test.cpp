@@ -650,6 +650,7 @@ TEST_F(SceneLoaderTest, EveryStateValueParses) {
        }},
       {R"("shading": "flat")", [](auto& s) { return s.shading == Shading::flat; }},
       {R"("shading": "gouraud")", [](auto& s) { return s.shading == Shading::gouraud; }},
+      {R"("shading": "phong")", [](auto& s) { return s.shading == Shading::phong; }},
       // Widths and sizes: any number in (0, 255], fractions kept as written.
       {R"("line_width": 0.25)", [](auto& s) { return s.line_width == 0.25f; }},
       {R"("line_width": 255)", [](auto& s) { return s.line_width == 255.0f; }},
@@ -1119,8 +1120,8 @@ TEST_F(SceneLoaderTest, TypeAndRangeErrors) {
        R"(draws[0].state.blend.equation: expected one of add, subtract, reverse_subtract, got "max")"},
       {R"({"draws": [{"positions": [], "state": {"color_mask": [true, true, true]}}]})",
        "draws[0].state.color_mask: expected an array of 4 booleans, got an array of 3 elements"},
-      {R"({"draws": [{"positions": [], "state": {"shading": "phong"}}]})",
-       R"(draws[0].state.shading: expected one of flat, gouraud, got "phong")"},
+      {R"({"draws": [{"positions": [], "state": {"shading": "blinn"}}]})",
+       R"(draws[0].state.shading: expected one of flat, gouraud, phong, got "blinn")"},
       {R"({"draws": [{"positions": [], "state": {"polygon_offset": [1]}}]})",
        "draws[0].state.polygon_offset: expected an array of 2 numbers, got an array of 1 "
        "element"},

@@ -144,7 +144,7 @@ INSTANTIATE_TEST_SUITE_P(
                                          "aa_samples2", "aa_samples8", "aa_samples16",
                                          "aa_super3_samples4", "aa_super2", "clears",
                                          "clears_samples4", "clears_super2", "viewport_scissor",
-                                         "viewport_scissor_aa"),
+                                         "viewport_scissor_aa", "phong", "aa_phong_samples4"),
                        ::testing::Range(0, 18)),
     case_name);
 

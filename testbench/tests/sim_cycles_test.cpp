@@ -522,5 +522,70 @@ TEST(Cycles, ClearTokensReachEveryUnit) {
   }
 }
 
+// The giant triangle lit per pixel (Phong, spec 9b) under `lights` directional
+// lights: normals +z, depth test off, so every one of the 65536 pixels
+// reaches the interpolator.
+Scene giant_lit_triangle(Shading shading, int lights) {
+  Scene s = clip_space_scene();
+  for (int i = 0; i < lights; ++i) {
+    Light l;
+    l.vector = glm::normalize(glm::vec3(0.1f * static_cast<float>(i), 0.2f, 1.0f));
+    s.lights.push_back(l);
+  }
+  Draw d = giant_triangle();
+  d.lighting = true;
+  d.normals = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
+  d.material.specular = {0.5f, 0.5f, 0.5f, 1.0f};
+  d.material.shininess = 8.0f;
+  d.state.shading = shading;
+  s.draws.push_back(d);
+  return s;
+}
+
+TEST(Cycles, PerPixelLightingCostsPerPixelAndPerLight) {
+  // One unit: the interpolator reads 4096 stamps (ii = 1 each) and two
+  // control tokens (1 each). Gouraud: 4098 busy cycles whatever the lights,
+  // and no pixel lit. Phong with L lights adds, for each of the 65536
+  // pixels, lighting_cycles_per_pixel + L * lighting_cycles_per_light:
+  // 1 + 2 L with the defaults.
+  const GpuConfig c = fill_bound(1);
+  ASSERT_EQ(c.lighting_cycles_per_pixel, 1u);
+  ASSERT_EQ(c.lighting_cycles_per_light, 2u);
+  const GpuRunResult gouraud = run(giant_lit_triangle(Shading::gouraud, 3), c);
+  EXPECT_EQ(stage_counter(gouraud, "interpolator_0", "busy_cycles"), 4098u);
+  EXPECT_EQ(stage_counter(gouraud, "interpolator_0", "pixels_lit"), 0u);
+  for (const int lights : {0, 1, 3}) {
+    const GpuRunResult r = run(giant_lit_triangle(Shading::phong, lights), c);
+    const uint64_t per_pixel = 1u + 2u * static_cast<uint64_t>(lights);
+    EXPECT_EQ(stage_counter(r, "interpolator_0", "busy_cycles"), 4098u + 65536u * per_pixel)
+        << lights << " lights";
+    EXPECT_EQ(stage_counter(r, "interpolator_0", "pixels_lit"), 65536u);
+    EXPECT_EQ(stage_counter(r, "interpolator_0", "light_evaluations"),
+              65536u * static_cast<uint64_t>(lights));
+    // The interpolator is now the bottleneck by far: it needs 65536 * per_pixel
+    // more cycles than the rasterizer's 4354, and the frame grows by at least
+    // the difference (the rest of the pipeline only waits on it).
+    EXPECT_GE(cycles(r) - cycles(gouraud), static_cast<int64_t>(65536u * per_pixel) - 4354)
+        << lights << " lights";
+  }
+  // The costs come from the configuration: 3 + 5 L cycles per pixel.
+  GpuConfig slow = c;
+  slow.lighting_cycles_per_pixel = 3;
+  slow.lighting_cycles_per_light = 5;
+  const GpuRunResult r = run(giant_lit_triangle(Shading::phong, 2), slow);
+  EXPECT_EQ(stage_counter(r, "interpolator_0", "busy_cycles"), 4098u + 65536u * 13u);
+}
+
+TEST(Cycles, PerPixelLightingSplitsAcrossUnits) {
+  // Four units own 64 tiles each: 1024 stamps and 16384 pixels per
+  // interpolator, so each is busy 1024 + 2 + 16384 * (1 + 2 * 2) cycles.
+  const GpuRunResult r = run(giant_lit_triangle(Shading::phong, 2), fill_bound(4));
+  for (unsigned u = 0; u < 4; ++u) {
+    const std::string name = "interpolator_" + std::to_string(u);
+    EXPECT_EQ(stage_counter(r, name, "busy_cycles"), 1026u + 16384u * 5u) << u;
+    EXPECT_EQ(stage_counter(r, name, "pixels_lit"), 16384u) << u;
+  }
+}
+
 }  // namespace
 }  // namespace gpusim
