@@ -59,6 +59,10 @@ struct Bounds {
 // skipped). Every position counts, referenced or not.
 Bounds world_bounds(const Draw& d);
 
+// How a frame resolves visibility: the models' depth test, or the driver's
+// painter's algorithm (testbench/driver/painter_sort.h, docs/painter.md).
+enum class Visibility : uint8_t { zbuffer, painter };
+
 struct Scene {
   std::string path;  // the scene file, for messages
   FramebufferDesc framebuffer;
@@ -68,6 +72,7 @@ struct Scene {
   glm::vec4 global_ambient{0.2f, 0.2f, 0.2f, 1.0f};
   std::vector<Light> lights;
   std::vector<Draw> draws;
+  Visibility visibility = Visibility::zbuffer;
   // The scene's settings with every default filled in, dumped into stats.json.
   nlohmann::json resolved;
 };
