@@ -89,7 +89,7 @@ struct Stats {
   uint64_t swaps = 0;          // q moved ahead of p
   uint64_t cycles = 0;         // a moved triangle met again undecided
   uint64_t splits = 0;         // triangles cut by another's plane
-  uint64_t unresolved = 0;     // pairs left in a possibly wrong order
+  uint64_t unresolved = 0;     // undecided pairs left in depth order, per meeting
   uint64_t triangles_out = 0;  // submitted
   uint64_t draws_out = 0;      // draws submitted, sorted and passed
   nlohmann::json to_json() const;

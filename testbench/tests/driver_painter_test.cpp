@@ -322,6 +322,31 @@ TEST(PainterScenes, Deterministic) {
   }
 }
 
+// A triangle reaching behind the eye is cut at the near plane before the
+// sort divides by w; what is left draws as the z-buffer draws it.
+TEST(PainterScenes, NearPlaneCutBeforeSorting) {
+  const std::string text = R"({
+    "visibility": "painter",
+    "framebuffer": {"width": 64, "height": 64},
+    "camera": {"type": "perspective", "fovy": 60, "near": 0.5, "far": 10},
+    "draws": [
+      {"positions": [[-1, -0.5, -3], [1, -0.5, -3], [0, -0.5, 2]],
+       "colors": [[1, 0, 0, 1], [0, 1, 0, 1], [0, 0, 1, 1]]},
+      {"positions": [[-1, -1, -2], [1, -1, -2], [0, 1, -2]]}
+    ]})";
+  Scene painted = load_scene_from_string(text, "near.json");
+  const Scene plain = zbuffered(painted);
+  const std::optional<Stats> stats = apply_visibility(painted);
+  ASSERT_TRUE(stats.has_value());
+  EXPECT_EQ(stats->triangles_near_clipped, 1u);
+  for (const Draw& d : painted.draws) {
+    for (const glm::vec4& p : d.positions) EXPECT_GE(p.z, -p.w) << d.name;  // inside the near plane
+  }
+  const FrameDiff d =
+      compare(golden::render(painted).framebuffer, golden::render(plain).framebuffer);
+  EXPECT_EQ(d.wrong, d.wrong_near_tie);
+}
+
 TEST(PainterScenes, VisibilityKeyIsValidated) {
   const std::string base = R"({"visibility": )";
   EXPECT_EQ(load_scene_from_string(base + R"("painter"})", "a.json").visibility,
