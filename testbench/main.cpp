@@ -26,6 +26,7 @@
 
 #include "hw/gpu_config.h"
 #include "hw/input_error.h"
+#include "testbench/driver/painter_sort.h"
 #include "testbench/gl/gl_driver.h"
 #include "testbench/gl/trace_reader.h"
 #include "testbench/golden/golden_model.h"
@@ -194,6 +195,14 @@ Scene load_scene_shown(const std::string& path, Progress& progress) {
   return load_scene(path, [&](const std::string& what) { progress.update(printable(what), true); });
 }
 
+// The driver's visibility option (docs/painter.md) rewrites the scene's
+// draws before either model sees them; a painter's frame adds its sort's
+// figures to stats.json under "painter".
+void apply_driver(Scene& scene, nlohmann::json& stats_sections) {
+  if (const auto painter = painter::apply_visibility(scene))
+    stats_sections["painter"] = painter->to_json();
+}
+
 // "(1, 2.5, -3)": a resolved vector or colour from Scene::resolved.
 std::string vec_text(const nlohmann::json& v) {
   std::string out;
@@ -275,8 +284,10 @@ void print_warnings(const Scene& scene, const nlohmann::json& c) {
 int run_golden(const std::string& scene_path, const std::string& out_dir, uint64_t memory_mib,
                const ProgressArgs& progress_args) {
   Progress progress = make_progress(progress_args);
-  const Scene scene = load_scene_shown(scene_path, progress);
+  Scene scene = load_scene_shown(scene_path, progress);
   note_auto_camera(scene);
+  nlohmann::json driver = nlohmann::json::object();
+  apply_driver(scene, driver);
   check_scene_limits(scene);
   check_memory(estimate_golden_memory(scene), memory_limit(memory_mib), scene_path);
   progress.begin("render", "rendering with the golden model");
@@ -294,12 +305,13 @@ int run_golden(const std::string& scene_path, const std::string& out_dir, uint64
   }
 
   // No wall-clock figures in stats.json: the same input gives the same bytes.
-  const nlohmann::json stats = {
+  nlohmann::json stats = {
       {"model", "golden"},
       {"scene", scene_path},
       {"settings", scene.resolved},
       {"stats", result.stats.to_json()},
   };
+  stats.update(driver);
   progress.begin("write", "frame.exr, frame.png, stats.json into " + printable(out_dir));
   write_frame_outputs(out_dir, result.framebuffer, stats, progress);
   progress.end();
@@ -402,8 +414,10 @@ bool check_against_golden(const golden::Result& ref, const GpuRunResult& gpu, un
 
 int run_cycle_model(const RunArgs& args, const ProgressArgs& progress_args) {
   Progress progress = make_progress(progress_args);
-  const Scene scene = load_scene_shown(args.scene, progress);
+  Scene scene = load_scene_shown(args.scene, progress);
   note_auto_camera(scene);
+  nlohmann::json driver = nlohmann::json::object();
+  apply_driver(scene, driver);
   const GpuConfig config = resolve_config(args);
   const TraceFormats trace_formats = TraceFormats::parse(args.trace_formats);
   check_scene_limits(scene);
@@ -430,10 +444,11 @@ int run_cycle_model(const RunArgs& args, const ProgressArgs& progress_args) {
     return report_simulation_error(args.scene, e);  // a hang, or counters that do not balance
   }
   // No wall-clock figures in stats.json: the same input gives the same bytes.
-  const nlohmann::json stats = {
+  nlohmann::json stats = {
       {"model", "cycle"},          {"scene", args.scene},    {"settings", scene.resolved},
       {"config", to_json(config)}, {"stats", result.counts}, {"timing", result.timing},
   };
+  stats.update(driver);
   progress.begin(
       "write", "frame.exr, frame.png, stats.json into " + printable(args.out_dir) +
                    (args.trace_dir.empty() ? "" : ", the trace into " + printable(args.trace_dir)));

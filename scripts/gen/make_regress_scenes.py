@@ -1787,6 +1787,29 @@ def msaa_phong_duck():
     return s
 
 
+# ---------------------------------------------------------------- painter
+
+
+def without_comments(name):
+    """A scene of testbench/scenes/ (the one source), its // comment lines dropped."""
+    with open(os.path.join(ROOT, "testbench", "scenes", name + ".json")) as f:
+        return json.loads("".join(line for line in f if not line.lstrip().startswith("//")))
+
+
+@scene("painter_cycle", "painter", "docs/painter.md",
+       "\"visibility\": \"painter\": three blades overlapping cyclically, which the host's sort "
+       "must split; llvmpipe draws the same sorted, split clip-space draws with depth func always")
+def painter_cycle():
+    return without_comments("painter_cycle")
+
+
+@scene("painter_interpenetrate", "painter", "docs/painter.md",
+       "\"visibility\": \"painter\": two triangles passing through each other, split along their "
+       "intersection in clip space under a perspective camera")
+def painter_interpenetrate():
+    return without_comments("painter_interpenetrate")
+
+
 def dump(value):
     """JSON with one line per vertex: arrays of numbers (and of booleans) stay on
     one line, and so do the index lists."""

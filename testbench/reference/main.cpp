@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "hw/input_error.h"
+#include "testbench/driver/painter_sort.h"
 #include "testbench/io/image_files.h"
 #include "testbench/io/output_file.h"
 #include "testbench/reference/gl_reference.h"
@@ -84,7 +85,9 @@ nlohmann::json timing_json(const reference::ReferenceResult& r) {
 }
 
 void render_job(reference::GlReference& gl, const Job& job, int repeat) {
-  const Scene scene = load_scene(job.scene);
+  Scene scene = load_scene(job.scene);
+  // The driver's visibility option rewrites the draws before any renderer.
+  painter::apply_visibility(scene);
   const reference::ReferenceResult result = gl.render(scene, repeat);
   OutputFiles files;
   write_frame_exr(result.framebuffer, files.add(job.exr));

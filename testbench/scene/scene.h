@@ -59,6 +59,10 @@ struct Bounds {
 // skipped). Every position counts, referenced or not.
 Bounds world_bounds(const Draw& d);
 
+// How a frame resolves visibility: the models' depth test, or the driver's
+// painter's algorithm (testbench/driver/painter_sort.h, docs/painter.md).
+enum class Visibility : uint8_t { zbuffer, painter };
+
 struct Scene {
   std::string path;  // the scene file, for messages
   FramebufferDesc framebuffer;
@@ -74,6 +78,7 @@ struct Scene {
   // their places: the frame clear first, then, before draw i, every clear
   // with before_draw == i, and those with before_draw == draws.size() last.
   std::vector<ClearState> clears;
+  Visibility visibility = Visibility::zbuffer;
   // The scene's settings with every default filled in, dumped into stats.json.
   nlohmann::json resolved;
 };

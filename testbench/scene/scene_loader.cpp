@@ -372,7 +372,7 @@ Scene SceneReader::read_text(const std::string& text) {
   const Json json = parse(text);
   const At root{json, ""};
   expect_object(root);
-  check_keys(root, {"framebuffer", "camera", "ambient", "lights", "draws"});
+  check_keys(root, {"framebuffer", "camera", "ambient", "lights", "draws", "visibility"});
 
   Scene scene;
   scene.path = file_;
@@ -383,6 +383,17 @@ Scene SceneReader::read_text(const std::string& text) {
   if (has(root, "ambient")) scene.global_ambient = color(member(root, "ambient"));
   scene.resolved["ambient"] = out_vec(scene.global_ambient);
   read_lights(root, scene);
+  if (has(root, "visibility")) {
+    const At v = member(root, "visibility");
+    const std::string name = string(v);
+    if (name == "painter") {
+      scene.visibility = Visibility::painter;
+    } else if (name != "zbuffer") {
+      fail_value(v, "expected one of zbuffer, painter");
+    }
+  }
+  // Only a painter's frame says so: z-buffered frames' stats.json is unchanged.
+  if (scene.visibility == Visibility::painter) scene.resolved["visibility"] = "painter";
 
   scene.resolved["draws"] = Out::array();
   if (has(root, "draws")) {

@@ -13,6 +13,7 @@
 #include <string>
 #include <tuple>
 
+#include "testbench/driver/painter_sort.h"
 #include "testbench/golden/golden_model.h"
 #include "testbench/sim/gpu_run.h"
 
@@ -108,8 +109,9 @@ class BitExact : public ::testing::TestWithParam<Case> {};
 
 TEST_P(BitExact, FrameAndCountersEqualGolden) {
   const auto& [scene_name, row] = GetParam();
-  const Scene scene =
+  Scene scene =
       load_scene(std::string(GPUSIM_SOURCE_DIR) + "/testbench/scenes/" + scene_name + ".json");
+  painter::apply_visibility(scene);  // the driver, before both models
   const GpuConfig config = config_for(matrix_row(row));
   GpuRunOptions options;
   options.record_last_writer = true;
@@ -144,7 +146,9 @@ INSTANTIATE_TEST_SUITE_P(
                                          "aa_samples2", "aa_samples8", "aa_samples16",
                                          "aa_super3_samples4", "aa_super2", "clears",
                                          "clears_samples4", "clears_super2", "viewport_scissor",
-                                         "viewport_scissor_aa", "phong", "aa_phong_samples4"),
+                                         "viewport_scissor_aa", "phong", "aa_phong_samples4",
+                                         "painter_default", "painter_cycle",
+                                         "painter_interpenetrate"),
                        ::testing::Range(0, 18)),
     case_name);
 
