@@ -29,6 +29,8 @@ constexpr NameTable<BlendFactor, 11> kBlendFactorNames{"zero",
                                                        "src_alpha_saturate"};
 constexpr NameTable<BlendEquation, 3> kBlendEquationNames{"add", "subtract", "reverse_subtract"};
 constexpr NameTable<Shading, 2> kShadingNames{"flat", "gouraud"};
+constexpr NameTable<ProvokingVertex, 2> kProvokingVertexNames{"last", "first"};
+constexpr NameTable<Interpolation, 2> kInterpolationNames{"perspective", "screen"};
 constexpr NameTable<ColorFormat, 2> kColorFormatNames{"rgba8", "rgba16f"};
 constexpr NameTable<DepthFormat, 3> kDepthFormatNames{"unorm16", "unorm24", "float32"};
 
@@ -71,6 +73,14 @@ constexpr const auto& names_of<Shading>() {
   return kShadingNames;
 }
 template <>
+constexpr const auto& names_of<ProvokingVertex>() {
+  return kProvokingVertexNames;
+}
+template <>
+constexpr const auto& names_of<Interpolation>() {
+  return kInterpolationNames;
+}
+template <>
 constexpr const auto& names_of<ColorFormat>() {
   return kColorFormatNames;
 }
@@ -107,6 +117,12 @@ std::string_view to_string(BlendEquation v) {
   return name_of(v);
 }
 std::string_view to_string(Shading v) {
+  return name_of(v);
+}
+std::string_view to_string(ProvokingVertex v) {
+  return name_of(v);
+}
+std::string_view to_string(Interpolation v) {
   return name_of(v);
 }
 std::string_view to_string(LineRasterization v) {
@@ -151,6 +167,8 @@ GPUSIM_INSTANTIATE(CompareFunc)
 GPUSIM_INSTANTIATE(BlendFactor)
 GPUSIM_INSTANTIATE(BlendEquation)
 GPUSIM_INSTANTIATE(Shading)
+GPUSIM_INSTANTIATE(ProvokingVertex)
+GPUSIM_INSTANTIATE(Interpolation)
 GPUSIM_INSTANTIATE(LineRasterization)
 GPUSIM_INSTANTIATE(PolygonMode)
 GPUSIM_INSTANTIATE(ColorFormat)
@@ -194,7 +212,7 @@ bool RenderState::operator==(const RenderState& o) const {
     return std::tie(s.cull, s.front_face, s.depth_test, s.depth_func, s.depth_write,
                     s.offset_factor, s.offset_units, s.blend, s.blend_src, s.blend_dst,
                     s.blend_equation, s.color_mask, s.shading, s.line_width, s.point_size,
-                    s.line_rasterization, s.polygon_mode);
+                    s.line_rasterization, s.polygon_mode, s.provoking_vertex, s.interpolation);
   };
   return tie(*this) == tie(o);
 }
@@ -213,7 +231,9 @@ std::ostream& operator<<(std::ostream& os, const RenderState& s) {
   os << " mask=" << s.color_mask[0] << s.color_mask[1] << s.color_mask[2] << s.color_mask[3]
      << " shading=" << to_string(s.shading) << " line_width=" << s.line_width
      << " point_size=" << s.point_size << " line_rasterization=" << to_string(s.line_rasterization)
-     << " polygon_mode=" << to_string(s.polygon_mode) << "}";
+     << " polygon_mode=" << to_string(s.polygon_mode)
+     << " provoking_vertex=" << to_string(s.provoking_vertex)
+     << " interpolation=" << to_string(s.interpolation) << "}";
   return os;
 }
 

@@ -589,7 +589,9 @@ Out out_state(const RenderState& s) {
           {"line_width", tidy(s.line_width)},
           {"point_size", tidy(s.point_size)},
           {"line_rasterization", std::string(to_string(s.line_rasterization))},
-          {"polygon_mode", std::string(to_string(s.polygon_mode))}};
+          {"polygon_mode", std::string(to_string(s.polygon_mode))},
+          {"provoking_vertex", std::string(to_string(s.provoking_vertex))},
+          {"interpolation", std::string(to_string(s.interpolation))}};
 }
 
 void SceneReader::read_lights(const At& root, Scene& scene) {
@@ -733,7 +735,7 @@ RenderState SceneReader::read_state(const At& a) const {
   expect_object(a);
   check_keys(a, {"cull", "front_face", "depth_test", "depth_write", "polygon_offset", "blend",
                  "color_mask", "shading", "line_width", "point_size", "line_rasterization",
-                 "polygon_mode"});
+                 "polygon_mode", "provoking_vertex", "interpolation"});
   RenderState s;
   if (has(a, "cull")) s.cull = enumeration<CullMode>(member(a, "cull"));
   if (has(a, "front_face")) s.front_face = enumeration<FrontFace>(member(a, "front_face"));
@@ -785,6 +787,12 @@ RenderState SceneReader::read_state(const At& a) const {
     s.line_rasterization = enumeration<LineRasterization>(member(a, "line_rasterization"));
   }
   if (has(a, "polygon_mode")) s.polygon_mode = enumeration<PolygonMode>(member(a, "polygon_mode"));
+  if (has(a, "provoking_vertex")) {
+    s.provoking_vertex = enumeration<ProvokingVertex>(member(a, "provoking_vertex"));
+  }
+  if (has(a, "interpolation")) {
+    s.interpolation = enumeration<Interpolation>(member(a, "interpolation"));
+  }
   return s;
 }
 
