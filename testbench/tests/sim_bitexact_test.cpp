@@ -137,7 +137,8 @@ INSTANTIATE_TEST_SUITE_P(
                                          "shared_edges", "clipping", "zfight_offset", "states",
                                          "lines_random", "points_wireframe", "lines_points",
                                          "aa_samples2", "aa_samples8", "aa_samples16",
-                                         "aa_super3_samples4", "aa_super2"),
+                                         "aa_super3_samples4", "aa_super2",
+                                         "provoking_interpolation"),
                        ::testing::Range(0, 18)),
     case_name);
 
