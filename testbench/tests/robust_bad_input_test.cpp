@@ -172,6 +172,10 @@ std::vector<BadCase> cases() {
         "draws[0].state.line_rasterization: expected one of diamond_exit, bresenham, got \"wu\"");
   state("polygon_mode_unknown", R"("polygon_mode": "wireframe")",
         "draws[0].state.polygon_mode: expected one of fill, line, point, got \"wireframe\"");
+  state("provoking_vertex_unknown", R"("provoking_vertex": "middle")",
+        "draws[0].state.provoking_vertex: expected one of last, first, got \"middle\"");
+  state("interpolation_unknown", R"("interpolation": "linear")",
+        "draws[0].state.interpolation: expected one of perspective, screen, got \"linear\"");
   scene("zero_direction", R"({"lights": [{"type": "directional", "direction": [0, 0, 0]}]})",
         {"lights[0].direction"});
   scene("colours_per_position",
