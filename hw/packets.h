@@ -76,7 +76,7 @@ constexpr unsigned kMaxPrimitiveVertices = 3;
 // the interpolator divides by the interpolated 1/w (perspective correction).
 struct ClippedVertex {
   float x = 0.0f, y = 0.0f, z = 0.0f;
-  float inv_w = 0.0f;
+  float inv_w = 0.0f;  // the attribute weight: 1/w, or 1 with screen interpolation
   Varyings varyings_over_w{};
   bool operator==(const ClippedVertex& o) const {
     return x == o.x && y == o.y && z == o.z && inv_w == o.inv_w &&

@@ -30,6 +30,8 @@ constexpr NameTable<BlendFactor, 11> kBlendFactorNames{"zero",
                                                        "src_alpha_saturate"};
 constexpr NameTable<BlendEquation, 3> kBlendEquationNames{"add", "subtract", "reverse_subtract"};
 constexpr NameTable<Shading, 3> kShadingNames{"flat", "gouraud", "phong"};
+constexpr NameTable<ProvokingVertex, 2> kProvokingVertexNames{"last", "first"};
+constexpr NameTable<Interpolation, 2> kInterpolationNames{"perspective", "screen"};
 constexpr NameTable<ColorFormat, 2> kColorFormatNames{"rgba8", "rgba16f"};
 constexpr NameTable<DepthFormat, 3> kDepthFormatNames{"unorm16", "unorm24", "float32"};
 
@@ -72,6 +74,14 @@ constexpr const auto& names_of<Shading>() {
   return kShadingNames;
 }
 template <>
+constexpr const auto& names_of<ProvokingVertex>() {
+  return kProvokingVertexNames;
+}
+template <>
+constexpr const auto& names_of<Interpolation>() {
+  return kInterpolationNames;
+}
+template <>
 constexpr const auto& names_of<ColorFormat>() {
   return kColorFormatNames;
 }
@@ -108,6 +118,12 @@ std::string_view to_string(BlendEquation v) {
   return name_of(v);
 }
 std::string_view to_string(Shading v) {
+  return name_of(v);
+}
+std::string_view to_string(ProvokingVertex v) {
+  return name_of(v);
+}
+std::string_view to_string(Interpolation v) {
   return name_of(v);
 }
 std::string_view to_string(LineRasterization v) {
@@ -152,6 +168,8 @@ GPUSIM_INSTANTIATE(CompareFunc)
 GPUSIM_INSTANTIATE(BlendFactor)
 GPUSIM_INSTANTIATE(BlendEquation)
 GPUSIM_INSTANTIATE(Shading)
+GPUSIM_INSTANTIATE(ProvokingVertex)
+GPUSIM_INSTANTIATE(Interpolation)
 GPUSIM_INSTANTIATE(LineRasterization)
 GPUSIM_INSTANTIATE(PolygonMode)
 GPUSIM_INSTANTIATE(ColorFormat)
@@ -196,7 +214,7 @@ bool RenderState::operator==(const RenderState& o) const {
                     s.offset_factor, s.offset_units, s.blend, s.blend_src, s.blend_dst,
                     s.blend_equation, s.color_mask, s.shading, s.line_width, s.point_size,
                     s.line_rasterization, s.polygon_mode, s.viewport, s.depth_near, s.depth_far,
-                    s.scissor);
+                    s.scissor, s.provoking_vertex, s.interpolation);
   };
   return tie(*this) == tie(o);
 }
@@ -227,7 +245,8 @@ std::ostream& operator<<(std::ostream& os, const RenderState& s) {
   } else {
     os << "off";
   }
-  os << "}";
+  os << " provoking_vertex=" << to_string(s.provoking_vertex)
+     << " interpolation=" << to_string(s.interpolation) << "}";
   return os;
 }
 

@@ -55,6 +55,13 @@ enum class BlendEquation : uint8_t { add, subtract, reverse_subtract };
 // eye-space normal and position (docs/pipeline-spec.md, section 9b); on an
 // unlit draw it is gouraud.
 enum class Shading : uint8_t { flat, gouraud, phong };
+// Which vertex of a primitive gives a flat-shaded primitive its colour (GL's
+// glProvokingVertex; docs/pipeline-spec.md, section 3).
+enum class ProvokingVertex : uint8_t { last, first };
+// How varyings are interpolated across a primitive: perspective-correct, or
+// affine in window space (GLSL's noperspective; docs/pipeline-spec.md,
+// sections 4 and 9). Depth is affine in window space either way.
+enum class Interpolation : uint8_t { perspective, screen };
 enum class ColorFormat : uint8_t { rgba8, rgba16f };
 enum class DepthFormat : uint8_t { unorm16, unorm24, float32 };
 
@@ -85,6 +92,8 @@ struct RenderState {
   BlendEquation blend_equation = BlendEquation::add;
   std::array<bool, 4> color_mask{true, true, true, true};
   Shading shading = Shading::gouraud;
+  ProvokingVertex provoking_vertex = ProvokingVertex::last;
+  Interpolation interpolation = Interpolation::perspective;
   // Lines and points (docs/pipeline-spec.md, sections 8b and 8c): sizes in
   // pixels, 0 < size <= kMaxLineWidth.
   float line_width = 1.0f;
@@ -132,6 +141,8 @@ std::string_view to_string(CompareFunc v);
 std::string_view to_string(BlendFactor v);
 std::string_view to_string(BlendEquation v);
 std::string_view to_string(Shading v);
+std::string_view to_string(ProvokingVertex v);
+std::string_view to_string(Interpolation v);
 std::string_view to_string(LineRasterization v);
 std::string_view to_string(PolygonMode v);
 std::string_view to_string(ColorFormat v);

@@ -117,13 +117,18 @@ uint64_t Clipper::process_batch(const ShadedBatch& batch) {
 }
 
 void Clipper::assemble(const DrawState& draw, uint32_t draw_id, uint32_t slot, const Vertex& v) {
+  // Flat shading's provoking vertex (spec section 3): the incoming vertex
+  // under the last-vertex convention; under the first-vertex one the
+  // register holding the primitive's first vertex in API order.
+  const bool first = draw.state.provoking_vertex == ProvokingVertex::first;
   switch (draw.primitive) {
     case PrimitiveType::triangles: {
       const uint32_t k = slot % 3;
       if (k < 2) {
         m_reg[k] = v;
       } else {
-        process_triangle(draw_id, draw.first_primitive_id + slot / 3, m_reg[0], m_reg[1], v);
+        process_triangle(draw_id, draw.first_primitive_id + slot / 3, m_reg[0], m_reg[1], v,
+                         first ? m_reg[0] : v);
       }
       break;
     }
@@ -131,11 +136,13 @@ void Clipper::assemble(const DrawState& draw, uint32_t draw_id, uint32_t slot, c
       if (slot >= 2) {
         // Triangle i = slot - 2 from the registers (v_i, v_i+1); odd ones
         // swap their first two vertices to keep the strip's winding.
+        // Its first vertex in API order, v_i, is register 0 either way.
         const uint32_t i = slot - 2;
+        const Vertex& provoking = first ? m_reg[0] : v;
         if (i % 2 == 0) {
-          process_triangle(draw_id, draw.first_primitive_id + i, m_reg[0], m_reg[1], v);
+          process_triangle(draw_id, draw.first_primitive_id + i, m_reg[0], m_reg[1], v, provoking);
         } else {
-          process_triangle(draw_id, draw.first_primitive_id + i, m_reg[1], m_reg[0], v);
+          process_triangle(draw_id, draw.first_primitive_id + i, m_reg[1], m_reg[0], v, provoking);
         }
         m_reg[0] = m_reg[1];
         m_reg[1] = v;
@@ -144,9 +151,12 @@ void Clipper::assemble(const DrawState& draw, uint32_t draw_id, uint32_t slot, c
       }
       break;
     case PrimitiveType::triangle_fan:
-      if (slot >= 2)
-        process_triangle(draw_id, draw.first_primitive_id + (slot - 2), m_reg[0], m_reg[1], v);
-      // Register 0 keeps the fan's centre; register 1 the last vertex.
+      // Register 0 keeps the fan's centre; register 1 the last vertex, the
+      // first-vertex convention's provoking vertex (v_i+1, not the centre).
+      if (slot >= 2) {
+        process_triangle(draw_id, draw.first_primitive_id + (slot - 2), m_reg[0], m_reg[1], v,
+                         first ? m_reg[1] : v);
+      }
       m_reg[slot == 0 ? 0 : 1] = v;
       break;
     case PrimitiveType::points:
@@ -156,7 +166,7 @@ void Clipper::assemble(const DrawState& draw, uint32_t draw_id, uint32_t slot, c
       if (slot % 2 == 0) {
         m_reg[0] = v;
       } else {
-        process_line(draw_id, draw.first_primitive_id + slot / 2, m_reg[0], v, true, true);
+        process_line(draw_id, draw.first_primitive_id + slot / 2, m_reg[0], v, true, true, first);
       }
       break;
     case PrimitiveType::line_strip:
@@ -165,7 +175,8 @@ void Clipper::assemble(const DrawState& draw, uint32_t draw_id, uint32_t slot, c
       // the first share their first vertex with the previous line's last, so
       // Bresenham draws it once (draw_first clear).
       if (slot >= 1) {
-        process_line(draw_id, draw.first_primitive_id + (slot - 1), m_reg[0], v, slot == 1, true);
+        process_line(draw_id, draw.first_primitive_id + (slot - 1), m_reg[0], v, slot == 1, true,
+                     first);
       } else if (draw.primitive == PrimitiveType::line_loop) {
         m_reg[1] = v;  // the loop's first vertex, kept until the draw's last slot
       }
@@ -174,7 +185,7 @@ void Clipper::assemble(const DrawState& draw, uint32_t draw_id, uint32_t slot, c
       // drawn by its neighbours. A draw's slot count is one of its registers.
       if (draw.primitive == PrimitiveType::line_loop && slot >= 1 &&
           slot + 1 == draw.buffers.slot_count) {
-        process_line(draw_id, draw.first_primitive_id + slot, v, m_reg[1], false, false);
+        process_line(draw_id, draw.first_primitive_id + slot, v, m_reg[1], false, false, first);
       }
       break;
   }
@@ -205,16 +216,23 @@ inline float Clipper::distance(int plane, const glm::vec4& c) const {
 ClippedVertex Clipper::to_window(const ShadedVertex& v) const {
   ClippedVertex w;
   const float q = 1.0f / v.clip.w;
-  w.inv_w = q;
   w.x = (v.clip.x * q + 1.0f) * m_vp.half_width + m_vp.x;
   w.y = (v.clip.y * q + 1.0f) * m_vp.half_height + m_vp.y;
   w.z = (v.clip.z * q + 1.0f) * 0.5f * m_vp.depth_scale + m_vp.depth_near;
-  for (unsigned k = 0; k < m_varying_count; ++k) w.varyings_over_w[k] = v.varyings[k] * q;
+  // Screen interpolation gives every vertex the weight 1: the interpolator's
+  // perspective-correct formula then is affine in window space.
+  if (m_state->interpolation == Interpolation::screen) {
+    w.inv_w = 1.0f;
+    for (unsigned k = 0; k < m_varying_count; ++k) w.varyings_over_w[k] = v.varyings[k];
+  } else {
+    w.inv_w = q;
+    for (unsigned k = 0; k < m_varying_count; ++k) w.varyings_over_w[k] = v.varyings[k] * q;
+  }
   return w;
 }
 
 void Clipper::process_triangle(uint32_t draw_id, int64_t primitive_id, const Vertex& a,
-                               const Vertex& b, const Vertex& c) {
+                               const Vertex& b, const Vertex& c, const Vertex& provoking) {
   ++m_in;
   ++m_batch_primitives;
   if (!(a.valid && b.valid && c.valid)) {
@@ -222,7 +240,8 @@ void Clipper::process_triangle(uint32_t draw_id, int64_t primitive_id, const Ver
     return;
   }
   // Flat shading: the provoking vertex of the original triangle.
-  ClippedPrimitive t = work_primitive(PrimitiveKind::triangle, draw_id, primitive_id, c.v.varyings);
+  ClippedPrimitive t =
+      work_primitive(PrimitiveKind::triangle, draw_id, primitive_id, provoking.v.varyings);
 
   // Outcode test: inside every plane means no cut at all.
   bool inside = true;
@@ -255,6 +274,10 @@ void Clipper::process_triangle(uint32_t draw_id, int64_t primitive_id, const Ver
   if (n < 3) {
     ++m_clipped_away;
     return;
+  }
+  if (m_state->interpolation == Interpolation::screen) {
+    const ShadedVertex* const corners[3] = {&a.v, &b.v, &c.v};
+    screen_varyings(m_poly.data(), n, corners, 3);
   }
   // A cut can land exactly on the original vertices; such a triangle counts
   // as not clipped, as the statistics define it.
@@ -331,7 +354,7 @@ void Clipper::draw_unfilled(ClippedPrimitive& t) {
 }
 
 void Clipper::process_line(uint32_t draw_id, int64_t primitive_id, const Vertex& a, const Vertex& b,
-                           bool draw_first, bool draw_last) {
+                           bool draw_first, bool draw_last, bool provoking_first) {
   ++m_lines_in;
   ++m_batch_primitives;
   if (!(a.valid && b.valid)) {
@@ -366,9 +389,17 @@ void Clipper::process_line(uint32_t draw_id, int64_t primitive_id, const Vertex&
       (in_p ? q : p) = v;
     }
     ++m_lines_clipped;
+    if (m_state->interpolation == Interpolation::screen) {
+      ShadedVertex ends[2] = {p, q};
+      const ShadedVertex* const corners[2] = {&a.v, &b.v};
+      screen_varyings(ends, 2, corners, 2);
+      p = ends[0];
+      q = ends[1];
+    }
   }
-  // Flat shading: the provoking (last) vertex, unclipped.
-  ClippedPrimitive l = work_primitive(PrimitiveKind::line, draw_id, primitive_id, b.v.varyings);
+  // Flat shading: the provoking vertex, unclipped.
+  ClippedPrimitive l = work_primitive(PrimitiveKind::line, draw_id, primitive_id,
+                                      provoking_first ? a.v.varyings : b.v.varyings);
   l.v[0] = to_window(p);
   l.v[1] = to_window(q);
   l.draw_first = draw_first;
@@ -412,15 +443,57 @@ ShadedVertex Clipper::cut(int plane, const ShadedVertex& i, const ShadedVertex& 
   const float dp = from_i ? di : dj;
   const float dq = from_i ? dj : di;
   const float t = dp / (dp - dq);
-  // Every component, position and varyings alike, by the same formula.
   ShadedVertex v;
   for (int k = 0; k < 4; ++k) v.clip[k] = p.clip[k] + t * (q.clip[k] - p.clip[k]);
-  for (unsigned k = 0; k < m_varying_count; ++k)
-    v.varyings[k] = p.varyings[k] + t * (q.varyings[k] - p.varyings[k]);
   // Rounding can leave the cut at or below w = 0; keep 1/w finite. (As
   // std::max: a NaN w would stay NaN; finite inputs give none.)
   if (plane == 0) v.clip.w = std::max(v.clip.w, kMinClipW);
+  for (unsigned k = 0; k < m_varying_count; ++k)
+    v.varyings[k] = p.varyings[k] + t * (q.varyings[k] - p.varyings[k]);
   return v;
+}
+
+void Clipper::screen_varyings(ShadedVertex* poly, size_t n, const ShadedVertex* const* orig,
+                              int corners) const {
+  // The corners' projections (NDC): the varyings extended affinely over the
+  // window plane through them (the viewport's scale cancels in the ratios).
+  float px[3] = {}, py[3] = {};
+  for (int i = 0; i < corners; ++i) {
+    px[i] = orig[i]->clip.x / orig[i]->clip.w;
+    py[i] = orig[i]->clip.y / orig[i]->clip.w;
+  }
+  const float d1x = px[1] - px[0], d1y = py[1] - py[0];
+  const float d2x = corners == 3 ? px[2] - px[0] : 0.0f;
+  const float d2y = corners == 3 ? py[2] - py[0] : 0.0f;
+  const float den = d1x * d2y - d1y * d2x;
+  const bool along_x = std::fabs(d1x) >= std::fabs(d1y);  // lines: the longer projected axis
+  for (size_t i = 0; i < n; ++i) {
+    ShadedVertex& v = poly[i];
+    // A corner that survived keeps its own varyings (the first equal one).
+    const ShadedVertex* same = nullptr;
+    for (int c = 0; c < corners && same == nullptr; ++c) {
+      if (v.clip == orig[c]->clip) same = orig[c];
+    }
+    if (same != nullptr) {
+      v.varyings = same->varyings;
+      continue;
+    }
+    const float ex = v.clip.x / v.clip.w - px[0], ey = v.clip.y / v.clip.w - py[0];
+    if (corners == 2) {
+      const float s = along_x ? ex / d1x : ey / d1y;
+      if (!std::isfinite(s)) continue;  // the cut's perspective values stay
+      for (unsigned k = 0; k < m_varying_count; ++k)
+        v.varyings[k] = orig[0]->varyings[k] + s * (orig[1]->varyings[k] - orig[0]->varyings[k]);
+    } else {
+      const float b1 = (ex * d2y - ey * d2x) / den;
+      const float b2 = (d1x * ey - d1y * ex) / den;
+      if (!(std::isfinite(b1) && std::isfinite(b2))) continue;
+      for (unsigned k = 0; k < m_varying_count; ++k) {
+        const float v0 = orig[0]->varyings[k];
+        v.varyings[k] = v0 + b1 * (orig[1]->varyings[k] - v0) + b2 * (orig[2]->varyings[k] - v0);
+      }
+    }
+  }
 }
 
 template <bool kEdgeFlags>

@@ -49,17 +49,22 @@
 //   triangles do not count in triangles_after_clip.
 // - A cut vertex interpolates the clip position and every varying of the
 //   draw (its VaryingLayout's count, whatever they mean) with the same
-//   formula, in one loop.
+//   formula, in one loop. With screen interpolation a clipped primitive's
+//   cut vertices then take the varyings affine in window space over the
+//   original primitive, from the barycentrics of their projections
+//   (section 4).
 // - Viewport (sections 4 and 5): each draw has its viewport and depth range
 //   (the render target's pixels), from which the clipper derives once per
 //   batch the guard-band factors and the window transform's registers of
 //   its draw (ViewportRegs).
 // - Each vertex is divided by w once (q = 1/w) and mapped to window
 //   coordinates, unsnapped; its varyings are multiplied by q for the
-//   interpolator's perspective correction. Every output is a
-//   ClippedPrimitive of kind triangle, line or point carrying the provoking
-//   vertex's varyings of the assembled primitive (the last one; a loop's
-//   closing line: the draw's first vertex), for flat shading.
+//   interpolator's perspective correction (screen interpolation: by 1, and
+//   1/w is sent as 1). Every output is a ClippedPrimitive of kind triangle,
+//   line or point carrying the provoking vertex's varyings of the assembled
+//   primitive, for flat shading: the last vertex (a loop's closing line: the
+//   draw's first), or under the first-vertex convention the first in API
+//   order (a strip triangle's v_i, a fan triangle's v_i+1, a line's first).
 //
 // Cost model, per batch: busy = ii(clipper) x (primitives assembled + extra
 // primitives), where a clipped triangle split into n > 1 triangles adds
@@ -129,13 +134,15 @@ class Clipper : public PipelineStage {
   // Cycles the batch costs; its output primitives are appended to m_out.
   uint64_t process_batch(const ShadedBatch& batch);
   void assemble(const DrawState& draw, uint32_t draw_id, uint32_t slot, const Vertex& v);
+  // `provoking`: the vertex whose varyings flat shading shows (one of a, b, c).
   void process_triangle(uint32_t draw_id, int64_t primitive_id, const Vertex& a, const Vertex& b,
-                        const Vertex& c);
+                        const Vertex& c, const Vertex& provoking);
   // Polygon mode line or point: the clipped polygon in m_poly (edge flags in
   // m_flags) as lines or points, after the facing decision.
   void draw_unfilled(ClippedPrimitive& t);
+  // provoking_first: flat shading shows a's varyings, else b's.
   void process_line(uint32_t draw_id, int64_t primitive_id, const Vertex& a, const Vertex& b,
-                    bool draw_first, bool draw_last);
+                    bool draw_first, bool draw_last, bool provoking_first);
   void process_point(uint32_t draw_id, int64_t primitive_id, const Vertex& a);
   // Sutherland-Hodgman on m_poly; leaves the clipped polygon there. With
   // kEdgeFlags, m_flags holds each vertex's edge flag and is clipped along.
@@ -145,6 +152,11 @@ class Clipper : public PipelineStage {
   // (distances di, dj), crosses it; the same for either order of i and j.
   ShadedVertex cut(int plane, const ShadedVertex& i, const ShadedVertex& j, float di,
                    float dj) const;
+  // Screen interpolation (spec section 4): gives the clipped polygon's n
+  // vertices the varyings of the primitive's `corners` (3, or a line's 2)
+  // extended affinely over the window plane, where that is finite.
+  void screen_varyings(ShadedVertex* poly, size_t n, const ShadedVertex* const* orig,
+                       int corners) const;
   float distance(int plane, const glm::vec4& c) const;
   ClippedVertex to_window(const ShadedVertex& v) const;
 

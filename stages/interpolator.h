@@ -3,7 +3,7 @@
 // colour the ROP consumes. Gouraud shading is perspective-correct: with
 // f_k = float(E_k), the edge values rebuilt by stepping from the stamp
 // origin's (pixel (i, j): e_k + i * a_k * 256 + j * b_k * 256, exact int64),
-//   den  = f0 q0 + f1 q1 + f2 q2                          (q = 1/w)
+//   den  = f0 q0 + f1 q1 + f2 q2      (q = 1/w; 1 with screen interpolation)
 //   v[k] = (f0 vw0[k] + f1 vw1[k] + f2 vw2[k]) / den      (vw = varyings / w)
 // evaluated in float in exactly that order, for every component k below the
 // draw's VaryingLayout count, in one loop whatever the components mean. The

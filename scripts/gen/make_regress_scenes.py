@@ -718,6 +718,102 @@ def perspective_gouraud():
     }
 
 
+VERTEX_COLOURS = [[1, 0, 0, 1], [0, 1, 0, 1], [0, 0, 1, 1], [1, 1, 0, 1], [1, 0, 1, 1],
+                  [0, 1, 1, 1], [1, 1, 1, 1], [0.5, 0.25, 0, 1], [0.25, 0.5, 1, 1]]
+FLAT_FIRST = {"shading": "flat", "provoking_vertex": "first"}
+
+
+@scene("provoking_first_strip_fan", "shading", "3, 9",
+       "flat shading with provoking_vertex first (glProvokingVertex(GL_FIRST_VERTEX_CONVENTION)), "
+       "every vertex a different colour: a strip (triangle i takes vertex i), a fan (triangle i "
+       "takes vertex i+1, not the centre) and a line loop (its closing line takes the last "
+       "vertex)")
+def provoking_first_strip_fan():
+    fan = [[0.45, -0.05, 0.0, 1.0]]
+    for i in range(6):
+        a = math.radians(10 + i * 60)
+        fan.append([r(0.45 + 0.4 * math.cos(a)), r(-0.05 + 0.4 * math.sin(a) * 4 / 3), 0.0, 1.0])
+    return {
+        "framebuffer": {"width": 160, "height": 120, "clear_color": [0, 0, 0, 1]},
+        "draws": [
+            {"primitive": "triangle_strip",
+             "positions": [[r(-0.9 + 0.25 * (i // 2)), r(0.1 + 0.7 * (i % 2)), 0.0, 1.0]
+                           for i in range(7)],
+             "colors": VERTEX_COLOURS[:7], "state": FLAT_FIRST},
+            {"primitive": "triangle_fan", "positions": fan, "colors": VERTEX_COLOURS[2:9],
+             "state": FLAT_FIRST},
+            {"primitive": "line_loop",
+             "positions": [[-0.8513, -0.8471, 0, 1], [-0.1529, -0.7983, 0, 1],
+                           [-0.2017, -0.1537, 0, 1], [-0.7991, -0.2479, 0, 1]],
+             "colors": VERTEX_COLOURS[3:7], "state": FLAT_FIRST},
+        ],
+    }
+
+
+@scene("provoking_first_clipped", "clipping", "3, 4, 9",
+       "flat shading with provoking_vertex first on triangles and a strip crossing the near "
+       "plane, the provoking vertex of several beyond it: the colour of the vertex the clipper "
+       "cut away survives on every piece; perspective camera")
+def provoking_first_clipped():
+    return {
+        "framebuffer": {"width": 200, "height": 150, "clear_color": [0, 0, 0, 1]},
+        "camera": {"type": "perspective", "fovy": 60, "near": 0.5, "far": 100,
+                   "eye": [0, 1, 0], "target": [0, 0.6, -5]},
+        "draws": [
+            {"primitive": "triangles",
+             "positions": [[-2, 0, 1], [-0.5, 0, -8], [-2.5, 0, -8], [0.3, 0, 2], [2.5, 0, -6],
+                           [0.5, 0, -6], [0, 2.5, -3], [-1, 0.2, 3], [1, 0.2, 3]],
+             "colors": VERTEX_COLOURS, "state": FLAT_FIRST},
+            {"primitive": "triangle_strip",
+             "positions": [[-1, -0.3, 2], [1, -0.3, 2], [-1, -0.3, -4], [1, -0.3, -4],
+                           [-1, -0.3, -10], [1, -0.3, -10]],
+             "colors": VERTEX_COLOURS[3:9], "state": FLAT_FIRST},
+        ],
+    }
+
+
+@scene("interpolation_screen_quad", "shading", "5, 9",
+       "a receding floor quad twice, perspective-correct (left) and with interpolation screen "
+       "(right: affine in window space, GLSL noperspective, the scan-line Gouraud that "
+       "perspective correction fixes), the same vertex colours; perspective camera")
+def interpolation_screen_quad():
+    def quad(x0, x1):
+        return [[x0, 0, -1], [x1, 0, -1], [x0, 0, -40], [x1, 0, -40]]
+    colours = [[1, 0, 0, 1], [0, 1, 0, 1], [0, 0, 1, 1], [1, 1, 1, 1]]
+    return {
+        "framebuffer": {"width": 240, "height": 160, "clear_color": [0, 0, 0, 1]},
+        "camera": {"type": "perspective", "fovy": 60, "near": 0.5, "far": 100,
+                   "eye": [0, 1.2, 0], "target": [0, 0.4, -5]},
+        "draws": [
+            {"primitive": "triangle_strip", "positions": quad(-3.2, -0.2), "colors": colours},
+            {"primitive": "triangle_strip", "positions": quad(0.2, 3.2), "colors": colours,
+             "state": {"interpolation": "screen"}},
+        ],
+    }
+
+
+@scene("interpolation_screen_clipped", "clipping", "4, 9",
+       "interpolation screen through the clipper: a floor quad reaching behind the eye, crossing "
+       "the near plane, beside the same quad perspective-correct: a cut vertex takes the colour "
+       "affine in window space (llvmpipe's t_nopersp), extrapolated from the vertices behind "
+       "the eye")
+def interpolation_screen_clipped():
+    colours = [[1, 0, 0, 1], [0, 1, 0, 1], [0, 0, 1, 1], [1, 1, 1, 1]]
+    return {
+        "framebuffer": {"width": 200, "height": 150, "clear_color": [0, 0, 0, 1]},
+        "camera": {"type": "perspective", "fovy": 60, "near": 0.5, "far": 100,
+                   "eye": [0, 1, 0], "target": [0, 0.6, -5]},
+        "draws": [
+            {"primitive": "triangle_strip",
+             "positions": [[-3, 0, 3], [-0.1, 0, 3], [-3, 0, -20], [-0.1, 0, -20]],
+             "colors": colours, "state": {"interpolation": "screen"}},
+            {"primitive": "triangle_strip",
+             "positions": [[0.1, 0, 3], [3, 0, 3], [0.1, 0, -20], [3, 0, -20]],
+             "colors": colours},
+        ],
+    }
+
+
 @scene("camera_matrices", "shading", "1, 2, 7",
        "a camera given as matrices: a mirrored, oblique projection (windings flip, culling "
        "follows window space) over a lit WusonOBJ and raw triangles")

@@ -304,13 +304,98 @@ def antialiased(samples, supersample, seed, color_format="rgba8", depth_format="
     return {"framebuffer": fb, "draws": draws}
 
 
+def provoking_interpolation():
+    """Every primitive type flat-shaded with the first-vertex convention, and
+    screen interpolation beside perspective, clipped and not; clip space, 160x128."""
+    c = [[1, 0, 0, 1], [0, 1, 0, 1], [0, 0, 1, 1], [1, 1, 0, 1], [1, 0, 1, 1], [0, 1, 1, 1],
+         [1, 1, 1, 1], [0.5, 0.25, 0, 1], [0.25, 0.5, 1, 1], [0.75, 0.1, 0.4, 1]]
+    ff = {"shading": "flat", "provoking_vertex": "first"}
+    scr = {"interpolation": "screen"}
+
+    def pos(points):
+        return [[r(v) for v in p] for p in points]
+
+    def homogeneous(x, y, z, w):
+        return [x * w, y * w, z * w, w]
+
+    fan = [[0.55, 0.7, 0.0, 1]] + [[0.55 + 0.35 * math.cos(a), 0.7 + 0.28 * math.sin(a), 0.0, 1]
+                                   for a in (0.1, 1.0, 2.0, 3.0, 4.2, 5.5)]
+    draws = [
+        {"name": "triangles, first-vertex flat", "primitive": "triangles",
+         "positions": pos([[-0.95, 0.6, 0.1, 1], [-0.7, 0.6, 0.1, 1], [-0.85, 0.95, 0.1, 1],
+                           [-0.65, 0.6, 0.1, 1], [-0.4, 0.95, 0.1, 1], [-0.6, 0.95, 0.1, 1]]),
+         "colors": c[:6], "state": ff},
+        {"name": "strip, first-vertex flat", "primitive": "triangle_strip",
+         "positions": pos([[-0.35 + 0.12 * (i // 2), 0.55 + 0.4 * (i % 2), 0.2, 1]
+                           for i in range(7)]),
+         "colors": c[:7], "state": ff},
+        {"name": "fan, first-vertex flat (vertex i+1, not the centre), indexed",
+         "primitive": "triangle_fan", "positions": pos(fan), "colors": c[:7],
+         "indices": list(range(7)), "state": ff},
+        {"name": "lines, first-vertex flat", "primitive": "lines",
+         "positions": pos([[-0.95, 0.45, 0, 1], [-0.5, 0.35, 0, 1], [-0.95, 0.3, 0, 1],
+                           [-0.5, 0.2, 0, 1]]),
+         "colors": c[:4], "state": dict(ff, line_width=2)},
+        {"name": "line strip, first-vertex flat", "primitive": "line_strip",
+         "positions": pos([[-0.4, 0.45, 0, 1], [-0.2, 0.25, 0, 1], [0.0, 0.45, 0, 1],
+                           [0.2, 0.25, 0, 1]]),
+         "colors": c[2:6], "state": ff},
+        {"name": "line loop, first-vertex flat, Bresenham", "primitive": "line_loop",
+         "positions": pos([[0.3, 0.2, 0, 1], [0.6, 0.22, 0, 1], [0.62, 0.45, 0, 1],
+                           [0.32, 0.42, 0, 1]]),
+         "colors": c[4:8], "state": dict(ff, line_rasterization="bresenham")},
+        {"name": "polygon mode line, strip, first-vertex flat", "primitive": "triangle_strip",
+         "positions": pos([[-0.95 + 0.15 * (i // 2), -0.1 + 0.25 * (i % 2), 0.3, 1]
+                           for i in range(6)]),
+         "colors": c[:6], "state": dict(ff, polygon_mode="line")},
+        {"name": "polygon mode point, fan, first-vertex flat", "primitive": "triangle_fan",
+         "positions": pos([[-0.3, 0.05, 0.3, 1], [-0.1, -0.1, 0.3, 1], [-0.05, 0.1, 0.3, 1],
+                           [-0.2, 0.2, 0.3, 1]]),
+         "colors": c[3:7], "state": dict(ff, polygon_mode="point", point_size=3)},
+        {"name": "clipped: first vertex behind the eye (w < 0) and beyond near",
+         "primitive": "triangles",
+         "positions": pos([[0.2, 0.0, -0.5, -0.4], [0.9, -0.1, 0.5, 1], [0.5, 0.15, 0.2, 1],
+                           [0.3, -0.2, -2.5, 1], [0.8, -0.3, 0.1, 1], [0.6, 0.0, 0.1, 1]]),
+         "colors": c[:6], "state": ff},
+        {"name": "strip cut by the guard band, first-vertex flat", "primitive": "triangle_strip",
+         "positions": pos([[-900, -0.4, 0.2, 1], [-0.6, -0.5, 0.2, 1], [-900, -0.3, 0.2, 1],
+                           [-0.6, -0.25, 0.2, 1]]),
+         "colors": c[5:9], "state": ff},
+        {"name": "screen interpolation, strip with varying w", "primitive": "triangle_strip",
+         "positions": pos([homogeneous(-0.9, -0.95, 0.5, 1), homogeneous(-0.3, -0.95, 0.5, 4),
+                           homogeneous(-0.9, -0.55, 0.5, 0.5), homogeneous(-0.3, -0.55, 0.5, 3)]),
+         "colors": c[:4], "state": scr},
+        {"name": "perspective, the same strip", "primitive": "triangle_strip",
+         "positions": pos([homogeneous(-0.2, -0.95, 0.5, 1), homogeneous(0.4, -0.95, 0.5, 4),
+                           homogeneous(-0.2, -0.55, 0.5, 0.5), homogeneous(0.4, -0.55, 0.5, 3)]),
+         "colors": c[:4]},
+        {"name": "screen interpolation, clipped by w = 0 and near", "primitive": "triangles",
+         "positions": pos([[0.5, -0.9, 0.0, 1], [0.95, -0.5, 0.3, 2], [0.7, -0.6, -1.0, -0.2],
+                           [0.45, -0.5, -3, 1], [0.9, -0.8, 0.2, 1], [0.9, -0.55, 0.1, 0.5]]),
+         "colors": c[3:9], "state": scr},
+        {"name": "screen interpolation, guard band, polygon mode line", "primitive": "triangles",
+         "positions": pos([[0.1, -0.9, 0.1, 1], [5000, -0.6, 0.1, 2], [0.2, -0.4, 0.1, 1]]),
+         "colors": c[6:9], "state": dict(scr, polygon_mode="line")},
+        {"name": "screen interpolation, clipped lines", "primitive": "line_strip",
+         "positions": pos([[0.0, -0.2, 0.1, 1], [0.3, -0.9, -2, 1], [-0.3, -0.8, 0.5, -0.5],
+                           [0.1, -0.3, 0.2, 0.5]]),
+         "colors": c[:4], "state": dict(scr, line_width=2)},
+        {"name": "screen and flat, first vertex: flat wins", "primitive": "triangle_fan",
+         "positions": pos([[0.0, -0.1, 0.05, 1], [0.15, -0.15, 0.05, 2], [0.2, 0.1, 0.05, 1],
+                           [0.0, 0.15, 0.05, 0.5]]),
+         "colors": c[:4], "state": dict(ff, interpolation="screen")},
+    ]
+    return {"framebuffer": {"width": 160, "height": 128, "clear_color": [0, 0, 0, 1]},
+            "draws": draws}
+
+
 def main(argv=None):
     global OUT
     parser = argparse.ArgumentParser(
         description="Write the procedural test scenes (tiny_triangles.json, shared_edges.json, "
                     "clipping.json, zfight_offset.json, states.json, lines_random.json, points_wireframe.json, "
                     "aa_samples2.json, aa_samples8.json, aa_samples16.json, aa_super3_samples4.json, "
-                    "aa_super2.json).")
+                    "aa_super2.json, provoking_interpolation.json).")
     where = parser.add_mutually_exclusive_group()
     where.add_argument("--out", metavar="DIR", help="write the scenes into DIR (created if needed)")
     where.add_argument("--write-testbench", action="store_true",
@@ -335,7 +420,8 @@ def main(argv=None):
     write("aa_samples16.json", antialiased(16, 1, 1616, "rgba8", "unorm16"))
     write("aa_super3_samples4.json", antialiased(4, 3, 3434))
     write("aa_super2.json", antialiased(1, 2, 2020, "rgba16f", "unorm24"))
-    print(f"wrote 12 scenes to {OUT}")
+    write("provoking_interpolation.json", provoking_interpolation())
+    print(f"wrote 13 scenes to {OUT}")
     return 0
 
 

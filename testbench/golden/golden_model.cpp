@@ -175,6 +175,60 @@ ShadedVertex clip_intersection(const ShadedVertex& p, float dp, const ShadedVert
   return v;
 }
 
+// Screen interpolation at the clipper (spec section 4): a vertex made by a
+// cut takes the primitive's varyings (colour, and a Phong draw's normal and
+// eye position) extended affinely over the window plane, at its own
+// projection. A vertex equal to an original keeps that vertex's varyings;
+// where the formula is not finite the cut's perspective-correct ones stay.
+template <int N>
+glm::vec<N, float> extend_affine(const glm::vec<N, float>& a, const glm::vec<N, float>& b,
+                                 const glm::vec<N, float>* c, float b1, float b2) {
+  glm::vec<N, float> r;
+  for (int k = 0; k < N; ++k) {
+    r[k] = c ? a[k] + b1 * (b[k] - a[k]) + b2 * ((*c)[k] - a[k]) : a[k] + b1 * (b[k] - a[k]);
+  }
+  return r;
+}
+
+void screen_colors(std::vector<ShadedVertex>& poly, const ShadedVertex* orig, int n) {
+  float px[3] = {}, py[3] = {};
+  for (int i = 0; i < n; ++i) {
+    px[i] = orig[i].clip.x / orig[i].clip.w;
+    py[i] = orig[i].clip.y / orig[i].clip.w;
+  }
+  for (ShadedVertex& v : poly) {
+    const ShadedVertex* same = nullptr;
+    for (int i = 0; i < n && same == nullptr; ++i) {
+      if (v.clip == orig[i].clip) same = &orig[i];
+    }
+    if (same != nullptr) {
+      v.color = same->color;
+      v.normal = same->normal;
+      v.eye = same->eye;
+      continue;
+    }
+    const float qx = v.clip.x / v.clip.w, qy = v.clip.y / v.clip.w;
+    float b1 = 0.0f, b2 = 0.0f;
+    if (n == 2) {
+      const float dx = px[1] - px[0], dy = py[1] - py[0];
+      b1 = std::fabs(dx) >= std::fabs(dy) ? (qx - px[0]) / dx : (qy - py[0]) / dy;
+      if (!std::isfinite(b1)) continue;
+    } else {
+      const float d1x = px[1] - px[0], d1y = py[1] - py[0];
+      const float d2x = px[2] - px[0], d2y = py[2] - py[0];
+      const float ex = qx - px[0], ey = qy - py[0];
+      const float den = d1x * d2y - d1y * d2x;
+      b1 = (ex * d2y - ey * d2x) / den;
+      b2 = (d1x * ey - d1y * ex) / den;
+      if (!(std::isfinite(b1) && std::isfinite(b2))) continue;
+    }
+    const bool tri = n == 3;
+    v.color = extend_affine(orig[0].color, orig[1].color, tri ? &orig[2].color : nullptr, b1, b2);
+    v.normal = extend_affine(orig[0].normal, orig[1].normal, tri ? &orig[2].normal : nullptr, b1, b2);
+    v.eye = extend_affine(orig[0].eye, orig[1].eye, tri ? &orig[2].eye : nullptr, b1, b2);
+  }
+}
+
 // Per-triangle constants for the pixel loop; a line is shaded as the
 // triangle (a, b, a) with area2 = its squared length (spec section 9).
 struct SetupTriangle {
@@ -287,8 +341,11 @@ class Renderer {
     };
 
     switch (primitive_class(draw.primitive)) {
-      case PrimitiveClass::triangle:
-        for (const auto& slots : assemble_triangles(draw.primitive, draw.vertex_count())) {
+      case PrimitiveClass::triangle: {
+        const auto triangles = assemble_triangles(draw.primitive, draw.vertex_count());
+        for (uint32_t i = 0; i < triangles.size(); ++i) {
+          const auto& slots = triangles[i];
+          const int provoking = provoking_position(draw.primitive, i, state.provoking_vertex);
           const int64_t id = m_next_primitive_id++;
           ++m_stats.triangles_in;
           std::array<ShadedVertex, 3> tri;
@@ -301,12 +358,13 @@ class Renderer {
           if (!valid) {
             ++m_stats.triangles_invalid;
           } else if (state.polygon_mode == PolygonMode::fill) {
-            render_triangle(state, tri, id);
+            render_triangle(state, tri, tri[provoking].color, id);
           } else {
-            render_unfilled_triangle(state, tri, id);
+            render_unfilled_triangle(state, tri, tri[provoking].color, id);
           }
         }
         break;
+      }
       case PrimitiveClass::line:
         for (const LineSlots& slots : assemble_lines(draw.primitive, draw.vertex_count())) {
           const int64_t id = m_next_primitive_id++;
@@ -338,17 +396,17 @@ class Renderer {
     }
   }
 
-  void render_triangle(const RenderState& st, const std::array<ShadedVertex, 3>& tri, int64_t id) {
-    const std::vector<ShadedVertex> poly = clip_triangle(tri, m_guard_band);
+  // `flat_color`: the provoking vertex's colour, before clipping.
+  void render_triangle(const RenderState& st, const std::array<ShadedVertex, 3>& tri,
+                       const glm::vec4& flat_color, int64_t id) {
+    const std::vector<ShadedVertex> poly = clip_triangle(tri, m_guard_band, st.interpolation);
     if (poly.size() < 3) {
       ++m_stats.triangles_clipped_away;
       return;
     }
     if (was_clipped(poly, tri)) ++m_stats.triangles_clipped;
-    // Flat shading takes the colour of the original triangle's last vertex.
-    const glm::vec4 flat_color = tri[2].color;
     std::vector<WindowVertex> win(poly.size());
-    for (size_t i = 0; i < poly.size(); ++i) win[i] = to_window(poly[i], m_viewport);
+    for (size_t i = 0; i < poly.size(); ++i) win[i] = to_window(poly[i], m_viewport, st.interpolation);
     for (size_t i = 1; i + 1 < poly.size(); ++i) {
       ++m_stats.triangles_after_clip;
       setup_and_rasterize(st, {win[0], win[i], win[i + 1]}, flat_color, id);
@@ -371,8 +429,8 @@ class Renderer {
   // facing decided once on the whole polygon, then its flagged edges or
   // vertices drawn with the triangle's id and provoking colour.
   void render_unfilled_triangle(const RenderState& st, const std::array<ShadedVertex, 3>& tri,
-                                int64_t id) {
-    const FlaggedPolygon poly = clip_triangle_with_edge_flags(tri, m_guard_band);
+                                const glm::vec4& provoking, int64_t id) {
+    const FlaggedPolygon poly = clip_triangle_with_edge_flags(tri, m_guard_band, st.interpolation);
     const size_t n = poly.v.size();
     if (n < 3) {
       ++m_stats.triangles_clipped_away;
@@ -380,7 +438,7 @@ class Renderer {
     }
     if (was_clipped(poly.v, tri)) ++m_stats.triangles_clipped;
     std::vector<WindowVertex> win(n);
-    for (size_t i = 0; i < n; ++i) win[i] = to_window(poly.v[i], m_viewport);
+    for (size_t i = 0; i < n; ++i) win[i] = to_window(poly.v[i], m_viewport, st.interpolation);
     const EdgeValue area2 = polygon_area2(win);
     if (area2 == 0) {
       ++m_stats.triangles_degenerate;
@@ -391,7 +449,6 @@ class Renderer {
       return;
     }
     ++m_stats.triangles_unfilled;
-    const glm::vec4 provoking = tri[2].color;
     for (size_t i = 0; i < n; ++i) {
       if (!poly.edge_flag[i]) continue;
       if (st.polygon_mode == PolygonMode::line) {
@@ -407,14 +464,17 @@ class Renderer {
 
   void render_line(const RenderState& st, const std::array<ShadedVertex, 2>& line, bool draw_first,
                    bool draw_last, int64_t id) {
-    const ClippedLine c = clip_line(line, m_guard_band);
+    const ClippedLine c = clip_line(line, m_guard_band, st.interpolation);
     if (c.result == LineClip::rejected) {
       ++m_stats.lines_clipped_away;
       return;
     }
     if (c.result == LineClip::clipped) ++m_stats.lines_clipped;
-    // Flat shading: the provoking (second) vertex's colour before clipping.
-    rasterize_line(st, to_window(c.v[0], m_viewport), to_window(c.v[1], m_viewport), line[1].color,
+    // Flat shading: the provoking vertex's colour before clipping (the
+    // second vertex, the first under the first-vertex convention).
+    const glm::vec4& flat_color = line[st.provoking_vertex == ProvokingVertex::first ? 0 : 1].color;
+    rasterize_line(st, to_window(c.v[0], m_viewport, st.interpolation),
+                   to_window(c.v[1], m_viewport, st.interpolation), flat_color,
                    draw_first, draw_last, id);
   }
 
@@ -763,6 +823,18 @@ std::vector<std::array<uint32_t, 3>> assemble_triangles(PrimitiveType type, size
   return out;
 }
 
+int provoking_position(PrimitiveType type, uint32_t i, ProvokingVertex convention) {
+  if (convention == ProvokingVertex::last) return 2;
+  switch (type) {
+    case PrimitiveType::triangle_strip:
+      return i % 2 == 0 ? 0 : 1;  // slot i: an odd triangle is (i+1, i, i+2)
+    case PrimitiveType::triangle_fan:
+      return 1;  // slot i+1 of (0, i+1, i+2)
+    default:
+      return 0;
+  }
+}
+
 std::vector<LineSlots> assemble_lines(PrimitiveType type, size_t n) {
   std::vector<LineSlots> out;
   if (n < 2) return out;
@@ -832,9 +904,10 @@ float clip_distance(int plane, const glm::vec4& c, const GuardBand& gb) {
 }
 
 FlaggedPolygon clip_triangle_with_edge_flags(const std::array<ShadedVertex, 3>& tri,
-                                             const GuardBand& gb) {
+                                             const GuardBand& gb, Interpolation interpolation) {
   FlaggedPolygon poly{{tri.begin(), tri.end()}, {true, true, true}};
   FlaggedPolygon next;
+  bool cut = false;
   for (int plane = 0; plane < kClipPlaneCount && !poly.v.empty(); ++plane) {
     const size_t n = poly.v.size();
     std::vector<float> d(n);
@@ -844,6 +917,7 @@ FlaggedPolygon clip_triangle_with_edge_flags(const std::array<ShadedVertex, 3>& 
       all_inside = all_inside && d[i] >= 0.0f;
     }
     if (all_inside) continue;
+    cut = true;
     next.v.clear();
     next.edge_flag.clear();
     for (size_t i = 0; i < n; ++i) {
@@ -865,15 +939,17 @@ FlaggedPolygon clip_triangle_with_edge_flags(const std::array<ShadedVertex, 3>& 
     poly.v.clear();
     poly.edge_flag.clear();
   }
+  if (cut && interpolation == Interpolation::screen) screen_colors(poly.v, tri.data(), 3);
   return poly;
 }
 
-std::vector<ShadedVertex> clip_triangle(const std::array<ShadedVertex, 3>& tri,
-                                        const GuardBand& gb) {
-  return clip_triangle_with_edge_flags(tri, gb).v;
+std::vector<ShadedVertex> clip_triangle(const std::array<ShadedVertex, 3>& tri, const GuardBand& gb,
+                                        Interpolation interpolation) {
+  return clip_triangle_with_edge_flags(tri, gb, interpolation).v;
 }
 
-ClippedLine clip_line(const std::array<ShadedVertex, 2>& line, const GuardBand& gb) {
+ClippedLine clip_line(const std::array<ShadedVertex, 2>& line, const GuardBand& gb,
+                      Interpolation interpolation) {
   ClippedLine out;
   out.v = line;
   // Outcodes: trivial accept when every distance is inside, trivial reject
@@ -901,6 +977,11 @@ ClippedLine clip_line(const std::array<ShadedVertex, 2>& line, const GuardBand& 
     out.v[in_a ? 1 : 0] = cut;
   }
   out.result = LineClip::clipped;
+  if (interpolation == Interpolation::screen) {
+    std::vector<ShadedVertex> ends(out.v.begin(), out.v.end());
+    screen_colors(ends, line.data(), 2);
+    out.v = {ends[0], ends[1]};
+  }
   return out;
 }
 
@@ -921,13 +1002,17 @@ glm::vec2 window_xy(const ShadedVertex& v, int width, int height) {
   return window_xy(v, PixelRect{0, 0, width, height});
 }
 
-WindowVertex to_window(const ShadedVertex& v, const ViewportTransform& vp) {
+WindowVertex to_window(const ShadedVertex& v, const ViewportTransform& vp,
+                       Interpolation interpolation) {
   WindowVertex w;
-  w.inv_w = 1.0f / v.clip.w;
+  const float q = 1.0f / v.clip.w;
   const glm::vec2 xy = window_xy(v, vp.rect);
   w.x = snap_to_subpixel(xy.x);
   w.y = snap_to_subpixel(xy.y);
-  w.z = (v.clip.z * w.inv_w + 1.0f) * 0.5f * (vp.far - vp.near) + vp.near;
+  w.z = (v.clip.z * q + 1.0f) * 0.5f * (vp.far - vp.near) + vp.near;
+  // Screen interpolation weighs every vertex alike: section 9's formula with
+  // q = 1 is affine in window space.
+  w.inv_w = interpolation == Interpolation::screen ? 1.0f : q;
   for (int k = 0; k < 4; ++k) w.color_over_w[k] = v.color[k] * w.inv_w;
   for (int k = 0; k < 3; ++k) {
     w.normal_over_w[k] = v.normal[k] * w.inv_w;
@@ -936,8 +1021,8 @@ WindowVertex to_window(const ShadedVertex& v, const ViewportTransform& vp) {
   return w;
 }
 
-WindowVertex to_window(const ShadedVertex& v, int width, int height) {
-  return to_window(v, ViewportTransform{PixelRect{0, 0, width, height}, 0.0f, 1.0f});
+WindowVertex to_window(const ShadedVertex& v, int width, int height, Interpolation interpolation) {
+  return to_window(v, ViewportTransform{PixelRect{0, 0, width, height}, 0.0f, 1.0f}, interpolation);
 }
 
 EdgeValue signed_area2(const WindowVertex& a, const WindowVertex& b, const WindowVertex& c) {

@@ -44,12 +44,18 @@ glm::vec4 light_pixel(const Scene& scene, const Material& material, const glm::v
                       const glm::vec3& eye);
 
 // Primitive assembly: the draw's triangles as triples of vertex slots (positions
-// in the index list, or vertex numbers when not indexed) in API order. The
-// third slot is the provoking vertex (GL's last-vertex convention).
+// in the index list, or vertex numbers when not indexed) in API order.
 std::vector<std::array<uint32_t, 3>> assemble_triangles(PrimitiveType type, size_t slot_count);
+// Which of triangle i's three assembled slots is its provoking vertex (spec
+// section 3, GL's table of provoking vertices): the third under the
+// last-vertex convention; under the first-vertex one the first, except an odd
+// strip triangle's (its slots start i+1, i) and a fan's (slot i+1, not the
+// centre), where it is the second.
+int provoking_position(PrimitiveType type, uint32_t i, ProvokingVertex convention);
 
-// A line as two vertex slots, the second the provoking vertex (the closing
-// line of a loop: slot 0), with the Bresenham end flags: whether its first and
+// A line as two vertex slots (the closing line of a loop: n-1, 0), the
+// second the provoking vertex under the last-vertex convention, the first
+// under the first-vertex one (spec section 3), with the Bresenham end flags: whether its first and
 // its last pixel are drawn (cleared where a strip or loop shares a vertex).
 struct LineSlots {
   std::array<uint32_t, 2> v{};
@@ -80,9 +86,10 @@ float clip_distance(int plane, const glm::vec4& clip, const GuardBand& gb);
 
 // Sutherland-Hodgman clip of a triangle against every plane; returns the
 // clipped convex polygon (empty when nothing is left). Vertices are unchanged
-// when all of them are inside every plane.
-std::vector<ShadedVertex> clip_triangle(const std::array<ShadedVertex, 3>& tri,
-                                        const GuardBand& gb);
+// when all of them are inside every plane. A cut's colour is perspective-
+// correct, or linear in window space with screen interpolation (section 4).
+std::vector<ShadedVertex> clip_triangle(const std::array<ShadedVertex, 3>& tri, const GuardBand& gb,
+                                        Interpolation interpolation = Interpolation::perspective);
 
 // The same clip for polygon mode (spec section 4d): every polygon vertex also
 // carries an edge flag, whether the polygon edge starting at it lies on an
@@ -91,8 +98,9 @@ struct FlaggedPolygon {
   std::vector<ShadedVertex> v;
   std::vector<bool> edge_flag;  // one per vertex
 };
-FlaggedPolygon clip_triangle_with_edge_flags(const std::array<ShadedVertex, 3>& tri,
-                                             const GuardBand& gb);
+FlaggedPolygon clip_triangle_with_edge_flags(
+    const std::array<ShadedVertex, 3>& tri, const GuardBand& gb,
+    Interpolation interpolation = Interpolation::perspective);
 
 // Line clipping (spec section 4b).
 enum class LineClip : uint8_t {
@@ -104,7 +112,8 @@ struct ClippedLine {
   LineClip result = LineClip::rejected;
   std::array<ShadedVertex, 2> v;  // valid unless rejected
 };
-ClippedLine clip_line(const std::array<ShadedVertex, 2>& line, const GuardBand& gb);
+ClippedLine clip_line(const std::array<ShadedVertex, 2>& line, const GuardBand& gb,
+                      Interpolation interpolation = Interpolation::perspective);
 
 // Whether a point's vertex lies in the view volume (spec section 4c).
 bool point_in_view_volume(const glm::vec4& clip);
@@ -113,10 +122,10 @@ bool point_in_view_volume(const glm::vec4& clip);
 struct WindowVertex {
   Subpixel x = 0, y = 0;          // 1/256 pixel
   float z = 0.0f;                 // window depth, [0, 1] inside the frustum
-  float inv_w = 0.0f;             // 1 / w_clip
-  glm::vec4 color_over_w{0.0f};   // colour * (1 / w), for perspective correction
-  glm::vec3 normal_over_w{0.0f};  // Phong: normal * (1 / w)
-  glm::vec3 eye_over_w{0.0f};     // Phong: eye position * (1 / w)
+  float inv_w = 0.0f;             // varying weight: 1 / w_clip (screen interpolation: 1)
+  glm::vec4 color_over_w{0.0f};   // colour * inv_w, for perspective correction
+  glm::vec3 normal_over_w{0.0f};  // Phong: normal * inv_w
+  glm::vec3 eye_over_w{0.0f};     // Phong: eye position * inv_w
 };
 // The viewport transform's parameters (spec section 5): the viewport in
 // render-target pixels and the depth range.
@@ -124,9 +133,11 @@ struct ViewportTransform {
   PixelRect rect;
   float near = 0.0f, far = 1.0f;
 };
-WindowVertex to_window(const ShadedVertex& v, const ViewportTransform& vp);
+WindowVertex to_window(const ShadedVertex& v, const ViewportTransform& vp,
+                       Interpolation interpolation = Interpolation::perspective);
 // The whole width x height target, depth range [0, 1].
-WindowVertex to_window(const ShadedVertex& v, int width, int height);
+WindowVertex to_window(const ShadedVertex& v, int width, int height,
+                       Interpolation interpolation = Interpolation::perspective);
 // The window x and y of a vertex before snapping (spec section 5).
 glm::vec2 window_xy(const ShadedVertex& v, const PixelRect& viewport);
 glm::vec2 window_xy(const ShadedVertex& v, int width, int height);

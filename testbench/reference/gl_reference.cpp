@@ -105,9 +105,11 @@ struct Gl {
 };
 
 // Fragment colour modes (uniform u_mode).
+// kModeWindowGouraud also serves screen interpolation in clip space: the
+// colour in the noperspective varying and 1/w = 1.
 constexpr int kModeWindowGouraud = 0;  // window-space vertex: colour/w over 1/w, per fragment
 constexpr int kModeClipGouraud = 1;    // clip-space vertex: OpenGL's perspective correction
-constexpr int kModeFlat = 2;           // provoking vertex's colour (GL's last-vertex convention)
+constexpr int kModeFlat = 2;           // provoking vertex's colour (glProvokingVertex's choice)
 // Phong (spec section 9b): the colour lit per fragment from the normal and
 // eye position, interpolated as modes 0 and 1 interpolate the colour.
 constexpr int kModeWindowPhong = 3;
@@ -575,8 +577,10 @@ struct GlReference::Impl {
   }
 
   // A vertex the spec leaves unclipped, in window space (see the header).
-  GlVertex window_vertex(const golden::ShadedVertex& v) const {
-    const golden::WindowVertex w = golden::to_window(v, vp);
+  // With screen interpolation the spec's varying weight is 1 (section 9), so
+  // the noperspective varyings carry the varyings themselves and 1.
+  GlVertex window_vertex(const golden::ShadedVertex& v, Interpolation interpolation) const {
+    const golden::WindowVertex w = golden::to_window(v, vp, interpolation);
     const double half = viewport_side / 2;
     GlVertex out{};
     // Exact: X/256 - tx is a multiple of 2^-8 below 2^16 in magnitude, and
@@ -600,7 +604,12 @@ struct GlReference::Impl {
   // A vertex of a triangle the spec clips, in clip space rescaled so that
   // OpenGL's divide and V x V viewport give the spec's window coordinates
   // (up to rounding), x_w = (x/w + 1) * Vw/2 + Vx for the draw's viewport,
-  // and its [0, w] z, through glDepthRange(near, far), the spec's z_w.
+  // and its [0, w] z, through glDepthRange(near, far), the spec's z_w. The
+  // varyings also go in the noperspective varyings with 1/w = 1, which
+  // screen interpolation reads (set_mode): OpenGL's clipper then gives a cut
+  // the varyings linear in window space (llvmpipe: t measured on the
+  // projected x or y), and its rasterizer interpolates them without
+  // perspective.
   GlVertex clip_vertex(const golden::ShadedVertex& v) const {
     const double half = viewport_side / 2;
     const double x = v.clip.x, y = v.clip.y, z = v.clip.z, w = v.clip.w;
@@ -610,11 +619,16 @@ struct GlReference::Impl {
     out.position[1] = static_cast<float>(y * hh / half + w * (hh + vp.rect.y - ty) / half);
     out.position[2] = static_cast<float>((z + w) * 0.5);
     out.position[3] = v.clip.w;
-    for (int k = 0; k < 4; ++k) out.color[k] = v.color[k];
+    for (int k = 0; k < 4; ++k) {
+      out.color[k] = v.color[k];
+      out.color_over_w[k] = v.color[k];
+    }
     out.inv_w = 1.0f;
     for (int k = 0; k < 3; ++k) {
       out.normal[k] = v.normal[k];
       out.eye[k] = v.eye[k];
+      out.normal_over_w[k] = v.normal[k];
+      out.eye_over_w[k] = v.eye[k];
     }
     return out;
   }
@@ -694,6 +708,8 @@ struct GlReference::Impl {
       gl.glDisable(GL_BLEND);
     }
     gl.glColorMask(st.color_mask[0], st.color_mask[1], st.color_mask[2], st.color_mask[3]);
+    gl.glProvokingVertex(st.provoking_vertex == ProvokingVertex::first ? GL_FIRST_VERTEX_CONVENTION
+                                                                       : GL_LAST_VERTEX_CONVENTION);
     // Only triangles look at the polygon mode. The default EGL core context
     // is not forward-compatible, so llvmpipe accepts wide lines (up to 255).
     gl.glPolygonMode(GL_FRONT_AND_BACK, st.polygon_mode == PolygonMode::line    ? GL_LINE
@@ -706,11 +722,13 @@ struct GlReference::Impl {
     check("render state");
   }
 
-  void set_mode(bool window_space, Shading shading, const Material* phong) {
+  void set_mode(bool window_space, Shading shading, Interpolation interpolation,
+                const Material* phong) {
+    const bool noperspective = window_space || interpolation == Interpolation::screen;
     int mode = shading == Shading::flat ? kModeFlat
-                                        : (window_space ? kModeWindowGouraud : kModeClipGouraud);
+                                        : (noperspective ? kModeWindowGouraud : kModeClipGouraud);
     if (mode != kModeFlat && phong != nullptr) {
-      mode = window_space ? kModeWindowPhong : kModeClipPhong;
+      mode = noperspective ? kModeWindowPhong : kModeClipPhong;
       gl.glUniform4fv(uniform("u_emission"), 1, &phong->emission[0]);
       gl.glUniform4fv(uniform("u_ambient"), 1, &phong->ambient[0]);
       gl.glUniform4fv(uniform("u_diffuse"), 1, &phong->diffuse[0]);
@@ -792,7 +810,8 @@ struct GlReference::Impl {
       gl.glScissor(r.x0, r.y0, std::max(0, r.x1 - r.x0 + 1), std::max(0, r.y1 - r.y0 + 1));
     }
     apply_state(*b.state);
-    set_mode(b.window_space, b.flat ? Shading::flat : b.state->shading, b.phong);
+    set_mode(b.window_space, b.flat ? Shading::flat : b.state->shading, b.state->interpolation,
+             b.phong);
     gl.glBindBuffer(GL_ARRAY_BUFFER, b.vertex_buffer);
     set_attribute_pointers();
     if (b.indexed) {
@@ -860,7 +879,8 @@ struct GlReference::Impl {
   // line of the draw is unclipped, the draw goes over natively
   // (GL_LINE_STRIP, GL_LINE_LOOP, its index list) so that OpenGL assembles
   // the lines itself; otherwise line by line as GL_LINES, each line's
-  // provoking vertex second (a loop's closing line ends at vertex 0).
+  // vertices in the spec's order (a loop's closing line ends at vertex 0),
+  // so glProvokingVertex picks the spec's provoking vertex either way.
   void prepare_lines(const Draw& draw, const std::vector<golden::ShadedVertex>& shaded,
                      const golden::GuardBand& gb) {
     enum class Kind { invalid, window, clip };
@@ -898,7 +918,7 @@ struct GlReference::Impl {
       ++stats.native_draws;
       std::vector<GlVertex> vertices(shaded.size(), GlVertex{});
       for (const auto& pair : ids) {
-        for (uint32_t vi : pair) vertices[vi] = window_vertex(shaded[vi]);
+        for (uint32_t vi : pair) vertices[vi] = window_vertex(shaded[vi], draw.state.interpolation);
       }
       for (const auto& pair : ids) {
         if (beyond_viewport(vertices[pair[0]]) || beyond_viewport(vertices[pair[1]])) {
@@ -923,7 +943,8 @@ struct GlReference::Impl {
       for (; l < lines.size() && kinds[l] == kind; ++l) {
         for (int k = 0; k < 2; ++k) {
           const golden::ShadedVertex& v = shaded[ids[l][k]];
-          vertices.push_back(kind == Kind::window ? window_vertex(v) : clip_vertex(v));
+          vertices.push_back(kind == Kind::window ? window_vertex(v, draw.state.interpolation)
+                                                  : clip_vertex(v));
         }
       }
       add_batch(draw.state, kind == Kind::window, GL_LINES, vertices,
@@ -1004,7 +1025,7 @@ struct GlReference::Impl {
       }
       std::vector<GlVertex> vertices(shaded.size(), GlVertex{});
       for (size_t i = 0; i < shaded.size(); ++i) {
-        if (used[i]) vertices[i] = window_vertex(shaded[i]);
+        if (used[i]) vertices[i] = window_vertex(shaded[i], draw.state.interpolation);
       }
       for (const auto& ids : vertex_ids) {
         if (beyond_viewport(vertices[ids[0]]) || beyond_viewport(vertices[ids[1]]) ||
@@ -1020,7 +1041,10 @@ struct GlReference::Impl {
     }
 
     // Expanded: runs of consecutive triangles of one kind as GL_TRIANGLES,
-    // each triangle's vertices in assembled order (the third is provoking).
+    // each triangle's vertices in assembled order, rotated (winding kept) so
+    // that the spec's provoking vertex (golden::provoking_position) is where
+    // GL_TRIANGLES takes it: third, or first under the first-vertex
+    // convention.
     ++stats.expanded_draws;
     size_t t = 0;
     while (t < triangles.size()) {
@@ -1032,9 +1056,14 @@ struct GlReference::Impl {
       std::vector<GlVertex> vertices;
       for (; t < triangles.size() && kinds[t] == kind; ++t) {
         bool beyond = false;
+        const bool first = draw.state.provoking_vertex == ProvokingVertex::first;
+        const int provoking = golden::provoking_position(draw.primitive, static_cast<uint32_t>(t),
+                                                         draw.state.provoking_vertex);
+        const int start = (provoking + (first ? 0 : 1)) % 3;
         for (int k = 0; k < 3; ++k) {
-          const golden::ShadedVertex& v = shaded[vertex_ids[t][k]];
-          vertices.push_back(kind == Kind::window ? window_vertex(v) : clip_vertex(v));
+          const golden::ShadedVertex& v = shaded[vertex_ids[t][(start + k) % 3]];
+          vertices.push_back(kind == Kind::window ? window_vertex(v, draw.state.interpolation)
+                                                  : clip_vertex(v));
           beyond = beyond || (kind == Kind::window && beyond_viewport(vertices.back()));
         }
         if (beyond) ++stats.triangles_beyond_viewport;
@@ -1123,7 +1152,6 @@ struct GlReference::Impl {
     gl.glDisable(GL_PROGRAM_POINT_SIZE);
     gl.glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
     gl.glDepthRange(0.0, 1.0);
-    gl.glProvokingVertex(GL_LAST_VERTEX_CONVENTION);
     gl.glDisable(GL_DITHER);
     gl.glDisable(GL_SCISSOR_TEST);
     if (samples > 1) {

@@ -28,7 +28,12 @@
 // clamped to [0, 1] like the spec's). With w = 1 OpenGL's own perspective
 // correction does nothing, so a Gouraud colour is passed as the spec's
 // colour / w and 1 / w in `noperspective` varyings and divided per fragment,
-// which is perspective-correct interpolation.
+// which is perspective-correct interpolation. Screen interpolation
+// (`state.interpolation`, section 9) sends the colour itself and 1 in those
+// varyings, in window space and in clip space alike, so OpenGL's clipper and
+// rasterizer treat it as a `noperspective` varying. glProvokingVertex follows
+// `state.provoking_vertex`; a draw handed over triangle by triangle has each
+// triangle's vertices rotated so that GL_TRIANGLES provokes the spec's vertex.
 //
 // Lines take the same two routes: a line the spec does not clip (section 4b)
 // goes over in window space with its snapped end points, a clipped one in

@@ -678,7 +678,9 @@ Out out_state(const RenderState& s, int width, int height) {
           {"polygon_mode", std::string(to_string(s.polygon_mode))},
           {"viewport", out_rect(viewport_of(s, width, height))},
           {"depth_range", Out::array({tidy(s.depth_near), tidy(s.depth_far)})},
-          {"scissor", s.scissor ? out_rect(*s.scissor) : Out("off")}};
+          {"scissor", s.scissor ? out_rect(*s.scissor) : Out("off")},
+          {"provoking_vertex", std::string(to_string(s.provoking_vertex))},
+          {"interpolation", std::string(to_string(s.interpolation))}};
 }
 
 void SceneReader::read_lights(const At& root, Scene& scene) {
@@ -822,7 +824,8 @@ RenderState SceneReader::read_state(const At& a) const {
   expect_object(a);
   check_keys(a, {"cull", "front_face", "depth_test", "depth_write", "polygon_offset", "blend",
                  "color_mask", "shading", "line_width", "point_size", "line_rasterization",
-                 "polygon_mode", "viewport", "depth_range", "scissor"});
+                 "polygon_mode", "viewport", "depth_range", "scissor",
+                 "provoking_vertex", "interpolation"});
   RenderState s = frame_state();
   if (has(a, "viewport")) s.viewport = read_rect(member(a, "viewport"), true);
   if (has(a, "depth_range")) {
@@ -887,6 +890,12 @@ RenderState SceneReader::read_state(const At& a) const {
     s.line_rasterization = enumeration<LineRasterization>(member(a, "line_rasterization"));
   }
   if (has(a, "polygon_mode")) s.polygon_mode = enumeration<PolygonMode>(member(a, "polygon_mode"));
+  if (has(a, "provoking_vertex")) {
+    s.provoking_vertex = enumeration<ProvokingVertex>(member(a, "provoking_vertex"));
+  }
+  if (has(a, "interpolation")) {
+    s.interpolation = enumeration<Interpolation>(member(a, "interpolation"));
+  }
   return s;
 }
 

@@ -193,6 +193,10 @@ std::vector<BadCase> cases() {
          "the origin"});
   scene("depth_range_negative", R"({"framebuffer": {"depth_range": [-0.1, 1]}})",
         {"framebuffer.depth_range[0]: expected 0..1, got -0.1"});
+  state("provoking_vertex_unknown", R"("provoking_vertex": "middle")",
+        "draws[0].state.provoking_vertex: expected one of last, first, got \"middle\"");
+  state("interpolation_unknown", R"("interpolation": "linear")",
+        "draws[0].state.interpolation: expected one of perspective, screen, got \"linear\"");
   scene("zero_direction", R"({"lights": [{"type": "directional", "direction": [0, 0, 0]}]})",
         {"lights[0].direction"});
   scene("colours_per_position",

@@ -666,6 +666,14 @@ TEST_F(SceneLoaderTest, EveryStateValueParses) {
       {R"("polygon_mode": "fill")", [](auto& s) { return s.polygon_mode == PolygonMode::fill; }},
       {R"("polygon_mode": "line")", [](auto& s) { return s.polygon_mode == PolygonMode::line; }},
       {R"("polygon_mode": "point")", [](auto& s) { return s.polygon_mode == PolygonMode::point; }},
+      {R"("provoking_vertex": "first")",
+       [](auto& s) { return s.provoking_vertex == ProvokingVertex::first; }},
+      {R"("provoking_vertex": "last")",
+       [](auto& s) { return s.provoking_vertex == ProvokingVertex::last; }},
+      {R"("interpolation": "screen")",
+       [](auto& s) { return s.interpolation == Interpolation::screen; }},
+      {R"("interpolation": "perspective")",
+       [](auto& s) { return s.interpolation == Interpolation::perspective; }},
   };
   const std::vector<std::pair<std::string, BlendFactor>> factors = {
       {"zero", BlendFactor::zero},
@@ -733,6 +741,8 @@ TEST_F(SceneLoaderTest, DefaultsAreFilledIn) {
   EXPECT_EQ(d.state.point_size, 1.0f);
   EXPECT_EQ(d.state.line_rasterization, LineRasterization::diamond_exit);
   EXPECT_EQ(d.state.polygon_mode, PolygonMode::fill);
+  EXPECT_EQ(d.state.provoking_vertex, ProvokingVertex::last);
+  EXPECT_EQ(d.state.interpolation, Interpolation::perspective);
   EXPECT_EQ(d.mvp, glm::mat4(1.0f));
 
   // The resolved settings name everything as a scene file would.
@@ -754,6 +764,8 @@ TEST_F(SceneLoaderTest, DefaultsAreFilledIn) {
   EXPECT_EQ(rd["state"]["point_size"], 1);
   EXPECT_EQ(rd["state"]["line_rasterization"], "diamond_exit");
   EXPECT_EQ(rd["state"]["polygon_mode"], "fill");
+  EXPECT_EQ(rd["state"]["provoking_vertex"], "last");
+  EXPECT_EQ(rd["state"]["interpolation"], "perspective");
   EXPECT_EQ(rd["material"]["diffuse"], nlohmann::json::parse("[0.8, 0.8, 0.8, 1.0]"));
 }
 
@@ -1159,7 +1171,12 @@ TEST_F(SceneLoaderTest, TypeAndRangeErrors) {
       {R"({"draws": [{"positions": [], "state": {"line_stipple": 1}}]})",
        "draws[0].state.line_stipple: unknown key (allowed: cull, front_face, depth_test, "
        "depth_write, polygon_offset, blend, color_mask, shading, line_width, point_size, "
-       "line_rasterization, polygon_mode, viewport, depth_range, scissor)"},
+       "line_rasterization, polygon_mode, viewport, depth_range, scissor, "
+       "provoking_vertex, interpolation)"},
+      {R"({"draws": [{"positions": [], "state": {"provoking_vertex": "centre"}}]})",
+       R"(draws[0].state.provoking_vertex: expected one of last, first, got "centre")"},
+      {R"({"draws": [{"positions": [], "state": {"interpolation": "noperspective"}}]})",
+       R"(draws[0].state.interpolation: expected one of perspective, screen, got "noperspective")"},
   };
   for (const auto& [json, want] : cases) EXPECT_EQ(error_of(json), want) << json;
 }

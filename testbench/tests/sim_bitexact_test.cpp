@@ -148,7 +148,7 @@ INSTANTIATE_TEST_SUITE_P(
                                          "clears_samples4", "clears_super2", "viewport_scissor",
                                          "viewport_scissor_aa", "phong", "aa_phong_samples4",
                                          "painter_default", "painter_cycle",
-                                         "painter_interpenetrate"),
+                                         "painter_interpenetrate", "provoking_interpolation"),
                        ::testing::Range(0, 18)),
     case_name);
 
