@@ -25,7 +25,8 @@ Interpolator::Interpolator(sc_core::sc_module_name name, const GpuConfig& config
       m_stamp_pixels(static_cast<int>(config.stamp[0] * config.stamp[1])),
       m_lighting_cycles_per_pixel_total(uint64_t{config.lighting_cycles_per_pixel} +
                                         uint64_t{config.lighting_cycles_per_light} *
-                                            frame.lights.size()) {
+                                            frame.lights.size()),
+      m_lighting(frame) {
   SC_HAS_PROCESS(Interpolator);
   SC_THREAD(run);
 }
@@ -60,77 +61,6 @@ void Interpolator::run() {
     work(cycles);
     emit(out, std::move(result));
   }
-}
-
-void Interpolator::load_lighting(uint32_t draw_id) {
-  m_lighting_draw = draw_id;
-  const Material& m = m_frame.draws[draw_id].material;
-  for (int i = 0; i < 3; ++i)
-    m_base_color[i] = m.emission[i] + m_frame.global_ambient[i] * m.ambient[i];
-  m_light_terms.resize(m_frame.lights.size());
-  for (size_t l = 0; l < m_frame.lights.size(); ++l) {
-    const Light& light = m_frame.lights[l];
-    for (int i = 0; i < 3; ++i) {
-      m_light_terms[l].ambient[i] = light.ambient[i] * m.ambient[i];
-      m_light_terms[l].diffuse[i] = light.diffuse[i] * m.diffuse[i];
-      m_light_terms[l].specular[i] = light.specular[i] * m.specular[i];
-    }
-  }
-  m_shininess = m.shininess;
-  m_alpha = m.diffuse.w;
-}
-
-namespace {
-
-float dot3(const float* a, const float* b) {
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-}  // namespace
-
-glm::vec4 Interpolator::light_pixel(const float* normal, const float* eye) const {
-  // Renormalise the interpolated normal (a zero vector stays zero).
-  float n[3] = {normal[0], normal[1], normal[2]};
-  const float len2 = dot3(n, n);
-  if (len2 > 0.0f) {
-    const float inv = 1.0f / std::sqrt(len2);
-    for (float& c : n) c = c * inv;
-  }
-  float c[3] = {m_base_color[0], m_base_color[1], m_base_color[2]};
-  for (size_t l = 0; l < m_frame.lights.size(); ++l) {
-    const Light& light = m_frame.lights[l];
-    float to_light[3] = {light.vector.x, light.vector.y, light.vector.z};
-    float attenuation = 1.0f;
-    if (light.type == LightType::point) {
-      const float d[3] = {light.vector.x - eye[0], light.vector.y - eye[1],
-                          light.vector.z - eye[2]};
-      const float dist2 = dot3(d, d);
-      const float dist = std::sqrt(dist2);
-      const float inv = dist > 0.0f ? 1.0f / dist : 1.0f;  // d itself when dist = 0
-      for (int i = 0; i < 3; ++i) to_light[i] = dist > 0.0f ? d[i] * inv : d[i];
-      attenuation = 1.0f / (light.constant_attenuation + light.linear_attenuation * dist +
-                            light.quadratic_attenuation * dist2);
-    }
-    // max(x, 0) as std::max evaluates it: a NaN stays NaN (spec section 2).
-    const float n_dot_l = std::max(dot3(n, to_light), 0.0f);
-    float specular = 0.0f;
-    if (n_dot_l > 0.0f) {
-      // Infinite viewer: the half vector of the light direction and +z.
-      float h[3] = {to_light[0], to_light[1], to_light[2] + 1.0f};
-      const float h2 = dot3(h, h);
-      if (h2 > 0.0f) {
-        const float inv = 1.0f / std::sqrt(h2);
-        for (float& x : h) x = x * inv;
-      }
-      specular = std::pow(std::max(dot3(n, h), 0.0f), m_shininess);
-    }
-    const LightTerms& t = m_light_terms[l];
-    for (int i = 0; i < 3; ++i) {
-      const float term = t.ambient[i] + t.diffuse[i] * n_dot_l + t.specular[i] * specular;
-      c[i] = c[i] + attenuation * term;
-    }
-  }
-  return glm::vec4(clamp01(c[0]), clamp01(c[1]), clamp01(c[2]), clamp01(m_alpha));
 }
 
 void Interpolator::update_offsets(const RasterPrimitive& tri) {
@@ -217,7 +147,7 @@ void interpolate(const std::vector<Stamp>& stamps, const EdgeOffsets& o,
 void Interpolator::shade_phong(const std::vector<Stamp>& stamps, const EdgeOffsets& o,
                                const RasterPrimitive& prim, const VaryingLayout& layout,
                                glm::vec4* out) {
-  if (m_lighting_draw != prim.draw_id) load_lighting(prim.draw_id);
+  m_lighting.load(prim.draw_id);
   const std::array<float, 3>& q = prim.inv_w;
   const float* vw0 = prim.varyings_over_w[0].data();
   const float* vw1 = prim.varyings_over_w[1].data();
@@ -239,7 +169,9 @@ void Interpolator::shade_phong(const std::vector<Stamp>& stamps, const EdgeOffse
         const unsigned c = slot[k];
         v[k] = (f0 * vw0[c] + f1 * vw1[c] + f2 * vw2[c]) / den;
       }
-      *out++ = light_pixel(v, v + 3);
+      // Renormalised (a zero vector stays zero), then section 2's equation.
+      const glm::vec3 n = LightingUnit::normalize(glm::vec3(v[0], v[1], v[2]));
+      *out++ = m_lighting.shade(n, glm::vec3(v[3], v[4], v[5]));
     }
   }
 }

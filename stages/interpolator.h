@@ -45,6 +45,7 @@
 #include "hw/draw_state.h"
 #include "hw/fifo.h"
 #include "hw/gpu_config.h"
+#include "hw/lighting_unit.h"
 #include "hw/packets.h"
 #include "hw/pipeline_stage.h"
 #include "hw/stats.h"
@@ -69,11 +70,6 @@ class Interpolator : public PipelineStage {
   // Phong (section 9b): the lit colour of every covered pixel to `out`.
   void shade_phong(const std::vector<Stamp>& stamps, const EdgeOffsets& o,
                    const RasterPrimitive& prim, const VaryingLayout& layout, glm::vec4* out);
-  // Per-draw lighting constants, loaded when a primitive of a new draw is lit.
-  void load_lighting(uint32_t draw_id);
-  // Section 2's colour at eye position eye[0..2] with the interpolated
-  // (not yet renormalised) normal normal[0..2].
-  glm::vec4 light_pixel(const float* normal, const float* eye) const;
 
   const int m_stamp_shift;  // log2 of the stamp width: a mask bit's row is bit >> shift
   const int m_stamp_pixels;
@@ -86,16 +82,8 @@ class Interpolator : public PipelineStage {
   std::array<EdgeValue, 3> m_step_x{}, m_step_y{};
   bool m_offset_valid = false;
 
-  // The lighting unit's registers: products of light and material colours
-  // that do not depend on the pixel, for draw m_lighting_draw.
-  struct LightTerms {
-    std::array<float, 3> ambient{}, diffuse{}, specular{};
-  };
   const uint64_t m_lighting_cycles_per_pixel_total;  // per lit pixel, all lights
-  uint32_t m_lighting_draw = ~uint32_t{0};
-  std::array<float, 3> m_base_color{};  // emission + global_ambient * material.ambient
-  std::vector<LightTerms> m_light_terms;
-  float m_shininess = 0.0f, m_alpha = 1.0f;
+  LightingUnit m_lighting;  // the per-pixel lighting unit, loaded per lit draw
 
   uint64_t& m_stamps = m_stats.counter("stamps", "stamps", "stamps interpolated");
   uint64_t& m_fragments = m_stats.counter("fragments", "fragments", "pixels given a colour");

@@ -19,6 +19,7 @@
 #include "hw/draw_state.h"
 #include "hw/fifo.h"
 #include "hw/gpu_config.h"
+#include "hw/lighting_unit.h"
 #include "hw/pipeline_stage.h"
 #include "hw/stats.h"
 #include "hw/vertex_packets.h"
@@ -33,26 +34,10 @@ class VertexShader : public PipelineStage {
   VertexShader(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame);
 
  private:
-  // Per-draw lighting constants, loaded when a batch of a new draw arrives:
-  // the products of light and material colours that do not depend on the
-  // vertex. Each is the same float product the spec's formula evaluates per
-  // vertex, so precomputing it changes no bit.
-  struct LightTerms {
-    glm::vec3 ambient{0.0f};   // light.ambient * material.ambient
-    glm::vec3 diffuse{0.0f};   // light.diffuse * material.diffuse
-    glm::vec3 specular{0.0f};  // light.specular * material.specular
-  };
-
   void run();
-  void load_draw(uint32_t draw_id);
-  // The lit colour of a vertex at eye-space position `eye` with unit normal `n`.
-  glm::vec4 light(const DrawState& draw, const glm::vec4& eye, const glm::vec3& n) const;
 
   ShadedBatch m_out;
-  bool m_loaded = false;
-  uint32_t m_draw_id = 0;
-  glm::vec3 m_base_color{0.0f};  // emission + global_ambient * material.ambient
-  std::vector<LightTerms> m_light_terms;
+  LightingUnit m_lighting;  // loaded with each new draw's registers
 
   uint64_t& m_vertices = m_stats.counter("vertices_shaded", "vertices", "vertices transformed");
   uint64_t& m_lit =
