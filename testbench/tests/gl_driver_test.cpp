@@ -1,7 +1,8 @@
 // The fixed-function OpenGL driver (testbench/gl/gl_driver.h) on synthetic
 // call sequences: primitive decomposition with GL's provoking vertices, display
 // lists, the matrix stack against GLM, the lighting translation against GL's
-// lighting equation evaluated here, batching, unsupported features reported
+// lighting equation evaluated here, batching, viewport, depth range, scissor
+// and clears between draws against GL's rules, unsupported features reported
 // with their counts, and the driver's frames bit-exact between the cycle
 // model and the golden model.
 #include "testbench/gl/gl_driver.h"
