@@ -306,6 +306,7 @@ struct GlDriver::State {
   glm::vec4 model_ambient{0.2f, 0.2f, 0.2f, 1.0f};
   bool local_viewer = false, two_side = false, separate_specular = false;
   uint32_t color_material_face = en::FRONT_AND_BACK, color_material_mode = en::AMBIENT_AND_DIFFUSE;
+  bool provoking_first = false;  // glProvokingVertex(GL_FIRST_VERTEX_CONVENTION)
   uint32_t shade_model = en::SMOOTH, front_face = en::CCW, cull_face = en::BACK;
   uint32_t polygon_front = en::FILL, polygon_back = en::FILL;
   uint32_t depth_func = en::LESS;
@@ -317,6 +318,7 @@ struct GlDriver::State {
   glm::vec4 clear_color{0.0f};
   float clear_depth = 1.0f;
   std::array<int64_t, 4> viewport{0, 0, 0, 0}, scissor{0, 0, 0, 0};
+  bool scissor_set = false;  // by glScissor, before the window's size was known
   float depth_near = 0.0f, depth_far = 1.0f;
   uint32_t alpha_func = en::ALWAYS;
   uint32_t matrix_mode = en::MODELVIEW;
@@ -557,6 +559,58 @@ struct GlDriver::State {
   // lighting" of docs/replay.md).
   enum class Faces { visible, front, back };
 
+  // The part of the window a draw of the current state may write: the
+  // scissor box (GL_SCISSOR_TEST) clipped to the window; nullopt: the whole
+  // window; an empty rectangle: nothing.
+  std::optional<PixelRect> scissor_box() const {
+    if (!is_enabled(en::SCISSOR_TEST) || !window_known) return std::nullopt;
+    const int64_t x0 = std::max<int64_t>(scissor[0], 0), y0 = std::max<int64_t>(scissor[1], 0);
+    const int64_t x1 = std::min<int64_t>(scissor[0] + scissor[2], window_width);
+    const int64_t y1 = std::min<int64_t>(scissor[1] + scissor[3], window_height);
+    if (x0 == 0 && y0 == 0 && x1 == window_width && y1 == window_height) return std::nullopt;
+    if (x1 <= x0 || y1 <= y0) return PixelRect{0, 0, 0, 0};
+    return PixelRect{static_cast<int32_t>(x0), static_cast<int32_t>(y0),
+                     static_cast<int32_t>(x1 - x0), static_cast<int32_t>(y1 - y0)};
+  }
+
+  // Viewport, depth range and scissor of a draw (docs/replay.md, "Viewport,
+  // depth range, scissor"); false when GL draws nothing (an empty viewport or
+  // scissor box). A viewport or scissor covering the window is left out, as
+  // the GPU's default is the same rectangle.
+  bool window_state(PrimitiveClass cls, uint32_t poly_mode, RenderState& rs) {
+    rs.depth_near = depth_near, rs.depth_far = depth_far;
+    if (!window_known) return true;  // reported by check_draw_state
+    const std::optional<PixelRect> box = scissor_box();
+    if (box && box->width == 0) return false;
+    rs.scissor = box;
+    if (viewport[2] <= 0 || viewport[3] <= 0) return false;
+    const std::array<int64_t, 4> whole{0, 0, window_width, window_height};
+    if (viewport == whole) return true;
+    // The models' guard band holds viewports within this reach of the origin
+    // (docs/pipeline-spec.md, section 4; the scene loader's limit).
+    constexpr int64_t kReach = 16384;
+    if (std::max({-viewport[0], -viewport[1], viewport[0] + viewport[2],
+                  viewport[1] + viewport[3]}) > kReach) {
+      unsupported("glViewport reaching beyond 16384 pixels from the window's origin");
+      return false;
+    }
+    rs.viewport = PixelRect{static_cast<int32_t>(viewport[0]), static_cast<int32_t>(viewport[1]),
+                            static_cast<int32_t>(viewport[2]), static_cast<int32_t>(viewport[3])};
+    // GL draws a wide line's or big point's pixels past the viewport edge;
+    // the GPU bounds every fragment to the viewport (section 8d). Only a
+    // viewport leaving part of the window uncovered can differ.
+    const bool covers = viewport[0] <= 0 && viewport[1] <= 0 &&
+                        viewport[0] + viewport[2] >= window_width &&
+                        viewport[1] + viewport[3] >= window_height;
+    const bool tri = cls == PrimitiveClass::triangle;
+    const bool lines = cls == PrimitiveClass::line || (tri && poly_mode == en::LINE);
+    const bool points = cls == PrimitiveClass::point || (tri && poly_mode == en::POINT);
+    if (!covers && ((lines && line_width > 1.0f) || (points && point_size > 1.0f))) {
+      unsupported("wide lines or points larger than 1 with a glViewport smaller than the window");
+    }
+    return true;
+  }
+
   // The RenderState of a draw of class `cls` from GL primitive `mode`; false
   // when GL draws nothing (triangles with GL_FRONT_AND_BACK culled).
   bool render_state(PrimitiveClass cls, uint32_t mode, Faces faces, RenderState& rs) {
@@ -589,7 +643,14 @@ struct GlDriver::State {
       rs.blend_equation = e.value_or(BlendEquation::add);
     }
     rs.color_mask = color_mask;
+    if (!window_state(cls, poly_mode, rs)) return false;
     rs.shading = shade_model == en::FLAT ? Shading::flat : Shading::gouraud;
+    // The decomposition puts the last-vertex convention's provoking vertex
+    // last (gl_primitive.h); the first-vertex convention's differs per mode,
+    // and for quads is implementation-dependent. Smooth shading never reads it.
+    if (shade_model == en::FLAT && provoking_first) {
+      unsupported("glProvokingVertex(GL_FIRST_VERTEX_CONVENTION) with flat shading");
+    }
     rs.line_width = std::clamp(line_width, 1.0f / 256.0f, kMaxLineWidth);
     rs.point_size = std::clamp(point_size, 1.0f / 256.0f, kMaxLineWidth);
     if (tri) {
@@ -649,14 +710,6 @@ struct GlDriver::State {
       unsupported("drawing before any glViewport (window size unknown)");
       return;
     }
-    const std::array<int64_t, 4> whole{0, 0, window_width, window_height};
-    if (viewport != whole) unsupported("glViewport other than the whole window");
-    if (is_enabled(en::SCISSOR_TEST) &&
-        (scissor[0] > 0 || scissor[1] > 0 || scissor[0] + scissor[2] < window_width ||
-         scissor[1] + scissor[3] < window_height)) {
-      unsupported("GL_SCISSOR_TEST with a box smaller than the window");
-    }
-    if (depth_near != 0.0f || depth_far != 1.0f) unsupported("glDepthRange other than [0, 1]");
     if (!color_cleared) unsupported("frame drawn without glClear(GL_COLOR_BUFFER_BIT) first");
     if (is_enabled(en::DEPTH_TEST) && !depth_cleared) {
       unsupported("depth test without glClear(GL_DEPTH_BUFFER_BIT) first in the frame");
@@ -1272,32 +1325,43 @@ struct GlDriver::State {
   }
 
   // ------------------------------------------------------------- frames
+  // glClear: before the frame's first draw it is the frame clear; after it, a
+  // clear in the draw list (docs/pipeline-spec.md, section 15). GL clears
+  // only inside the scissor box and only what the write masks let through:
+  // a mask that shuts a buffer off drops that buffer from the clear, exactly;
+  // a partial colour mask or a scissor box smaller than the window cannot be
+  // expressed by the GPU's whole-buffer clears and is reported.
   void clear(const TraceCall& c) {
     const uint32_t mask = enum_arg(c, 0);
-    if (!frame.scene.draws.empty()) {
-      unsupported("glClear after the first draw of a frame");
-      return;
-    }
-    if (is_enabled(en::SCISSOR_TEST) && window_known &&
-        (scissor[0] > 0 || scissor[1] > 0 || scissor[0] + scissor[2] < window_width ||
-         scissor[1] + scissor[3] < window_height)) {
-      unsupported("glClear inside a scissor box smaller than the window");
-    }
-    if (mask & en::COLOR_BUFFER_BIT) {
-      if (color_mask != std::array<bool, 4>{true, true, true, true}) {
-        unsupported("glClear with a glColorMask");
-      }
-      frame.scene.framebuffer.clear_color = clear_color;
-      color_cleared = true;
-    }
-    if (mask & en::DEPTH_BUFFER_BIT) {
-      if (!depth_mask) unsupported("glClear of the depth buffer with glDepthMask(GL_FALSE)");
-      frame.scene.framebuffer.clear_depth = clear_depth;
-      depth_cleared = true;
-    }
     if (mask & (en::STENCIL_BUFFER_BIT | en::ACCUM_BUFFER_BIT)) {
       ignored("glClear of the stencil or accumulation buffer");
     }
+    const std::array<bool, 4> none{false, false, false, false}, all{true, true, true, true};
+    const bool color = (mask & en::COLOR_BUFFER_BIT) && color_mask != none;
+    const bool depth = (mask & en::DEPTH_BUFFER_BIT) && depth_mask;
+    if (!color && !depth) return;
+    const std::optional<PixelRect> box = scissor_box();
+    if (box && box->width == 0) return;  // the scissor test rejects every pixel
+    if (box) unsupported("glClear inside a scissor box smaller than the window");
+    if (color && color_mask != all)
+      unsupported("glClear with a glColorMask other than all or none");
+    if (frame.scene.draws.empty()) {
+      if (color) frame.scene.framebuffer.clear_color = clear_color;
+      if (depth) frame.scene.framebuffer.clear_depth = clear_depth;
+    } else {
+      ClearState cs;
+      cs.color = color, cs.depth = depth;
+      // Only the cleared buffers' values: the others keep ClearState's defaults.
+      if (color) cs.color_value = clear_color;
+      if (depth) cs.depth_value = clear_depth;
+      cs.before_draw = static_cast<uint32_t>(frame.scene.draws.size());
+      frame.scene.clears.push_back(cs);
+      // Later geometry must not join a draw from before the clear.
+      open_draws.clear();
+      open_two_pass = false;
+    }
+    color_cleared = color_cleared || color;
+    depth_cleared = depth_cleared || depth;
   }
 
   void start_frame() {
@@ -1483,6 +1547,9 @@ void GlDriver::State::register_handlers() {
   };
 
   h["glViewport"] = [](State& s, const TraceCall& c) {
+    if (int_arg(c, 2) < 0 || int_arg(c, 3) < 0) {
+      return s.ignored(c.function + " with a negative size (GL error)");
+    }
     s.viewport = {int_arg(c, 0), int_arg(c, 1), int_arg(c, 2), int_arg(c, 3)};
     // apitrace records a fake glViewport of the drawable's size after the
     // first make-current: the window size.
@@ -1490,13 +1557,29 @@ void GlDriver::State::register_handlers() {
       s.window_known = true;
       s.window_width = static_cast<int>(s.viewport[2]);
       s.window_height = static_cast<int>(s.viewport[3]);
+      // GL's first make-current also sets the scissor box to the window.
+      if (!s.scissor_set) s.scissor = s.viewport;
     }
   };
   h["glScissor"] = [](State& s, const TraceCall& c) {
+    if (int_arg(c, 2) < 0 || int_arg(c, 3) < 0) {
+      return s.ignored(c.function + " with a negative size (GL error)");
+    }
     s.scissor = {int_arg(c, 0), int_arg(c, 1), int_arg(c, 2), int_arg(c, 3)};
+    s.scissor_set = true;
   };
+  h["glProvokingVertex"] = [](State& s, const TraceCall& c) {
+    const uint32_t mode = enum_arg(c, 0);
+    if (mode != en::FIRST_VERTEX_CONVENTION && mode != en::LAST_VERTEX_CONVENTION) {
+      return s.ignored(c.function + " with an invalid mode (GL error)");
+    }
+    s.provoking_first = mode == en::FIRST_VERTEX_CONVENTION;
+  };
+  h["glProvokingVertexEXT"] = h["glProvokingVertex"];
   h["glDepthRange"] = [](State& s, const TraceCall& c) {
-    s.depth_near = float_arg(c, 0), s.depth_far = float_arg(c, 1);
+    // GL clamps both to [0, 1] when they are set.
+    const auto unit = [](float v) { return v > 0.0f ? std::min(v, 1.0f) : 0.0f; };
+    s.depth_near = unit(float_arg(c, 0)), s.depth_far = unit(float_arg(c, 1));
   };
   h["glDepthRangef"] = h["glDepthRange"];
 

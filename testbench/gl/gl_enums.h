@@ -27,6 +27,7 @@ constexpr uint32_t ZERO = 0, ONE = 1, SRC_COLOR = 0x0300, ONE_MINUS_SRC_COLOR = 
                    SRC_ALPHA_SATURATE = 0x0308;
 constexpr uint32_t FUNC_ADD = 0x8006, FUNC_SUBTRACT = 0x800A, FUNC_REVERSE_SUBTRACT = 0x800B;
 constexpr uint32_t FLAT = 0x1D00, SMOOTH = 0x1D01;
+constexpr uint32_t FIRST_VERTEX_CONVENTION = 0x8E4D, LAST_VERTEX_CONVENTION = 0x8E4E;
 constexpr uint32_t POINT = 0x1B00, LINE = 0x1B01, FILL = 0x1B02;
 
 // Capabilities (glEnable).

@@ -1,7 +1,8 @@
 // The fixed-function OpenGL driver (testbench/gl/gl_driver.h) on synthetic
 // call sequences: primitive decomposition with GL's provoking vertices, display
 // lists, the matrix stack against GLM, the lighting translation against GL's
-// lighting equation evaluated here, batching, unsupported features reported
+// lighting equation evaluated here, batching, viewport, depth range, scissor
+// and clears between draws against GL's rules, unsupported features reported
 // with their counts, and the driver's frames bit-exact between the cycle
 // model and the golden model.
 #include "testbench/gl/gl_driver.h"
@@ -539,13 +540,18 @@ TEST(GlDriver, ReportsUnsupportedFeaturesWithTheirCounts) {
   gl("glGetFloatv", {ev(en::MODELVIEW_MATRIX), av(other)});
   gl("glFrobnicateSGIX", {iv(1)});
   gl("glFrobnicateSGIX", {iv(2)});
-  gl.clear();  // after a draw
+  // A clear inside a scissor box: GL clears the box only, the GPU's clears
+  // the whole buffer.
+  gl("glEnable", {ev(en::SCISSOR_TEST)});
+  gl("glScissor", {iv(0), iv(0), iv(4), iv(4)});
+  gl.clear();
+  gl("glDisable", {ev(en::SCISSOR_TEST)});
   DriverFrame f = gl.swap();
   const auto& u = f.features.unsupported();
   EXPECT_EQ(u.at("GL_FOG enabled while drawing"), 2u);
   EXPECT_EQ(u.at("GL_LIGHT_MODEL_LOCAL_VIEWER"), 2u);
   EXPECT_EQ(u.at("glFrobnicateSGIX"), 2u);
-  EXPECT_EQ(u.at("glClear after the first draw of a frame"), 1u);
+  EXPECT_EQ(u.at("glClear inside a scissor box smaller than the window"), 1u);
   EXPECT_EQ(u.at("driver matrix differs from the program's glGet of GL_MODELVIEW_MATRIX"), 1u);
   EXPECT_EQ(u.size(), 5u) << f.to_json().dump();
   EXPECT_EQ(f.features.ignored().at("glTexCoord* (texturing off)"), 2u);
@@ -561,6 +567,190 @@ TEST(GlDriver, ReportsUnsupportedFeaturesWithTheirCounts) {
   f = gl.swap();
   EXPECT_FALSE(f.features.any_unsupported()) << f.to_json().dump();
   EXPECT_EQ(f.index, 1u);
+}
+
+// The stored depth of pixel (x, y) of a golden-model frame.
+DepthValue depth(const golden::Result& r, int x, int y) {
+  return r.framebuffer.depth[r.framebuffer.sample_index(x, y, 0)];
+}
+
+// A quad over all of clip space at NDC depth z, in the current colour.
+void full_quad(Program& gl, float z) {
+  gl("glBegin", {ev(en::QUADS)});
+  gl.vertex(-1, -1, z), gl.vertex(1, -1, z), gl.vertex(1, 1, z), gl.vertex(-1, 1, z);
+  gl("glEnd");
+}
+
+// glViewport after the window's, glDepthRange and glScissor become the
+// draws' viewport, depth range and scissor; the frame renders as GL's rules
+// say: NDC [-1, 1] maps onto the viewport, z_w = n + (z + 1) / 2 * (f - n),
+// and only pixels inside the scissor box are written.
+TEST(GlDriver, ViewportDepthRangeAndScissorFollowGlsRules) {
+  Program gl;
+  gl.window(32, 16);
+  gl("glClearColor", {fv(0), fv(0), fv(0), fv(1)});
+  gl.clear();
+  gl("glEnable", {ev(en::DEPTH_TEST)});
+  gl("glDepthFunc", {ev(en::ALWAYS)});
+  // The right half, depth range [0.2, 0.6]: NDC z 0.5 lands at 0.5.
+  gl("glViewport", {iv(16), iv(0), iv(16), iv(16)});
+  gl("glDepthRange", {fv(0.2), fv(0.6)});
+  gl.color(1, 0, 0);
+  full_quad(gl, 0.5f);
+  // The whole window again, GL clamping the depth range to [0, 1]; the
+  // scissor box (4, 2) 8 x 6 limits a green quad at NDC z -1 (window z 0).
+  gl("glViewport", {iv(0), iv(0), iv(32), iv(16)});
+  gl("glDepthRange", {fv(-1), fv(2)});
+  gl("glEnable", {ev(en::SCISSOR_TEST)});
+  gl("glScissor", {iv(4), iv(2), iv(8), iv(6)});
+  gl.color(0, 1, 0);
+  full_quad(gl, -1.0f);
+  // A box reaching past the window is cut to it; an empty one draws nothing.
+  gl("glScissor", {iv(-5), iv(-5), iv(7), iv(100)});
+  gl.color(0, 0, 1);
+  full_quad(gl, -1.0f);
+  gl("glScissor", {iv(40), iv(0), iv(8), iv(8)});
+  gl.color(1, 1, 1);
+  full_quad(gl, -1.0f);
+  // A box covering the window is no scissor at all.
+  gl("glScissor", {iv(0), iv(0), iv(32), iv(16)});
+  gl("glViewport", {iv(0), iv(0), iv(0), iv(16)});  // empty viewport: nothing drawn
+  full_quad(gl, -1.0f);
+  const DriverFrame f = gl.swap();
+  EXPECT_FALSE(f.features.any_unsupported()) << f.to_json().dump();
+  ASSERT_EQ(f.scene.draws.size(), 3u);
+  const RenderState& a = f.scene.draws[0].state;
+  ASSERT_TRUE(a.viewport);
+  EXPECT_EQ(*a.viewport, (PixelRect{16, 0, 16, 16}));
+  EXPECT_EQ(a.depth_near, 0.2f);
+  EXPECT_EQ(a.depth_far, 0.6f);
+  EXPECT_FALSE(a.scissor);
+  const RenderState& b = f.scene.draws[1].state;
+  EXPECT_FALSE(b.viewport);  // the whole window
+  EXPECT_EQ(b.depth_near, 0.0f);
+  EXPECT_EQ(b.depth_far, 1.0f);
+  ASSERT_TRUE(b.scissor);
+  EXPECT_EQ(*b.scissor, (PixelRect{4, 2, 8, 6}));
+  ASSERT_TRUE(f.scene.draws[2].state.scissor);
+  EXPECT_EQ(*f.scene.draws[2].state.scissor, (PixelRect{0, 0, 2, 16}));
+
+  const golden::Result r = golden::render(f.scene);
+  const DepthFormat df = r.framebuffer.depth_format;
+  for (int y = 0; y < 16; ++y) {
+    for (int x = 0; x < 32; ++x) {
+      const bool blue = x < 2, green = x >= 4 && x < 12 && y >= 2 && y < 8, red = x >= 16;
+      const glm::vec3 want = blue    ? glm::vec3(0, 0, 1)
+                             : green ? glm::vec3(0, 1, 0)
+                             : red   ? glm::vec3(1, 0, 0)
+                                     : glm::vec3(0, 0, 0);
+      expect_color(pixel(r, x, y), want);
+      const float z = blue || green ? 0.0f : red ? 0.5f : 1.0f;
+      EXPECT_EQ(depth(r, x, y), encode_depth(df, z)) << x << ", " << y;
+    }
+  }
+}
+
+// glClear after a draw is a clear in the draw list at its place: draws
+// before it are overwritten, its depth (or kept depth) decides later draws,
+// and later geometry does not join a draw from before it.
+TEST(GlDriver, ClearsAfterDrawsExecuteAtTheirPlace) {
+  Program gl;
+  gl.window(16, 8);
+  gl("glClearColor", {fv(1), fv(0), fv(0), fv(1)});
+  gl.clear();
+  gl("glEnable", {ev(en::DEPTH_TEST)});
+  gl.color(0, 0, 1);
+  full_quad(gl, 0.0f);  // blue, window z 0.5 everywhere
+  gl("glClearColor", {fv(0), fv(1), fv(0), fv(1)});
+  gl("glClear", {ev(en::COLOR_BUFFER_BIT)});  // green; the depth 0.5 stays
+  gl.color(0, 0, 1);    // the same state as the blue quad: a new draw all the same
+  full_quad(gl, 0.5f);  // z 0.75 fails GL_LESS against 0.5: stays green
+  gl("glClearDepth", {fv(1)});
+  // With the colour mask shut, GL's glClear clears the depth buffer only.
+  gl("glColorMask", {iv(0), iv(0), iv(0), iv(0)});
+  gl("glClear", {ev(en::COLOR_BUFFER_BIT | en::DEPTH_BUFFER_BIT)});
+  gl("glColorMask", {iv(1), iv(1), iv(1), iv(1)});
+  // With the depth mask shut, a depth clear clears nothing.
+  gl("glDepthMask", {iv(0)});
+  gl("glClearDepth", {fv(0)});
+  gl("glClear", {ev(en::DEPTH_BUFFER_BIT)});
+  gl("glDepthMask", {iv(1)});
+  // Right half: passes against the cleared depth 1.
+  gl.color(1, 1, 1);
+  gl("glBegin", {ev(en::QUADS)});
+  gl.vertex(0, -1, 0.5f), gl.vertex(1, -1, 0.5f), gl.vertex(1, 1, 0.5f), gl.vertex(0, 1, 0.5f);
+  gl("glEnd");
+  const DriverFrame f = gl.swap();
+  EXPECT_FALSE(f.features.any_unsupported()) << f.to_json().dump();
+  ASSERT_EQ(f.scene.draws.size(), 3u);
+  ASSERT_EQ(f.scene.clears.size(), 2u);
+  ClearState green;
+  green.color = true;
+  green.color_value = {0, 1, 0, 1};
+  green.before_draw = 1;
+  EXPECT_EQ(f.scene.clears[0], green);
+  ClearState depth_only;
+  depth_only.depth = true;
+  depth_only.depth_value = 1.0f;
+  depth_only.before_draw = 2;
+  EXPECT_EQ(f.scene.clears[1], depth_only);
+
+  const golden::Result r = golden::render(f.scene);
+  const DepthFormat df = r.framebuffer.depth_format;
+  for (int y = 0; y < 8; ++y) {
+    for (int x = 0; x < 16; ++x) {
+      expect_color(pixel(r, x, y), x < 8 ? glm::vec3(0, 1, 0) : glm::vec3(1, 1, 1));
+      EXPECT_EQ(depth(r, x, y), encode_depth(df, x < 8 ? 1.0f : 0.75f)) << x << ", " << y;
+    }
+  }
+  const nlohmann::json c = r.stats.to_json();
+  EXPECT_EQ(c.value("color_clears", 0), 2);  // the frame clear and the green one
+  EXPECT_EQ(c.value("depth_clears", 0), 2);
+}
+
+// What the GPU's whole-buffer clears and viewport bound cannot express is
+// reported, never drawn silently wrong.
+TEST(GlDriver, ReportsClearsAndViewportsTheGpuCannotExpress) {
+  Program gl;
+  gl.window(16, 8);
+  gl.clear();
+  gl("glColorMask", {iv(1), iv(0), iv(1), iv(1)});
+  gl.clear();  // a partial colour mask
+  gl("glColorMask", {iv(1), iv(1), iv(1), iv(1)});
+  gl("glEnable", {ev(en::SCISSOR_TEST)});
+  gl("glScissor", {iv(100), iv(0), iv(4), iv(4)});
+  gl.clear();  // the box misses the window: GL clears nothing, exactly
+  gl("glDisable", {ev(en::SCISSOR_TEST)});
+  gl("glViewport", {iv(0), iv(0), iv(8), iv(8)});
+  gl("glLineWidth", {fv(3)});
+  gl("glBegin", {ev(en::LINES)});
+  gl.vertex(-1, 0), gl.vertex(1, 0);  // thin lines would be exact; wide ones reach past
+  gl("glEnd");
+  gl("glLineWidth", {fv(1)});
+  gl("glBegin", {ev(en::LINES)});
+  gl.vertex(-1, 0.5f), gl.vertex(1, 0.5f);
+  gl("glEnd");
+  gl("glShadeModel", {ev(en::FLAT)});
+  gl("glProvokingVertex", {ev(en::FIRST_VERTEX_CONVENTION)});
+  gl("glBegin", {ev(en::TRIANGLES)});
+  gl.vertex(-1, -1), gl.vertex(1, -1), gl.vertex(0, 1);
+  gl("glEnd");
+  gl("glShadeModel", {ev(en::SMOOTH)});  // the provoking vertex no longer matters
+  gl("glBegin", {ev(en::TRIANGLES)});
+  gl.vertex(-1, -1), gl.vertex(1, -1), gl.vertex(0, 1);
+  gl("glEnd");
+  gl("glViewport", {iv(-4), iv(-4), iv(20000), iv(8)});
+  gl("glBegin", {ev(en::TRIANGLES)});
+  gl.vertex(-1, -1), gl.vertex(1, -1), gl.vertex(0, 1);
+  gl("glEnd");
+  const DriverFrame f = gl.swap();
+  const auto& u = f.features.unsupported();
+  EXPECT_EQ(u.at("glClear with a glColorMask other than all or none"), 1u);
+  EXPECT_EQ(u.at("wide lines or points larger than 1 with a glViewport smaller than the window"),
+            1u);
+  EXPECT_EQ(u.at("glProvokingVertex(GL_FIRST_VERTEX_CONVENTION) with flat shading"), 1u);
+  EXPECT_EQ(u.at("glViewport reaching beyond 16384 pixels from the window's origin"), 1u);
+  EXPECT_EQ(u.size(), 4u) << f.to_json().dump();
 }
 
 // A malformed call is bad input: one line naming the call, InputError.
@@ -663,13 +853,66 @@ Scene gears_like_frame() {
   return std::move(f.scene);
 }
 
+// A frame using the window state: two viewports (a split screen), a depth
+// range, a scissor box and clears between draws, lit and unlit, 40 x 32.
+Scene window_state_frame() {
+  Program gl;
+  gl.window(40, 32);
+  gl("glLightfv", {ev(en::LIGHT0), ev(en::POSITION), av({1, 2, 3, 0})});
+  gl("glEnable", {ev(en::LIGHT0)});
+  gl("glEnable", {ev(en::DEPTH_TEST)});
+  gl("glMatrixMode", {ev(en::PROJECTION)});
+  gl("glFrustum", {fv(-1), fv(1), fv(-1), fv(1), fv(2), fv(20)});
+  gl("glMatrixMode", {ev(en::MODELVIEW)});
+  gl("glTranslatef", {fv(0), fv(0), fv(-6)});
+  gl("glRotatef", {fv(30), fv(1), fv(1), fv(0)});
+  gl("glClearColor", {fv(0.2), fv(0.2), fv(0.3), fv(1)});
+  gl.clear();
+  for (int half = 0; half < 2; ++half) {
+    gl("glViewport", {iv(half * 20), iv(0), iv(20), iv(32)});
+    gl("glDepthRange", {fv(half ? 0.3 : 0.0), fv(half ? 0.9 : 1.0)});
+    if (half) gl("glEnable", {ev(en::LIGHTING)});
+    gl("glBegin", {ev(en::QUAD_STRIP)});
+    for (int i = 0; i <= 10; ++i) {
+      const float t = 2.0f * static_cast<float>(M_PI) * static_cast<float>(i) / 10.0f;
+      gl("glNormal3f", {fv(std::cos(t)), fv(std::sin(t)), fv(0)});
+      gl.color(0.5f + 0.5f * std::cos(t), 0.5f, 0.5f + 0.5f * std::sin(t));
+      gl.vertex(std::cos(t), std::sin(t), -1.2f), gl.vertex(std::cos(t), std::sin(t), 1.2f);
+    }
+    gl("glEnd");
+    // Between the halves: the depth buffer only, then the colour of a band.
+    if (!half) gl("glClear", {ev(en::DEPTH_BUFFER_BIT)});
+  }
+  gl("glDisable", {ev(en::LIGHTING)});
+  gl("glViewport", {iv(0), iv(0), iv(40), iv(32)});
+  gl("glDepthRange", {fv(0), fv(1)});
+  gl("glEnable", {ev(en::SCISSOR_TEST)});
+  gl("glScissor", {iv(6), iv(4), iv(28), iv(10)});
+  gl.color(1, 1, 0);
+  gl("glBegin", {ev(en::TRIANGLES)});
+  gl.vertex(-2, -2, 0), gl.vertex(2, -2, 0), gl.vertex(0, 2, 0);
+  gl("glEnd");
+  gl("glDisable", {ev(en::SCISSOR_TEST)});
+  gl("glClearColor", {fv(0), fv(0), fv(0), fv(1)});
+  gl("glClear", {ev(en::COLOR_BUFFER_BIT)});  // the depths stay and test what follows
+  gl("glPointSize", {fv(3)});
+  gl("glBegin", {ev(en::POINTS)});
+  for (int i = 0; i < 8; ++i) gl.vertex(-1.5f + 0.4f * static_cast<float>(i), 0.1f, 0.5f);
+  gl("glEnd");
+  DriverFrame f = gl.swap();
+  EXPECT_FALSE(f.features.any_unsupported()) << f.to_json().dump();
+  EXPECT_EQ(f.scene.clears.size(), 2u);
+  return std::move(f.scene);
+}
+
 class DriverBitExact : public ::testing::TestWithParam<int> {};
 
 // The driver's frames go through both models like any scene: bit-exact under
 // the configuration rows of sim_bitexact_test (units, FIFO depth, tile, stamp).
 TEST_P(DriverBitExact, CycleModelEqualsGolden) {
-  const Scene scene = gears_like_frame();
-  const int row = GetParam();
+  const int row = GetParam() % 18;
+  const bool window_state = GetParam() >= 18;
+  const Scene scene = window_state ? window_state_frame() : gears_like_frame();
   const unsigned units[] = {1, 2, 3, 4, 8, 16}, depths[] = {1, 2, 16}, tiles[] = {8, 16, 64},
                  stamps[] = {2, 4, 8};
   const int i = row / 3, j = row % 3;
@@ -689,11 +932,17 @@ TEST_P(DriverBitExact, CycleModelEqualsGolden) {
   // Something of every kind was drawn.
   const nlohmann::json c = want.stats.to_json();
   EXPECT_GT(c.value("triangles_rasterized", 0), 0);
-  EXPECT_GT(c.value("lines_in", 0), 0);
   EXPECT_GT(c.value("points_in", 0), 0);
+  if (window_state) {
+    EXPECT_EQ(c.value("color_clears", 0), 2);
+    EXPECT_EQ(c.value("depth_clears", 0), 2);
+  } else {
+    EXPECT_GT(c.value("lines_in", 0), 0);
+  }
 }
 
-INSTANTIATE_TEST_SUITE_P(Rows, DriverBitExact, ::testing::Range(0, 18));
+// Rows 0-17: the gears-like frame; 18-35: the window-state frame.
+INSTANTIATE_TEST_SUITE_P(Rows, DriverBitExact, ::testing::Range(0, 36));
 
 }  // namespace
 }  // namespace gpusim::gl
