@@ -333,9 +333,10 @@ def phong_gouraud(out):
     # An icosahedron (unit vertices, normals = positions) seen from (0, 0, 4):
     # the view only translates, so eye-space directions are world ones. The
     # directional light is placed so that the half vector H = normalize(L +
-    # (0, 0, 1)) (docs/pipeline-spec.md 9) is the normal at the centre of the
-    # face most turned to the viewer: the highlight (n.H = 1) falls there,
-    # 37.4 degrees from each of its vertices.
+    # (0, 0, 1)) (docs/pipeline-spec.md 2, the infinite viewer) is the normal
+    # at the centre of a face turned to the viewer (of the two most turned,
+    # the left one): the highlight (n.H = 1) falls there, 37.4 degrees from
+    # each of its vertices.
     vs, faces = icosahedron()
     lines = ["# Lesson \"Phong against Gouraud\" (docs/lessons.md): an icosahedron,",
              "# unit vertices, smooth normals. Written by scripts/gen/make_lesson_scenes.py."]
