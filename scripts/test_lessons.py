@@ -124,7 +124,8 @@ def main():
         # z-buffer's only by one-step roundings, so `beyond: 1` counts none and
         # `beyond: 0` (any difference) counts them, as the plain count does.
         g = Copy(os.path.join(tmp, "beyond"), build)
-        g.edit("testbench/scenes/lessons/lessons.json", '"beyond": 1', '"beyond": 0')
+        g.edit("testbench/scenes/lessons/lessons.json", '"cycle_zbuffer"], "beyond": 1',
+               '"cycle_zbuffer"], "beyond": 0')
         rc, out, _ = g.run()
         prefix = "painter: blades: pixels that differ by more than one step: measured "
         hit = [line for line in out if line.startswith(prefix)]
