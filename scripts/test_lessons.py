@@ -9,8 +9,9 @@ docs/lessons.md, docs/images/lessons/) in a temporary directory, since
 scripts/lessons finds its files next to itself; the committed files are
 never touched. Checks: the copy passes (exit 0) and its renders reproduce
 every committed PNG; a PNG with one pixel changed, a manifest expectation
-changed, a measured number edited in the doc, a scene changed (one image and
-one relation fail together), a block for a lesson the manifest does not list,
+changed, `beyond: 0` in place of 1 (the one-step differences count), a
+measured number edited in the doc, a scene changed (one image and one
+relation fail together), a block for a lesson the manifest does not list,
 and a missing PNG each exit 1 with a line naming it; --update repairs the
 doc and the PNGs; a bad manifest exits 2 with one line. Exits 1 on a
 failure, naming it.
@@ -118,6 +119,18 @@ def main():
         rc, out, _ = g.run("--update")
         check(rc == 1 and "needles: tiles visited, horizontal: measured 16, expected 15 (15)" in out,
               f"--update still fails on a missed expectation: {out}")
+
+        # differing_pixels with `beyond`: the painter's blades differ from the
+        # z-buffer's only by one-step roundings, so `beyond: 1` counts none and
+        # `beyond: 0` (any difference) counts them, as the plain count does.
+        g = Copy(os.path.join(tmp, "beyond"), build)
+        g.edit("testbench/scenes/lessons/lessons.json", '"cycle_zbuffer"], "beyond": 1',
+               '"cycle_zbuffer"], "beyond": 0')
+        rc, out, _ = g.run()
+        prefix = "painter: blades: pixels that differ by more than one step: measured "
+        hit = [line for line in out if line.startswith(prefix)]
+        check(rc == 1 and len(hit) == 1 and int(hit[0][len(prefix):].split(",")[0]) > 0,
+              f"beyond: 0 counts the one-step differences: {out}")
 
         # A quoted number edited in the doc.
         g = Copy(os.path.join(tmp, "doc"), build)

@@ -153,7 +153,8 @@ INSTANTIATE_TEST_SUITE_P(
     case_name);
 
 // The scenes of docs/lessons.md (testbench/scenes/lessons/; scripts/lessons
-// renders them with the golden model, the needles with the cycle model).
+// renders them with the golden model, the needles and Phong against Gouraud
+// with the cycle model).
 INSTANTIATE_TEST_SUITE_P(
     Lessons, BitExact,
     ::testing::Combine(
@@ -161,7 +162,14 @@ INSTANTIATE_TEST_SUITE_P(
                           "lessons/depth_precision_unorm24", "lessons/cull_cube_depth",
                           "lessons/cull_cube_culled", "lessons/needle_horizontal",
                           "lessons/needle_diagonal", "lessons/shared_edges", "lessons/antialias_1x",
-                          "lessons/antialias_4x", "lessons/offset_none", "lessons/offset_pulled"),
+                          "lessons/antialias_4x", "lessons/offset_none", "lessons/offset_pulled",
+                          "lessons/provoking_first", "lessons/provoking_last",
+                          "lessons/phong_gouraud_phong", "lessons/phong_gouraud_gouraud",
+                          "lessons/interp_perspective", "lessons/interp_screen",
+                          "lessons/painter_stack_painter", "lessons/painter_stack_zbuffer",
+                          "lessons/painter_cycle_painter", "lessons/painter_cycle_zbuffer",
+                          "lessons/partition_single", "lessons/partition_partitioned",
+                          "lessons/partition_farpass", "lessons/partition_expected"),
         ::testing::Range(0, 18)),
     case_name);
 
