@@ -197,8 +197,11 @@ Scene load_scene_shown(const std::string& path, Progress& progress) {
 
 // The driver's visibility option (docs/painter.md) rewrites the scene's
 // draws before either model sees them; a painter's frame adds its sort's
-// figures to stats.json under "painter".
-void apply_driver(Scene& scene, nlohmann::json& stats_sections) {
+// figures to stats.json under "painter". The sort is a phase of its own,
+// so that the summary gives the host's time for it.
+void apply_driver(Scene& scene, nlohmann::json& stats_sections, Progress& progress) {
+  if (scene.visibility == Visibility::painter)
+    progress.begin("driver", "sorting the draws back to front (painter)");
   if (const auto painter = painter::apply_visibility(scene))
     stats_sections["painter"] = painter->to_json();
 }
@@ -287,7 +290,7 @@ int run_golden(const std::string& scene_path, const std::string& out_dir, uint64
   Scene scene = load_scene_shown(scene_path, progress);
   note_auto_camera(scene);
   nlohmann::json driver = nlohmann::json::object();
-  apply_driver(scene, driver);
+  apply_driver(scene, driver, progress);
   check_scene_limits(scene);
   check_memory(estimate_golden_memory(scene), memory_limit(memory_mib), scene_path);
   progress.begin("render", "rendering with the golden model");
@@ -417,7 +420,7 @@ int run_cycle_model(const RunArgs& args, const ProgressArgs& progress_args) {
   Scene scene = load_scene_shown(args.scene, progress);
   note_auto_camera(scene);
   nlohmann::json driver = nlohmann::json::object();
-  apply_driver(scene, driver);
+  apply_driver(scene, driver, progress);
   const GpuConfig config = resolve_config(args);
   const TraceFormats trace_formats = TraceFormats::parse(args.trace_formats);
   check_scene_limits(scene);

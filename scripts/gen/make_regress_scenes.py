@@ -1906,6 +1906,19 @@ def painter_interpenetrate():
     return without_comments("painter_interpenetrate")
 
 
+@scene("painter_features", "painter", "docs/painter.md",
+       "\"visibility\": \"painter\": a depth clear between two stretches sorted on their own, "
+       "per-draw viewports, flat shading under the first-vertex convention, and a "
+       "screen-interpolated and a Phong draw passed unsorted")
+def painter_features():
+    s = without_comments("painter_features")
+    # The meshes of testbench/scenes/regress/ sit beside the regression scenes.
+    for d in s["draws"]:
+        if "mesh" in d:
+            d["mesh"] = d["mesh"].removeprefix("regress/")
+    return s
+
+
 def dump(value):
     """JSON with one line per vertex: arrays of numbers (and of booleans) stay on
     one line, and so do the index lists."""

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <string>
 
 #include "testbench/golden/golden_model.h"
@@ -124,15 +125,34 @@ bool straddles(const SortTriangle& t, const SortTriangle& plane) {
 }
 
 // The draws whose triangles are sorted: filled, opaque, z-buffered
-// triangles with every colour channel written. Anything else (lines,
-// points, polygon mode line or point, blending, other depth functions, a
-// masked colour) keeps its own state and is drawn after them.
+// triangles with every colour channel written, a depth range that increases
+// (the sort takes larger NDC z as farther, which a reversed or empty range
+// contradicts), lit per vertex (a Phong draw submitted pre-lit would turn
+// Gouraud), and with perspective interpolation unless flat shaded (a
+// split's new vertex carries a clip-linear colour, which screen
+// interpolation would not give it; flat colours are constant). Anything
+// else keeps its own state and is drawn after the sorted ones of its
+// stretch.
 bool sortable(const Draw& d) {
   const RenderState& s = d.state;
   return primitive_class(d.primitive) == PrimitiveClass::triangle &&
          s.polygon_mode == PolygonMode::fill && !s.blend && s.depth_test &&
          (s.depth_func == CompareFunc::less || s.depth_func == CompareFunc::lequal) &&
-         s.color_mask == std::array<bool, 4>{true, true, true, true};
+         s.color_mask == std::array<bool, 4>{true, true, true, true} &&
+         s.depth_near < s.depth_far && !golden::lit_per_pixel(d) &&
+         (s.interpolation == Interpolation::perspective || s.shading == Shading::flat);
+}
+
+// The viewport transform a draw gets in the models: viewport and depth
+// range, the viewport scaled by the supersampling factor k.
+golden::ViewportTransform transform_of(const RenderState& s, int width, int height, int k) {
+  RenderState scaled_state = s;
+  if (s.viewport) scaled_state.viewport = scaled(*s.viewport, k);
+  return {viewport_of(scaled_state, width, height), s.depth_near, s.depth_far};
+}
+
+bool same_space(const golden::ViewportTransform& a, const golden::ViewportTransform& b) {
+  return a.rect == b.rect && a.near == b.near && a.far == b.far;
 }
 
 }  // namespace
@@ -340,59 +360,77 @@ nlohmann::json Stats::to_json() const {
           {"draws_out", draws_out}};
 }
 
-std::optional<Stats> apply_visibility(Scene& scene) {
-  if (scene.visibility != Visibility::painter) return std::nullopt;
-  Stats stats;
+namespace {
+
+// The draws [begin, end) of one stretch of the draw list between clears,
+// appended to `out`: the sorted triangles as clip-space draws, then the
+// passed draws in API order.
+void paint_stretch(const Scene& scene, const std::vector<Draw>& draws, uint32_t begin, uint32_t end,
+                   uint64_t& order, Stats& stats, std::vector<Draw>& out) {
   const FramebufferDesc& fb = scene.framebuffer;
   // The render target, as the models size it (supersampled frames are larger).
-  const int width = fb.width * static_cast<int>(fb.supersample);
-  const int height = fb.height * static_cast<int>(fb.supersample);
-  const golden::GuardBand gb = golden::guard_band_for(width, height);
+  const int k = static_cast<int>(fb.supersample);
+  const int width = fb.width * k, height = fb.height * k;
 
-  std::vector<Draw> draws = std::move(scene.draws);
-  scene.draws.clear();
-  std::vector<Draw> passed;
+  std::vector<const Draw*> passed;
   std::vector<SortTriangle> triangles;
-  uint64_t order = 0;
-  for (uint32_t di = 0; di < draws.size(); ++di) {
+  // The sort compares NDC positions, which only map to the same pixels and
+  // depths under one viewport transform: the stretch's first sortable draw
+  // fixes it, and sortable draws under another are passed.
+  std::optional<golden::ViewportTransform> space;
+  for (uint32_t di = begin; di < end; ++di) {
     const Draw& d = draws[di];
-    if (!sortable(d)) {
-      passed.push_back(d);
+    const golden::ViewportTransform vp = transform_of(d.state, width, height, k);
+    const bool sorts = sortable(d);
+    if (sorts && !space) space = vp;
+    if (!sorts || !same_space(*space, vp)) {
+      passed.push_back(&d);
       ++stats.draws_passed;
       continue;
     }
     ++stats.draws_sorted;
+    const golden::GuardBand gb = golden::guard_band_for(vp.rect);
     // The spec's vertex stage (docs/pipeline-spec.md, section 2): the
     // driver submits what the models would have computed.
     std::vector<golden::ShadedVertex> shaded(d.positions.size());
     for (uint32_t i = 0; i < shaded.size(); ++i) shaded[i] = golden::shade_vertex(scene, d, i);
-    for (const auto& slots : golden::assemble_triangles(d.primitive, d.vertex_count())) {
+    const auto assembled = golden::assemble_triangles(d.primitive, d.vertex_count());
+    for (uint32_t ti = 0; ti < assembled.size(); ++ti) {
+      const auto& slots = assembled[ti];
       ++stats.triangles_in;
       ++order;
       std::array<golden::ShadedVertex, 3> v;
       bool valid = true;
-      for (int k = 0; k < 3; ++k) {
-        const uint32_t index = d.indices.empty() ? slots[k] : d.indices[slots[k]];
+      for (int j = 0; j < 3; ++j) {
+        const uint32_t index = d.indices.empty() ? slots[j] : d.indices[slots[j]];
         valid = valid && index < shaded.size() && is_finite(shaded[index].clip);
-        if (valid) v[k] = shaded[index];
+        if (valid) v[j] = shaded[index];
       }
       if (!valid) {
         ++stats.triangles_dropped;
         continue;
       }
-      // Flat shading takes the last vertex's colour: every piece keeps it.
-      if (d.state.shading == Shading::flat) v[0].color = v[1].color = v[2].color;
+      // A flat-shaded triangle takes its provoking vertex's colour (spec
+      // section 3): all three carry it, so every piece and every
+      // convention of the submitted `triangles` draw keeps it.
+      if (d.state.shading == Shading::flat) {
+        const glm::vec4 c =
+            v[golden::provoking_position(d.primitive, ti, d.state.provoking_vertex)].color;
+        v[0].color = v[1].color = v[2].color = c;
+      }
       bool inside = true;
       for (int plane = 0; plane < golden::kClipPlaneCount; ++plane) {
-        for (int k = 0; k < 3; ++k)
-          inside = inside && golden::clip_distance(plane, v[k].clip, gb) >= 0.0f;
+        for (int j = 0; j < 3; ++j)
+          inside = inside && golden::clip_distance(plane, v[j].clip, gb) >= 0.0f;
       }
       if (inside) {
         // Unclipped, the models take exactly this area and facing (spec
-        // section 7): a triangle they would drop is not sorted.
-        const EdgeValue area2 = golden::signed_area2(golden::to_window(v[0], width, height),
-                                                     golden::to_window(v[1], width, height),
-                                                     golden::to_window(v[2], width, height));
+        // section 7) in the draw's viewport: a triangle they would drop is
+        // not sorted.
+        const EdgeValue area2 =
+            golden::signed_area2(golden::to_window(v[0], vp, d.state.interpolation),
+                                 golden::to_window(v[1], vp, d.state.interpolation),
+                                 golden::to_window(v[2], vp, d.state.interpolation));
         const bool front = (d.state.front_face == FrontFace::ccw) == (area2 > 0);
         if (area2 == 0 || (d.state.cull == CullMode::back && !front) ||
             (d.state.cull == CullMode::front && front)) {
@@ -401,7 +439,7 @@ std::optional<Stats> apply_visibility(Scene& scene) {
         }
       }
       std::vector<CutVertex> poly;
-      for (int k = 0; k < 3; ++k) poly.push_back({glm::dvec4(v[k].clip), glm::dvec4(v[k].color)});
+      for (int j = 0; j < 3; ++j) poly.push_back({glm::dvec4(v[j].clip), glm::dvec4(v[j].color)});
       // The sort divides by w: cut away what lies behind the near plane (and
       // w <= 0) first, as the clipper would (spec section 4).
       bool clipped = false;
@@ -444,26 +482,52 @@ std::optional<Stats> apply_visibility(Scene& scene) {
   // Consecutive triangles of one draw become one clip-space draw.
   for (size_t i = 0; i < sorted.size();) {
     const Draw& from = draws[sorted[i].draw];
-    Draw out;
-    out.name = from.name + " (painter)";
-    out.primitive = PrimitiveType::triangles;
-    out.lighting = false;
-    out.state = from.state;
+    Draw d;
+    d.name = from.name + " (painter)";
+    d.primitive = PrimitiveType::triangles;
+    d.lighting = false;
+    d.state = from.state;
     // Back to front needs no depth test; "always" (GL's only way to write
     // depth without testing) keeps the draw's depth writes, so the depth
     // buffer ends as the z-buffer's would and later depth-tested draws
     // (the passed ones) are hidden as before.
-    out.state.depth_func = CompareFunc::always;
+    d.state.depth_func = CompareFunc::always;
     for (const uint32_t source = sorted[i].draw; i < sorted.size() && sorted[i].draw == source;
          ++i) {
-      for (int k = 0; k < 3; ++k) {
-        out.positions.push_back(sorted[i].clip[k]);
-        out.colors.push_back(sorted[i].color[k]);
+      for (int j = 0; j < 3; ++j) {
+        d.positions.push_back(sorted[i].clip[j]);
+        d.colors.push_back(sorted[i].color[j]);
       }
     }
-    scene.draws.push_back(std::move(out));
+    out.push_back(std::move(d));
   }
-  for (Draw& d : passed) scene.draws.push_back(std::move(d));
+  for (const Draw* d : passed) out.push_back(*d);
+}
+
+}  // namespace
+
+std::optional<Stats> apply_visibility(Scene& scene) {
+  if (scene.visibility != Visibility::painter) return std::nullopt;
+  Stats stats;
+  std::vector<Draw> draws = std::move(scene.draws);
+  scene.draws.clear();
+  const uint32_t count = static_cast<uint32_t>(draws.size());
+  // A clear in the draw list (spec section 15) divides it into stretches:
+  // nothing drawn before a clear may be sorted after it, so each stretch is
+  // sorted on its own, and each clear moves to where its stretch begins in
+  // the rewritten list.
+  std::vector<uint32_t> bounds{0, count};
+  for (const ClearState& c : scene.clears) bounds.push_back(std::min(c.before_draw, count));
+  std::sort(bounds.begin(), bounds.end());
+  bounds.erase(std::unique(bounds.begin(), bounds.end()), bounds.end());
+  std::map<uint32_t, uint32_t> rewritten;  // a stretch's first draw: old index -> new
+  uint64_t order = 0;
+  for (size_t i = 0; i + 1 < bounds.size(); ++i) {
+    rewritten[bounds[i]] = static_cast<uint32_t>(scene.draws.size());
+    paint_stretch(scene, draws, bounds[i], bounds[i + 1], order, stats, scene.draws);
+  }
+  rewritten[count] = static_cast<uint32_t>(scene.draws.size());
+  for (ClearState& c : scene.clears) c.before_draw = rewritten.at(std::min(c.before_draw, count));
   stats.draws_out = scene.draws.size();
   return stats;
 }

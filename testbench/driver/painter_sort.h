@@ -73,7 +73,7 @@ SplitResult split(const SortTriangle& t, const SortTriangle& by);
 
 struct Stats {
   uint64_t draws_sorted = 0;            // draws whose triangles took part in the sort
-  uint64_t draws_passed = 0;            // draws submitted unchanged after the sorted ones
+  uint64_t draws_passed = 0;            // submitted unchanged after their stretch's sorted ones
   uint64_t triangles_in = 0;            // assembled from the sorted draws
   uint64_t triangles_dropped = 0;       // invalid, degenerate or culled in the driver
   uint64_t triangles_near_clipped = 0;  // cut at the near plane before sorting
@@ -99,7 +99,9 @@ struct Stats {
 std::vector<SortTriangle> sort(std::vector<SortTriangle> triangles, Stats& stats);
 
 // The driver: when scene.visibility is painter, rewrites scene.draws as
-// above and returns the sort's figures; otherwise leaves the scene alone.
+// above, each stretch between clears on its own, moves each clear's
+// before_draw to its place in the rewritten list, and returns the sort's
+// figures; otherwise leaves the scene alone.
 std::optional<Stats> apply_visibility(Scene& scene);
 
 }  // namespace gpusim::painter

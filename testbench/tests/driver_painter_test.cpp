@@ -286,6 +286,19 @@ TEST(PainterScenes, DefaultMatchesTheZBufferExceptNearTies) {
   EXPECT_EQ(d.wrong, d.wrong_near_tie);
 }
 
+// Clears, viewports, flat shading under the first-vertex convention,
+// screen interpolation and Phong in one frame (painter_features.json).
+TEST(PainterScenes, FeaturesMatchTheZBufferExceptNearTies) {
+  Stats stats;
+  const FrameDiff d = painter_vs_zbuffer("painter_features", &stats);
+  expect_counters_balance(stats);
+  // The Phong sphere, the screen-interpolated triangle, the other viewport.
+  EXPECT_EQ(stats.draws_passed, 3u);
+  EXPECT_EQ(stats.draws_sorted, 5u);
+  EXPECT_GT(stats.splits, 0u);  // near a and near b interpenetrate
+  EXPECT_EQ(d.wrong, d.wrong_near_tie);
+}
+
 TEST(PainterScenes, PassedDrawsFollowUnchanged) {
   Scene s = scene_file("painter_default");
   const Draw blended = s.draws.back();
@@ -342,6 +355,224 @@ TEST(PainterScenes, NearPlaneCutBeforeSorting) {
   for (const Draw& d : painted.draws) {
     for (const glm::vec4& p : d.positions) EXPECT_GE(p.z, -p.w) << d.name;  // inside the near plane
   }
+  const FrameDiff d =
+      compare(golden::render(painted).framebuffer, golden::render(plain).framebuffer);
+  EXPECT_EQ(d.wrong, d.wrong_near_tie);
+}
+
+// The painter scene given as text, rendered rewritten against the same
+// scene z-buffered.
+FrameDiff text_vs_zbuffer(const std::string& text, Stats* stats_out, Scene* painted_out = nullptr) {
+  Scene painted = load_scene_from_string(text, "painter.json");
+  const Scene plain = zbuffered(painted);
+  const std::optional<Stats> stats = apply_visibility(painted);
+  EXPECT_TRUE(stats.has_value());
+  if (stats) *stats_out = *stats;
+  if (painted_out != nullptr) *painted_out = painted;
+  return compare(golden::render(painted).framebuffer, golden::render(plain).framebuffer);
+}
+
+// The depth-partition trick: the far part of a scene is drawn, the depth
+// buffer cleared, then the near part, whose surfaces lie farther in NDC
+// than the far part's but must cover them. A sort across the clear would
+// draw the near part first, under the far one; each stretch in the wrong
+// API order shows that each is still sorted.
+TEST(PainterScenes, ClearsDivideTheSortAndKeepTheirPlaces) {
+  const std::string text = R"({
+    "visibility": "painter",
+    "framebuffer": {"width": 64, "height": 64, "depth_format": "unorm24"},
+    "draws": [
+      {"name": "far near", "positions": [[-0.5, -0.5, -0.6, 1], [0.5, -0.5, -0.6, 1], [0, 0.5, -0.6, 1]],
+       "colors": [[1, 0, 0, 1], [1, 0, 0, 1], [1, 0, 0, 1]]},
+      {"name": "far back", "positions": [[-1, -1, -0.4, 1], [1, -1, -0.4, 1], [-1, 1, -0.4, 1]],
+       "colors": [[0, 1, 0, 1], [0, 1, 0, 1], [0, 1, 0, 1]]},
+      {"clear": {"depth": 1}},
+      {"name": "near near", "positions": [[-0.2, -0.9, 0.6, 1], [0.9, -0.9, 0.6, 1], [0.9, 0.2, 0.6, 1]],
+       "colors": [[0, 0, 1, 1], [0, 0, 1, 1], [0, 0, 1, 1]]},
+      {"name": "near back", "positions": [[-0.1, -1, 0.8, 1], [1, -1, 0.8, 1], [1, 1, 0.8, 1]],
+       "colors": [[1, 1, 0, 1], [1, 1, 0, 1], [1, 1, 0, 1]]},
+      {"clear": {"depth": 0.5}}
+    ]})";
+  Stats stats;
+  Scene painted;
+  const FrameDiff d = text_vs_zbuffer(text, &stats, &painted);
+  expect_counters_balance(stats);
+  EXPECT_EQ(stats.draws_sorted, 4u);
+  EXPECT_EQ(d.wrong, 0);
+  EXPECT_EQ(d.color_one_step, 0);
+  EXPECT_EQ(d.depth_only, 0);
+  // Each stretch is drawn back to front, and each clear stands where its
+  // stretch ends.
+  const std::vector<std::string> want = {
+      "draws[1] far back (painter)", "draws[0] far near (painter)", "draws[4] near back (painter)",
+      "draws[3] near near (painter)"};
+  ASSERT_EQ(painted.draws.size(), want.size());
+  for (size_t i = 0; i < want.size(); ++i) EXPECT_EQ(painted.draws[i].name, want[i]);
+  ASSERT_EQ(painted.clears.size(), 2u);
+  EXPECT_EQ(painted.clears[0].before_draw, 2u);
+  EXPECT_TRUE(painted.clears[0].depth);
+  EXPECT_EQ(painted.clears[1].before_draw, 4u);
+  EXPECT_TRUE(painted.clears[1].depth);
+}
+
+// Passed draws follow the sorted ones of their own stretch, before the clear.
+TEST(PainterScenes, PassedDrawsStayInTheirStretch) {
+  const std::string text = R"({
+    "visibility": "painter",
+    "framebuffer": {"width": 32, "height": 32},
+    "draws": [
+      {"name": "line", "primitive": "lines", "positions": [[-1, 0, 0, 1], [1, 0, 0, 1]]},
+      {"name": "tri", "positions": [[-1, -1, 0, 1], [1, -1, 0, 1], [0, 1, 0, 1]]},
+      {"clear": {"depth": 1}},
+      {"name": "tri 2", "positions": [[-1, -1, 0.5, 1], [1, -1, 0.5, 1], [0, 1, 0.5, 1]]}
+    ]})";
+  Scene painted = load_scene_from_string(text, "a.json");
+  ASSERT_TRUE(apply_visibility(painted).has_value());
+  ASSERT_EQ(painted.draws.size(), 3u);
+  EXPECT_EQ(painted.draws[0].name, "draws[1] tri (painter)");
+  EXPECT_EQ(painted.draws[1].name, "draws[0] line");
+  EXPECT_EQ(painted.draws[2].name, "draws[3] tri 2 (painter)");
+  ASSERT_EQ(painted.clears.size(), 1u);
+  EXPECT_EQ(painted.clears[0].before_draw, 2u);
+}
+
+// Overlapping draws in two viewports (supersampled, so the viewports are
+// scaled) and under two depth ranges: the first sortable draw's viewport
+// and depth range are sorted, the others passed; a reversed depth range is
+// passed too. Every frame is the z-buffer's.
+TEST(PainterScenes, ViewportsAndDepthRanges) {
+  const std::string text = R"({
+    "visibility": "painter",
+    "framebuffer": {"width": 48, "height": 40, "supersample": 2, "depth_format": "unorm24"},
+    "draws": [
+      {"name": "front", "positions": [[-0.6, -0.6, -0.5, 1], [0.6, -0.6, -0.5, 1], [0, 0.6, 0.0, 1]],
+       "colors": [[1, 0, 0, 1], [1, 0.5, 0, 1], [1, 0, 0.5, 1]], "state": {"viewport": [4, 2, 30, 30]}},
+      {"name": "back", "positions": [[-1, -1, 0.2, 1], [1, -1, 0.2, 1], [-1, 1, 0.2, 1]],
+       "colors": [[0, 1, 0, 1], [0, 1, 0, 1], [0, 1, 0, 1]], "state": {"viewport": [4, 2, 30, 30]}},
+      {"name": "other viewport", "positions": [[-1, -1, 0.0, 1], [1, -1, 0.0, 1], [1, 1, 0.0, 1]],
+       "colors": [[0, 0, 1, 1], [0, 0, 1, 1], [0, 0, 1, 1]], "state": {"viewport": [14, 6, 30, 30]}},
+      {"name": "other range", "positions": [[-1, 1, 0.0, 1], [1, -1, 0.0, 1], [1, 1, 0.0, 1]],
+       "colors": [[1, 1, 0, 1], [1, 1, 0, 1], [1, 1, 0, 1]],
+       "state": {"viewport": [4, 2, 30, 30], "depth_range": [0.1, 0.9]}},
+      {"name": "reversed", "positions": [[-0.2, -1, 0.9, 1], [1, -0.2, 0.9, 1], [1, 1, -0.9, 1]],
+       "colors": [[0, 1, 1, 1], [0, 1, 1, 1], [0, 1, 1, 1]],
+       "state": {"viewport": [4, 2, 30, 30], "depth_range": [1, 0]}}
+    ]})";
+  Stats stats;
+  Scene painted;
+  const FrameDiff d = text_vs_zbuffer(text, &stats, &painted);
+  expect_counters_balance(stats);
+  EXPECT_EQ(stats.draws_sorted, 2u);
+  EXPECT_EQ(stats.draws_passed, 3u);
+  ASSERT_EQ(painted.draws.size(), 5u);
+  EXPECT_EQ(painted.draws[0].name, "draws[1] back (painter)");
+  EXPECT_EQ(painted.draws[1].name, "draws[0] front (painter)");
+  EXPECT_EQ(painted.draws[2].name, "draws[2] other viewport");
+  EXPECT_EQ(painted.draws[3].name, "draws[3] other range");
+  EXPECT_EQ(painted.draws[4].name, "draws[4] reversed");
+  EXPECT_EQ(d.wrong, 0);
+}
+
+// A triangle of a few subpixels on the whole target snaps to zero area in
+// an 8 x 8 viewport: the driver drops what the model drops, in the draw's
+// viewport, as the golden model's counters say.
+TEST(PainterScenes, CullsInTheDrawsViewport) {
+  const std::string text = R"({
+    "visibility": "painter",
+    "framebuffer": {"width": 256, "height": 256},
+    "draws": [
+      {"name": "tiny", "positions": [[0, 0, 0, 1], [0.0002, 0, 0, 1], [0, 0.0002, 0, 1]],
+       "state": {"viewport": [0, 0, 8, 8]}},
+      {"name": "back-facing", "positions": [[0, 0, 0, 1], [0, 1, 0, 1], [1, 0, 0, 1]],
+       "state": {"viewport": [0, 0, 8, 8], "cull": "back"}},
+      {"name": "kept", "positions": [[-1, -1, 0, 1], [1, -1, 0, 1], [0, 1, 0, 1]],
+       "state": {"viewport": [0, 0, 8, 8]}}
+    ]})";
+  Scene painted = load_scene_from_string(text, "a.json");
+  const golden::Result plain = golden::render(zbuffered(painted));
+  ASSERT_EQ(plain.stats.triangles_degenerate, 1u);
+  ASSERT_EQ(plain.stats.triangles_culled, 1u);
+  const Stats stats = *apply_visibility(painted);
+  EXPECT_EQ(stats.triangles_dropped,
+            plain.stats.triangles_degenerate + plain.stats.triangles_culled);
+  EXPECT_EQ(stats.triangles_out, 1u);
+}
+
+// Flat-shaded strips and fans under both conventions: the painter draws
+// them behind a nearer triangle given first, in the provoking vertex's
+// colour (every vertex coloured differently, so any other is wrong).
+TEST(PainterScenes, FlatShadingTakesTheProvokingVertex) {
+  for (const std::string convention : {"first", "last"}) {
+    const std::string text = R"({
+      "visibility": "painter",
+      "framebuffer": {"width": 64, "height": 64, "depth_format": "unorm24"},
+      "draws": [
+        {"name": "near", "positions": [[-0.3, -0.3, -0.5, 1], [0.3, -0.3, -0.5, 1], [0, 0.3, -0.5, 1]]},
+        {"name": "strip", "primitive": "triangle_strip",
+         "positions": [[-1, -1, 0.3, 1], [-1, 0, 0.3, 1], [0, -1, 0.3, 1], [0, 0, 0.3, 1], [1, -1, 0.3, 1]],
+         "colors": [[1, 0, 0, 1], [0, 1, 0, 1], [0, 0, 1, 1], [1, 1, 0, 1], [0, 1, 1, 1]],
+         "state": {"shading": "flat", "provoking_vertex": ")" +
+                             convention + R"("}},
+        {"name": "fan", "primitive": "triangle_fan",
+         "positions": [[0, 0.5, 0.2, 1], [1, 0.5, 0.2, 1], [1, 1, 0.2, 1], [0, 1, 0.2, 1]],
+         "colors": [[1, 0, 1, 1], [0.5, 0.5, 0.5, 1], [0.2, 0.6, 0.9, 1], [0.9, 0.4, 0.1, 1]],
+         "state": {"shading": "flat", "provoking_vertex": ")" +
+                             convention + R"("}}
+      ]})";
+    Stats stats;
+    const FrameDiff d = text_vs_zbuffer(text, &stats);
+    EXPECT_EQ(stats.draws_sorted, 3u) << convention;
+    EXPECT_EQ(d.wrong, 0) << convention;
+    EXPECT_EQ(d.color_one_step, 0) << convention;
+  }
+}
+
+// Screen interpolation: a Gouraud draw with varying w is passed unchanged
+// (a split's clip-linear colour is not the affine one), a flat one is
+// sorted; they interpenetrate a perspective draw, and the frame is the
+// z-buffer's.
+TEST(PainterScenes, ScreenInterpolatedGouraudIsPassed) {
+  const std::string text = R"({
+    "visibility": "painter",
+    "framebuffer": {"width": 64, "height": 64, "depth_format": "unorm24"},
+    "draws": [
+      {"name": "screen gouraud", "positions": [[-2, -2, -1, 2], [0.5, -0.5, 0.5, 0.5], [-1, 1, 0.4, 1]],
+       "colors": [[1, 0, 0, 1], [0, 1, 0, 1], [0, 0, 1, 1]],
+       "state": {"interpolation": "screen"}},
+      {"name": "screen flat", "positions": [[1, -1, 0.4, 1], [1, 1, -0.4, 1], [-0.5, 0.5, 0.2, 1]],
+       "colors": [[1, 1, 0, 1], [0, 1, 1, 1], [1, 0, 1, 1]],
+       "state": {"interpolation": "screen", "shading": "flat"}},
+      {"name": "perspective", "positions": [[-1, -1, 0.3, 1], [2, -2, -0.8, 2], [0.5, 1, 0.0, 1]],
+       "colors": [[0.5, 0, 0, 1], [0, 0.5, 0, 1], [0, 0, 0.5, 1]]}
+    ]})";
+  Stats stats;
+  Scene painted;
+  const FrameDiff d = text_vs_zbuffer(text, &stats, &painted);
+  expect_counters_balance(stats);
+  EXPECT_EQ(stats.draws_sorted, 2u);
+  EXPECT_EQ(stats.draws_passed, 1u);
+  const Draw& last = painted.draws.back();
+  EXPECT_EQ(last.name, "draws[0] screen gouraud");
+  EXPECT_EQ(last.state.interpolation, Interpolation::screen);
+  EXPECT_EQ(d.wrong, d.wrong_near_tie);
+}
+
+// The Phong scene as a painter's: the per-pixel lit draws (and the lines)
+// are passed, still lit per pixel, and the frame is the z-buffer's; drawn
+// pre-lit they would be Gouraud, far off the z-buffered frame.
+TEST(PainterScenes, PhongDrawsArePassedStillLitPerPixel) {
+  Scene painted = scene_file("phong");
+  painted.visibility = Visibility::painter;
+  const Scene plain = zbuffered(painted);
+  size_t phong = 0;
+  for (const Draw& d : plain.draws) phong += golden::lit_per_pixel(d) ? 1 : 0;
+  ASSERT_GT(phong, 0u);
+  const Stats stats = *apply_visibility(painted);
+  expect_counters_balance(stats);
+  EXPECT_GT(stats.draws_sorted, 0u);
+  size_t phong_after = 0;
+  for (const Draw& d : painted.draws) phong_after += golden::lit_per_pixel(d) ? 1 : 0;
+  EXPECT_EQ(phong_after, phong);
   const FrameDiff d =
       compare(golden::render(painted).framebuffer, golden::render(plain).framebuffer);
   EXPECT_EQ(d.wrong, d.wrong_near_tie);

@@ -140,16 +140,15 @@ std::string case_name(const ::testing::TestParamInfo<Case>& info) {
 
 INSTANTIATE_TEST_SUITE_P(
     Scenes, BitExact,
-    ::testing::Combine(::testing::Values("default", "spider", "quad_clipspace", "tiny_triangles",
-                                         "shared_edges", "clipping", "zfight_offset", "states",
-                                         "lines_random", "points_wireframe", "lines_points",
-                                         "aa_samples2", "aa_samples8", "aa_samples16",
-                                         "aa_super3_samples4", "aa_super2", "clears",
-                                         "clears_samples4", "clears_super2", "viewport_scissor",
-                                         "viewport_scissor_aa", "phong", "aa_phong_samples4",
-                                         "painter_default", "painter_cycle",
-                                         "painter_interpenetrate", "provoking_interpolation"),
-                       ::testing::Range(0, 18)),
+    ::testing::Combine(
+        ::testing::Values("default", "spider", "quad_clipspace", "tiny_triangles", "shared_edges",
+                          "clipping", "zfight_offset", "states", "lines_random", "points_wireframe",
+                          "lines_points", "aa_samples2", "aa_samples8", "aa_samples16",
+                          "aa_super3_samples4", "aa_super2", "clears", "clears_samples4",
+                          "clears_super2", "viewport_scissor", "viewport_scissor_aa", "phong",
+                          "aa_phong_samples4", "painter_default", "painter_cycle",
+                          "painter_interpenetrate", "painter_features", "provoking_interpolation"),
+        ::testing::Range(0, 18)),
     case_name);
 
 // The scenes of docs/lessons.md (testbench/scenes/lessons/; scripts/lessons
