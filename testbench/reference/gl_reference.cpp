@@ -147,7 +147,12 @@ void main() {
 }
 )";
 
-const char* const kFragmentShader = R"(#version 330 core
+// Compiled twice: without PHONG for every other draw, and with it for Phong
+// draws. llvmpipe runs both sides of a branch on a uniform under its
+// execution mask, so one shader with the per-fragment lighting in it would
+// pay for the lighting loop on every fragment of every draw (measured: the
+// fill-bound benchmark frame 47 times slower).
+const char* const kFragmentShaderBody = R"(
 uniform int u_mode;
 smooth in vec4 v_color;
 flat in vec4 v_flat_color;
@@ -157,6 +162,7 @@ smooth in vec3 v_normal;
 smooth in vec3 v_eye;
 noperspective in vec3 v_normal_over_w;
 noperspective in vec3 v_eye_over_w;
+#ifdef PHONG
 // Phong: the scene's lights in eye space (u_light_vector.w: 1 point, 0
 // directional; u_light_attenuation: constant, linear, quadratic) and the
 // draw's material (u_emission.a unused, u_diffuse.a the colour's alpha).
@@ -205,6 +211,7 @@ vec4 phong(vec3 normal, vec3 e) {
   }
   return vec4(c, u_diffuse.a);
 }
+#endif
 out vec4 o_color;
 void main() {
   vec4 c;
@@ -212,10 +219,12 @@ void main() {
     c = v_color_over_w / v_inv_w;
   } else if (u_mode == 1) {
     c = v_color;
+#ifdef PHONG
   } else if (u_mode == 3) {
     c = phong(v_normal_over_w / v_inv_w, v_eye_over_w / v_inv_w);
   } else if (u_mode == 4) {
     c = phong(v_normal, v_eye);
+#endif
   } else {
     c = v_flat_color;
   }
@@ -346,8 +355,11 @@ struct GlReference::Impl {
   EGLContext context = EGL_NO_CONTEXT;
   Gl gl;
   bool gl_loaded = false;  // every entry point resolved
-  GLuint program = 0;
-  GLint mode_location = -1;
+  // The shader programs without and with per-fragment (Phong) lighting, each
+  // with its u_mode location; `phong_in_use` says which one is in use.
+  GLuint programs[2] = {0, 0};
+  GLint mode_locations[2] = {-1, -1};
+  bool phong_in_use = false;
   GLuint vao = 0;
   GLuint vertex_buffer = 0;
   GLuint index_buffer = 0;
@@ -496,7 +508,7 @@ struct GlReference::Impl {
           gl.glDeleteBuffers(1, &vertex_buffer);
           gl.glDeleteBuffers(1, &index_buffer);
           gl.glDeleteVertexArrays(1, &vao);
-          gl.glDeleteProgram(program);
+          for (const GLuint p : programs) gl.glDeleteProgram(p);
         }
         eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
         eglDestroyContext(display, context);
@@ -528,10 +540,12 @@ struct GlReference::Impl {
     return s;
   }
 
-  void build_program() {
+  GLuint link_program(bool phong) {
     const GLuint vs = compile(GL_VERTEX_SHADER, kVertexShader);
-    const GLuint fs = compile(GL_FRAGMENT_SHADER, kFragmentShader);
-    program = gl.glCreateProgram();
+    const std::string fragment = std::string("#version 330 core\n") +
+                                 (phong ? "#define PHONG 1\n" : "") + kFragmentShaderBody;
+    const GLuint fs = compile(GL_FRAGMENT_SHADER, fragment.c_str());
+    const GLuint program = gl.glCreateProgram();
     gl.glAttachShader(program, vs);
     gl.glAttachShader(program, fs);
     gl.glLinkProgram(program);
@@ -544,15 +558,30 @@ struct GlReference::Impl {
       gl.glGetProgramInfoLog(program, sizeof log, nullptr, log);
       throw ReferenceError(std::string("program link failed: ") + log);
     }
-    gl.glUseProgram(program);
-    mode_location = gl.glGetUniformLocation(program, "u_mode");
+    return program;
   }
 
-  GLint uniform(const char* name) const { return gl.glGetUniformLocation(program, name); }
+  void build_program() {
+    for (const bool phong : {false, true}) {
+      programs[phong] = link_program(phong);
+      mode_locations[phong] = gl.glGetUniformLocation(programs[phong], "u_mode");
+    }
+    use_program(false);
+  }
+
+  void use_program(bool phong) {
+    if (programs[phong] == 0) return;
+    gl.glUseProgram(programs[phong]);
+    phong_in_use = phong;
+  }
+
+  // A uniform of the Phong program (the only one with uniforms besides u_mode).
+  GLint uniform(const char* name) const { return gl.glGetUniformLocation(programs[1], name); }
 
   // The frame's lights for Phong draws (spec section 9b), eye space. render()
   // refuses a Phong draw under more lights than the shader takes.
   void set_lights(const Scene& scene) {
+    use_program(true);  // glUniform sets the program in use
     const size_t n = std::min(scene.lights.size(), kMaxPhongLights);
     std::vector<glm::vec4> vec(n), amb(n), dif(n), spe(n), att(n);
     for (size_t i = 0; i < n; ++i) {
@@ -574,6 +603,7 @@ struct GlReference::Impl {
     }
     gl.glUniform4fv(uniform("u_global_ambient"), 1, &scene.global_ambient[0]);
     check("light uniforms");
+    use_program(false);
   }
 
   // A vertex the spec leaves unclipped, in window space (see the header).
@@ -727,7 +757,9 @@ struct GlReference::Impl {
     const bool noperspective = window_space || interpolation == Interpolation::screen;
     int mode = shading == Shading::flat ? kModeFlat
                                         : (noperspective ? kModeWindowGouraud : kModeClipGouraud);
-    if (mode != kModeFlat && phong != nullptr) {
+    const bool lit_per_fragment = mode != kModeFlat && phong != nullptr;
+    if (lit_per_fragment != phong_in_use) use_program(lit_per_fragment);
+    if (lit_per_fragment) {
       mode = noperspective ? kModeWindowPhong : kModeClipPhong;
       gl.glUniform4fv(uniform("u_emission"), 1, &phong->emission[0]);
       gl.glUniform4fv(uniform("u_ambient"), 1, &phong->ambient[0]);
@@ -735,7 +767,7 @@ struct GlReference::Impl {
       gl.glUniform4fv(uniform("u_specular"), 1, &phong->specular[0]);
       gl.glUniform1f(uniform("u_shininess"), phong->shininess);
     }
-    gl.glUniform1i(mode_location, mode);
+    gl.glUniform1i(mode_locations[phong_in_use], mode);
     // Window-space triangles are not clipped in z (the spec does not clip
     // them); clip-space ones are, by OpenGL's near and far planes.
     if (window_space) {
