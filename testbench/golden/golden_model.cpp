@@ -224,7 +224,8 @@ void screen_colors(std::vector<ShadedVertex>& poly, const ShadedVertex* orig, in
     }
     const bool tri = n == 3;
     v.color = extend_affine(orig[0].color, orig[1].color, tri ? &orig[2].color : nullptr, b1, b2);
-    v.normal = extend_affine(orig[0].normal, orig[1].normal, tri ? &orig[2].normal : nullptr, b1, b2);
+    v.normal =
+        extend_affine(orig[0].normal, orig[1].normal, tri ? &orig[2].normal : nullptr, b1, b2);
     v.eye = extend_affine(orig[0].eye, orig[1].eye, tri ? &orig[2].eye : nullptr, b1, b2);
   }
 }
@@ -406,7 +407,8 @@ class Renderer {
     }
     if (was_clipped(poly, tri)) ++m_stats.triangles_clipped;
     std::vector<WindowVertex> win(poly.size());
-    for (size_t i = 0; i < poly.size(); ++i) win[i] = to_window(poly[i], m_viewport, st.interpolation);
+    for (size_t i = 0; i < poly.size(); ++i)
+      win[i] = to_window(poly[i], m_viewport, st.interpolation);
     for (size_t i = 1; i + 1 < poly.size(); ++i) {
       ++m_stats.triangles_after_clip;
       setup_and_rasterize(st, {win[0], win[i], win[i + 1]}, flat_color, id);
@@ -474,8 +476,8 @@ class Renderer {
     // second vertex, the first under the first-vertex convention).
     const glm::vec4& flat_color = line[st.provoking_vertex == ProvokingVertex::first ? 0 : 1].color;
     rasterize_line(st, to_window(c.v[0], m_viewport, st.interpolation),
-                   to_window(c.v[1], m_viewport, st.interpolation), flat_color,
-                   draw_first, draw_last, id);
+                   to_window(c.v[1], m_viewport, st.interpolation), flat_color, draw_first,
+                   draw_last, id);
   }
 
   // A clipped line in window space (spec sections 8b and 9; multisampled:

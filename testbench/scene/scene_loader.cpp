@@ -822,10 +822,10 @@ Material SceneReader::read_material(const At& a) const {
 
 RenderState SceneReader::read_state(const At& a) const {
   expect_object(a);
-  check_keys(a, {"cull", "front_face", "depth_test", "depth_write", "polygon_offset", "blend",
-                 "color_mask", "shading", "line_width", "point_size", "line_rasterization",
-                 "polygon_mode", "viewport", "depth_range", "scissor",
-                 "provoking_vertex", "interpolation"});
+  check_keys(
+      a, {"cull", "front_face", "depth_test", "depth_write", "polygon_offset", "blend",
+          "color_mask", "shading", "line_width", "point_size", "line_rasterization", "polygon_mode",
+          "viewport", "depth_range", "scissor", "provoking_vertex", "interpolation"});
   RenderState s = frame_state();
   if (has(a, "viewport")) s.viewport = read_rect(member(a, "viewport"), true);
   if (has(a, "depth_range")) {
