@@ -663,8 +663,10 @@ int run_replay(const ReplayArgs& args, const ProgressArgs& progress_args) {
   // The phases repeat per frame: their sums, in order of first appearance.
   std::vector<std::pair<std::string, double>> sums;
   for (const auto& [phase, seconds] : progress.phases()) {
+    // A copy: C++17 lambdas cannot capture a structured binding (clang refuses).
+    const std::string name = phase;
     auto it =
-        std::find_if(sums.begin(), sums.end(), [&](const auto& p) { return p.first == phase; });
+        std::find_if(sums.begin(), sums.end(), [&](const auto& p) { return p.first == name; });
     if (it == sums.end()) {
       sums.emplace_back(phase, seconds);
     } else {
