@@ -9,7 +9,7 @@ Gpu::Gpu(sc_core::sc_module_name name, const GpuConfig& config, const FrameState
     : sc_core::sc_module(name),
       m_config(config),
       m_memory("memory", memory_bytes, config.memory.latency, config.memory.bytes_per_cycle,
-               config.cycle()),
+               config.cycle(), config.memory.channels, config.memory.interleave_bytes),
       m_topology(config),
       m_command_processor("command_processor", config, frame),
       m_fetch("vertex_fetch", config, frame),
