@@ -256,8 +256,9 @@ std::string bottleneck_text(const Bottleneck& b, const std::string& span, bool a
     out += format_text(
         "  memory-bound: %s %s utilized and memory stalls are %s of %s's busy "
         "cycles (stats.json, whole frame)\n",
-        b.memory_channels > 1 ? bus.c_str() : "the bus is", percent(*b.memory_utilization).c_str(),
-        percent(b.memory_stall_share).c_str(), b.kind.c_str());
+        b.memory_channels > 1 ? (bus + " is").c_str() : "the bus is",
+        percent(*b.memory_utilization).c_str(), percent(b.memory_stall_share).c_str(),
+        b.kind.c_str());
   } else if (b.memory_utilization) {
     out += format_text("  %s-bound: %s %s utilized; memory stalls are %s of %s's busy cycles\n",
                        b.kind.c_str(), bus.c_str(), percent(*b.memory_utilization).c_str(),
@@ -366,7 +367,8 @@ nlohmann::json bottleneck_json(const Bottleneck& b) {
       {"starves", shares(b.starves, "starved")},
       {"memory_utilization",
        b.memory_utilization ? nlohmann::json(*b.memory_utilization) : nlohmann::json()},
-      {"memory_channel", b.memory_channel < 0 ? nlohmann::json() : nlohmann::json(b.memory_channel)},
+      {"memory_channel",
+       b.memory_channel < 0 ? nlohmann::json() : nlohmann::json(b.memory_channel)},
       {"memory_channels", b.memory_channels},
       {"memory_mean_utilization",
        b.memory_utilization ? nlohmann::json(b.memory_mean_utilization) : nlohmann::json()},

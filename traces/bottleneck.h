@@ -48,8 +48,8 @@ struct Bottleneck {
   double mean_busy = 0.0;
   double stalled = 0.0;  // the busiest stage's own stalled share
   size_t stages = 0;
-  std::vector<KindShare> stalls;             // upstream, nearest first: stalled shares
-  std::vector<KindShare> starves;            // downstream, nearest first: starved shares
+  std::vector<KindShare> stalls;   // upstream, nearest first: stalled shares
+  std::vector<KindShare> starves;  // downstream, nearest first: starved shares
   // stats.json, whole frame: the busiest channel's utilization, which
   // channel it is (-1: not known), of how many, and the channels' mean.
   std::optional<double> memory_utilization;

@@ -159,8 +159,7 @@ StatsSummary::StatsSummary(const nlohmann::json& stats, const std::string& path)
     const auto u = memory.find("utilization");
     if (u != memory.end() && u->is_number()) m_memory_utilization = u->get<double>();
   }
-  if (memory.contains("channels") && memory["channels"].is_array())
-    m_channels = memory["channels"];
+  if (memory.contains("channels") && memory["channels"].is_array()) m_channels = memory["channels"];
   m_memory_busy = cycles_at(memory, "busy_cycles");
   m_bytes_per_cycle = cycles_at(memory, "bytes_per_cycle");
   for (const auto& item : object_at(memory, "clients").items()) {
