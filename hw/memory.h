@@ -1,6 +1,6 @@
 // The one memory of the GPU, shared by every client (vertex fetch, each depth
 // test, each ROP) through an arbiter that decides the order in which their
-// requests take the one data bus. docs/architecture.md ("Memory") describes
+// requests take the data bus of each channel (one channel by default). docs/architecture.md ("Memory") describes
 // the same model for readers of the docs; docs/gpu-config.md ("Memory")
 // lists its parameters and statistics.
 //
