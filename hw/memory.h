@@ -1,8 +1,9 @@
 // The one memory of the GPU, shared by every client (vertex fetch, each depth
 // test, each ROP) through an arbiter that decides the order in which their
-// requests take the data bus of each channel (one channel by default). docs/architecture.md ("Memory") describes
-// the same model for readers of the docs; docs/gpu-config.md ("Memory")
-// lists its parameters and statistics.
+// requests take the data bus of each channel (one channel by default).
+// docs/architecture.md ("Memory") describes the same model for readers of
+// the docs; docs/gpu-config.md ("Memory") lists its parameters and
+// statistics.
 //
 // Function and timing are split. A request is functional when it is issued:
 // the bytes are copied at once, and an error (an address range beyond the
@@ -47,11 +48,10 @@
 // Channels: the memory is `channels` such buses side by side, each with its
 // own bus_free, round-robin pointer and statistics, and the same latency
 // and width. Address a belongs to channel (a / interleave_bytes) % channels.
-// A request is cut at every interleave boundary where the channel changes
-// into pieces, one per channel-contiguous range (with one channel it stays
-// whole); each piece is a request of its own on its channel (its own B, its
-// own wait), arriving at the request's A, and the group completes when its
-// last piece does. The grant order above holds per channel, among that
+// A request is cut into pieces at the interleave boundaries it crosses (with
+// one channel it stays whole: no boundary changes the channel); each piece
+// is a request of its own on its channel (its own B, its own wait), arriving
+// at the request's A, and the group completes when its last piece does. The grant order above holds per channel, among that
 // channel's pieces; the channels never wait for each other.
 //
 // A client learns its completion times only after the round: it issues a
@@ -202,7 +202,6 @@ class Memory : public sc_core::sc_module {
   tlm_utils::multi_passthrough_target_socket_optional<Memory> socket;
 
   // `size` bytes, zero-filled. Timing as in the header comment; `cycle` is the
-  // clock period (GpuConfig::cycle()).
   // clock period (GpuConfig::cycle()); `channels` buses interleaved every
   // `interleave_bytes` (a power of two) bytes.
   Memory(sc_core::sc_module_name name, uint64_t size, unsigned latency_cycles,
