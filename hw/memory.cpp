@@ -60,7 +60,7 @@ MemoryArbiter::ChannelStats MemoryArbiter::channel_stats(unsigned channel) const
 // Channels are independent: each round is arbitrated per channel, in
 // channel order (which cannot matter: no state is shared between them).
 void MemoryArbiter::update() {
-  for (const unsigned c : m_active_channels) arbitrate(m_channels[c]);
+  for (const unsigned c : m_active_channels) arbitrate(c);
   m_active_channels.clear();
 }
 
@@ -73,7 +73,8 @@ void MemoryArbiter::update() {
 // Per grant this costs a scan of the clients active in the round, a handful,
 // instead of a sort of the whole round (an end-of-frame flush issues
 // thousands of rows at once).
-void MemoryArbiter::arbitrate(Channel& ch) {
+void MemoryArbiter::arbitrate(unsigned channel) {
+  Channel& ch = m_channels[channel];
   const auto by_arrival = [](const Request& a, const Request& b) { return a.arrival < b.arrival; };
   for (const unsigned c : ch.active) {
     std::vector<Request>& q = ch.queues[c];
@@ -100,7 +101,7 @@ void MemoryArbiter::arbitrate(Channel& ch) {
     const std::vector<Request>& q = ch.queues[best];
     size_t& head = ch.heads[best];
     do {
-      grant(ch, best, q[head++]);
+      grant(channel, best, q[head++]);
     } while (head < q.size() && q[head].arrival == arrival);
     ch.next = best + 1 < n ? best + 1 : 0;
   }
@@ -111,9 +112,11 @@ void MemoryArbiter::arbitrate(Channel& ch) {
   ch.active.clear();
 }
 
-void MemoryArbiter::grant(Channel& ch, unsigned client, const Request& r) {
+void MemoryArbiter::grant(unsigned channel, unsigned client, const Request& r) {
+  Channel& ch = m_channels[channel];
   const uint64_t start = std::max(r.arrival, ch.bus_free);
   ch.bus_free = start + r.busy * m_cycle;
+  if (m_probe) m_probe->transfer(channel, start, ch.bus_free);
   const sc_core::sc_time done = sc_core::sc_time::from_value(ch.bus_free + m_latency);
   MemoryCompletion& c = r.sink->done;
   sc_core::sc_time& last = r.write ? c.writes : c.reads;

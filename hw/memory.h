@@ -51,8 +51,8 @@
 // A request is cut into pieces at the interleave boundaries it crosses (with
 // one channel it stays whole: no boundary changes the channel); each piece
 // is a request of its own on its channel (its own B, its own wait), arriving
-// at the request's A, and the group completes when its last piece does. The grant order above holds per channel, among that
-// channel's pieces; the channels never wait for each other.
+// at the request's A, and the group completes when its last piece does. The grant order above holds
+// per channel, among that channel's pieces; the channels never wait for each other.
 //
 // A client learns its completion times only after the round: it issues a
 // group of requests (all rows of a tile, a write-back and a fill, all
@@ -98,6 +98,17 @@ struct MemoryClientStats {
   sc_core::sc_time queued;      // summed waits for the bus: S - A
   sc_core::sc_time queued_max;  // the longest single wait S - A
   uint64_t errors = 0;          // requests answered with an error
+};
+
+// Told of every bus transfer as the arbiter grants it (Memory::set_probe):
+// its channel and the sc_time values at which it starts and ends on that
+// channel's bus. Per channel they come in start order (a grant starts at or
+// after the channel's bus_free), so a trace can stream them. The trace
+// recorder is one (traces/trace_recorder.h).
+class MemoryProbe {
+ public:
+  virtual ~MemoryProbe() = default;
+  virtual void transfer(unsigned channel, uint64_t start, uint64_t end) = 0;
 };
 
 // The timing half of the memory: collects a delta's requests and grants them
@@ -156,6 +167,7 @@ class MemoryArbiter : public sc_core::sc_prim_channel {
     sc_core::sc_time bus_free;
   };
   ChannelStats channel_stats(unsigned channel) const;
+  void set_probe(MemoryProbe* probe) { m_probe = probe; }
 
  private:
   struct Request {
@@ -184,8 +196,8 @@ class MemoryArbiter : public sc_core::sc_prim_channel {
   };
 
   void update() override;
-  void arbitrate(Channel& ch);
-  void grant(Channel& ch, unsigned client, const Request& r);
+  void arbitrate(unsigned channel);
+  void grant(unsigned channel, unsigned client, const Request& r);
 
   uint64_t m_bytes_per_cycle;
   uint64_t m_cycle;    // sc_time value of one clock cycle
@@ -193,6 +205,7 @@ class MemoryArbiter : public sc_core::sc_prim_channel {
   std::vector<Client> m_clients;
   std::vector<Channel> m_channels;
   std::vector<unsigned> m_active_channels;  // channels with requests this round
+  MemoryProbe* m_probe = nullptr;
 };
 
 class Memory : public sc_core::sc_module {
@@ -246,6 +259,8 @@ class Memory : public sc_core::sc_module {
   MemoryArbiter::ChannelStats channel_stats(unsigned channel) const {
     return m_arbiter.channel_stats(channel);
   }
+  // Every transfer from now on goes to `probe` too (nullptr: none).
+  void set_probe(MemoryProbe* probe) { m_arbiter.set_probe(probe); }
 
   // {"size_bytes", "latency", "bytes_per_cycle", "busy_cycles", "utilization",
   //  "clients": {name: {requests, reads, writes, bytes_read, bytes_written,

@@ -85,6 +85,7 @@ void Gpu::set_last_writer(std::vector<int64_t>* per_pixel) {
 
 void Gpu::attach_trace(TraceProbes& probes) {
   m_topology.attach_trace(probes);
+  m_memory.set_probe(probes.memory_probe());
   for (Unit& u : m_units) {
     u.depth->set_fragment_probe(probes.fragment_probe());
     u.rop->set_fragment_probe(probes.fragment_probe());
