@@ -20,6 +20,8 @@ constexpr unsigned kMaxFifoDepth = 65536;
 constexpr unsigned kMaxStageCycles = 1000000;
 constexpr unsigned kMaxMemoryLatency = 1000000;
 constexpr unsigned kMaxBytesPerCycle = 65536;
+constexpr unsigned kMaxChannels = 64;
+constexpr unsigned kMaxInterleave = 1u << 20;
 constexpr unsigned kMaxVertexCache = 65536;
 constexpr unsigned kMaxTileCache = 1024;
 constexpr uint64_t kMaxWatchdog = 1000000000000ull;
@@ -266,13 +268,24 @@ GpuConfig gpu_config_from_json(const nlohmann::json& j, const std::string& sourc
   if (j.contains("memory")) {
     const auto& m = j["memory"];
     r.expect_object(m, "memory");
-    r.check_keys(m, "memory", {"latency", "bytes_per_cycle"});
+    r.check_keys(m, "memory", {"latency", "bytes_per_cycle", "channels", "interleave_bytes"});
     if (m.contains("latency")) {
       c.memory.latency = r.get_unsigned(m["latency"], "memory.latency", 0, kMaxMemoryLatency);
     }
     if (m.contains("bytes_per_cycle")) {
       c.memory.bytes_per_cycle =
           r.get_unsigned(m["bytes_per_cycle"], "memory.bytes_per_cycle", 1, kMaxBytesPerCycle);
+    }
+    if (m.contains("channels")) {
+      c.memory.channels = r.get_unsigned(m["channels"], "memory.channels", 1, kMaxChannels);
+    }
+    if (m.contains("interleave_bytes")) {
+      c.memory.interleave_bytes =
+          r.get_unsigned(m["interleave_bytes"], "memory.interleave_bytes", 32, kMaxInterleave);
+      if (c.memory.interleave_bytes & (c.memory.interleave_bytes - 1)) {
+        r.fail("memory.interleave_bytes",
+               "must be a power of two, got " + std::to_string(c.memory.interleave_bytes));
+      }
     }
   }
   if (j.contains("vertex_cache_entries")) {
@@ -437,7 +450,10 @@ nlohmann::json to_json(const GpuConfig& c) {
     stages[n] = {{"ii", s.ii}, {"latency", s.latency}};
   }
   j["stages"] = stages;
-  j["memory"] = {{"latency", c.memory.latency}, {"bytes_per_cycle", c.memory.bytes_per_cycle}};
+  j["memory"] = {{"latency", c.memory.latency},
+                 {"bytes_per_cycle", c.memory.bytes_per_cycle},
+                 {"channels", c.memory.channels},
+                 {"interleave_bytes", c.memory.interleave_bytes}};
   j["vertex_cache_entries"] = c.vertex_cache_entries;
   j["tile_cache_entries"] = c.tile_cache_entries;
   j["samples_per_pass"] = c.samples_per_pass;

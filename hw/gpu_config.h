@@ -33,11 +33,14 @@ struct StageCost {
 
 // The one memory shared by every client (see hw/memory.h for the model).
 struct MemoryConfig {
-  unsigned latency = 20;          // cycles from the end of the bus transfer to completion
-  unsigned bytes_per_cycle = 32;  // data bus width, shared by all clients
+  unsigned latency = 20;            // cycles from the end of the bus transfer to completion
+  unsigned bytes_per_cycle = 32;    // data bus width of one channel, shared by all clients
+  unsigned channels = 1;            // independent buses, addresses interleaved across them
+  unsigned interleave_bytes = 256;  // bytes on one channel before the next (power of two, >= 32)
 
   bool operator==(const MemoryConfig& o) const {
-    return latency == o.latency && bytes_per_cycle == o.bytes_per_cycle;
+    return latency == o.latency && bytes_per_cycle == o.bytes_per_cycle && channels == o.channels &&
+           interleave_bytes == o.interleave_bytes;
   }
   bool operator!=(const MemoryConfig& o) const { return !(*this == o); }
 };

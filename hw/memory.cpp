@@ -11,17 +11,57 @@ namespace gpusim {
 // --- MemoryArbiter -------------------------------------------------------------
 
 MemoryArbiter::MemoryArbiter(const char* name, unsigned latency_cycles, unsigned bytes_per_cycle,
-                             sc_core::sc_time cycle)
+                             sc_core::sc_time cycle, unsigned channels)
     : sc_core::sc_prim_channel(name),
       m_bytes_per_cycle(bytes_per_cycle),
       m_cycle(cycle.value()),
-      m_latency(cycle.value() * latency_cycles) {
+      m_latency(cycle.value() * latency_cycles),
+      m_channels(channels) {
   if (bytes_per_cycle == 0) throw std::invalid_argument("Memory: bytes_per_cycle must be >= 1");
+  if (channels == 0) throw std::invalid_argument("Memory: channels must be >= 1");
 }
 
 unsigned MemoryArbiter::add_client() {
   m_clients.emplace_back();
+  for (Channel& ch : m_channels) {
+    ch.queues.emplace_back();
+    ch.heads.push_back(0);
+  }
   return static_cast<unsigned>(m_clients.size() - 1);
+}
+
+sc_core::sc_time MemoryArbiter::bus_free() const {
+  uint64_t t = 0;
+  for (const Channel& ch : m_channels) t = std::max(t, ch.bus_free);
+  return sc_core::sc_time::from_value(t);
+}
+
+uint64_t MemoryArbiter::busy_cycles() const {
+  uint64_t n = 0;
+  for (const Channel& ch : m_channels) n += ch.busy_cycles;
+  return n;
+}
+
+MemoryArbiter::ChannelStats MemoryArbiter::channel_stats(unsigned channel) const {
+  const Channel& ch = m_channels.at(channel);
+  ChannelStats s;
+  s.requests = ch.requests;
+  s.reads = ch.reads;
+  s.writes = ch.writes;
+  s.bytes_read = ch.bytes_read;
+  s.bytes_written = ch.bytes_written;
+  s.busy_cycles = ch.busy_cycles;
+  s.queued = sc_core::sc_time::from_value(ch.queued);
+  s.queued_max = sc_core::sc_time::from_value(ch.queued_max);
+  s.bus_free = sc_core::sc_time::from_value(ch.bus_free);
+  return s;
+}
+
+// Channels are independent: each round is arbitrated per channel, in
+// channel order (which cannot matter: no state is shared between them).
+void MemoryArbiter::update() {
+  for (const unsigned c : m_active_channels) arbitrate(c);
+  m_active_channels.clear();
 }
 
 // Each client's queue is already in arrival order unless the client issued
@@ -33,68 +73,84 @@ unsigned MemoryArbiter::add_client() {
 // Per grant this costs a scan of the clients active in the round, a handful,
 // instead of a sort of the whole round (an end-of-frame flush issues
 // thousands of rows at once).
-void MemoryArbiter::update() {
+void MemoryArbiter::arbitrate(unsigned channel) {
+  Channel& ch = m_channels[channel];
   const auto by_arrival = [](const Request& a, const Request& b) { return a.arrival < b.arrival; };
-  for (const unsigned c : m_active) {
-    std::vector<Request>& q = m_clients[c].queue;
+  for (const unsigned c : ch.active) {
+    std::vector<Request>& q = ch.queues[c];
     if (!std::is_sorted(q.begin(), q.end(), by_arrival))
       std::stable_sort(q.begin(), q.end(), by_arrival);
   }
   const unsigned n = num_clients();
   for (;;) {
-    Client* best = nullptr;
-    unsigned best_index = 0, best_rank = n;
+    bool found = false;
+    unsigned best = 0, best_rank = n;
     uint64_t arrival = 0;
-    for (const unsigned c : m_active) {
-      Client& client = m_clients[c];
-      if (client.head == client.queue.size()) continue;
-      const uint64_t a = client.queue[client.head].arrival;
-      const unsigned rank = c >= m_next ? c - m_next : c + n - m_next;
-      if (!best || a < arrival || (a == arrival && rank < best_rank)) {
-        best = &client;
-        best_index = c;
+    for (const unsigned c : ch.active) {
+      if (ch.heads[c] == ch.queues[c].size()) continue;
+      const uint64_t a = ch.queues[c][ch.heads[c]].arrival;
+      const unsigned rank = c >= ch.next ? c - ch.next : c + n - ch.next;
+      if (!found || a < arrival || (a == arrival && rank < best_rank)) {
+        found = true;
+        best = c;
         best_rank = rank;
         arrival = a;
       }
     }
-    if (!best) break;
+    if (!found) break;
+    const std::vector<Request>& q = ch.queues[best];
+    size_t& head = ch.heads[best];
     do {
-      grant(*best, best->queue[best->head++]);
-    } while (best->head < best->queue.size() && best->queue[best->head].arrival == arrival);
-    m_next = best_index + 1 < n ? best_index + 1 : 0;
+      grant(channel, best, q[head++]);
+    } while (head < q.size() && q[head].arrival == arrival);
+    ch.next = best + 1 < n ? best + 1 : 0;
   }
-  for (const unsigned c : m_active) {
-    m_clients[c].queue.clear();
-    m_clients[c].head = 0;
+  for (const unsigned c : ch.active) {
+    ch.queues[c].clear();
+    ch.heads[c] = 0;
   }
-  m_active.clear();
+  ch.active.clear();
 }
 
-void MemoryArbiter::grant(Client& client, const Request& r) {
-  const uint64_t start = std::max(r.arrival, m_bus_free);
-  m_bus_free = start + r.busy * m_cycle;
-  const sc_core::sc_time done = sc_core::sc_time::from_value(m_bus_free + m_latency);
+void MemoryArbiter::grant(unsigned channel, unsigned client, const Request& r) {
+  Channel& ch = m_channels[channel];
+  const uint64_t start = std::max(r.arrival, ch.bus_free);
+  ch.bus_free = start + r.busy * m_cycle;
+  if (m_probe) m_probe->transfer(channel, start, ch.bus_free);
+  const sc_core::sc_time done = sc_core::sc_time::from_value(ch.bus_free + m_latency);
   MemoryCompletion& c = r.sink->done;
   sc_core::sc_time& last = r.write ? c.writes : c.reads;
   if (done > last) last = done;
   r.sink->pending = false;
-  client.busy_cycles += r.busy;
-  client.queued += start - r.arrival;
-  client.queued_max = std::max(client.queued_max, start - r.arrival);
-  m_busy_cycles += r.busy;
+  const uint64_t wait = start - r.arrival;
+  Client& cl = m_clients[client];
+  cl.busy_cycles += r.busy;
+  cl.queued += wait;
+  cl.queued_max = std::max(cl.queued_max, wait);
+  ++ch.requests;
+  ++(r.write ? ch.writes : ch.reads);
+  (r.write ? ch.bytes_written : ch.bytes_read) += r.len;
+  ch.busy_cycles += r.busy;
+  ch.queued += wait;
+  ch.queued_max = std::max(ch.queued_max, wait);
 }
 
 // --- Memory --------------------------------------------------------------------
 
 Memory::Memory(sc_core::sc_module_name name, uint64_t size, unsigned latency_cycles,
-               unsigned bytes_per_cycle, sc_core::sc_time cycle)
+               unsigned bytes_per_cycle, sc_core::sc_time cycle, unsigned channels,
+               unsigned interleave_bytes)
     : sc_core::sc_module(name),
       socket("socket"),
       m_data(size),
       m_latency(latency_cycles),
       m_bytes_per_cycle(bytes_per_cycle),
+      m_interleave_shift(0),
       m_cycle(cycle),
-      m_arbiter("arbiter", latency_cycles, bytes_per_cycle, cycle) {
+      m_arbiter("arbiter", latency_cycles, bytes_per_cycle, cycle, channels) {
+  if (interleave_bytes == 0 || (interleave_bytes & (interleave_bytes - 1)) != 0)
+    throw std::invalid_argument("Memory: interleave_bytes must be a power of two");
+  while ((1u << m_interleave_shift) < interleave_bytes) ++m_interleave_shift;
   socket.register_b_transport(this, &Memory::b_transport);
   socket.register_transport_dbg(this, &Memory::transport_dbg);
 }
@@ -147,7 +203,20 @@ bool Memory::issue(unsigned client, bool write, uint64_t addr, void* data, uint6
     s.bytes_read += len;
   }
   ++s.requests;
-  m_arbiter.request(client, offset, len, write, sink);
+  if (num_channels() == 1) {
+    m_arbiter.request(client, 0, offset, len, write, sink);
+    return true;
+  }
+  // One piece per interleave block: consecutive blocks belong to different
+  // channels whenever there are two or more.
+  const uint64_t block = uint64_t{1} << m_interleave_shift;
+  uint64_t at = addr;
+  const uint64_t end = addr + len;
+  do {
+    const uint64_t piece_end = std::min(end, (at | (block - 1)) + 1);
+    m_arbiter.request(client, channel_of(at), offset, piece_end - at, write, sink);
+    at = piece_end;
+  } while (at < end);
   return true;
 }
 
@@ -249,14 +318,34 @@ nlohmann::json Memory::stats_json() const {
         {"errors", s.errors},
     };
   }
+  nlohmann::json channels = nlohmann::json::array();
+  for (unsigned i = 0; i < num_channels(); ++i) {
+    const MemoryArbiter::ChannelStats s = channel_stats(i);
+    channels.push_back({
+        {"channel", i},
+        {"requests", s.requests},
+        {"reads", s.reads},
+        {"writes", s.writes},
+        {"bytes_read", s.bytes_read},
+        {"bytes_written", s.bytes_written},
+        {"busy_cycles", s.busy_cycles},
+        {"utilization", elapsed > 0 ? static_cast<double>(s.busy_cycles) / elapsed : 0.0},
+        {"queued_cycles", s.queued / m_cycle},
+        {"queued_cycles_mean", s.requests ? s.queued / m_cycle / s.requests : 0.0},
+        {"queued_cycles_max", s.queued_max / m_cycle},
+    });
+  }
   const uint64_t busy = busy_cycles();
+  const double bus_cycles = elapsed * num_channels();
   return {
       {"size_bytes", m_data.size()},
       {"latency", m_latency},
       {"bytes_per_cycle", m_bytes_per_cycle},
+      {"interleave_bytes", uint64_t{1} << m_interleave_shift},
       {"busy_cycles", busy},
-      {"utilization", elapsed > 0 ? static_cast<double>(busy) / elapsed : 0.0},
+      {"utilization", bus_cycles > 0 ? static_cast<double>(busy) / bus_cycles : 0.0},
       {"clients", clients},
+      {"channels", channels},
   };
 }
 
@@ -265,9 +354,11 @@ nlohmann::json Memory::descriptions() {
   return {
       {"size_bytes", d("bytes", "memory size")},
       {"latency", d("cycles", "from the end of a bus transfer to its completion")},
-      {"bytes_per_cycle", d("bytes", "data bus width")},
-      {"busy_cycles", d("cycles", "cycles the bus moved data")},
-      {"utilization", d("ratio", "busy_cycles over the cycles elapsed")},
+      {"bytes_per_cycle", d("bytes", "data bus width of one channel")},
+      {"interleave_bytes", d("bytes", "consecutive bytes on one channel before the next")},
+      {"busy_cycles", d("cycles", "cycles the buses moved data, all channels added up")},
+      {"utilization",
+       d("ratio", "busy_cycles over the cycles elapsed times the channels: the mean channel's")},
       {"clients",
        {{"requests", d("requests", "successful reads and writes")},
         {"reads", d("requests", "reads")},
@@ -280,6 +371,18 @@ nlohmann::json Memory::descriptions() {
         {"queued_cycles_mean", d("cycles", "queued_cycles over requests: the mean wait")},
         {"queued_cycles_max", d("cycles", "the longest wait of one request")},
         {"errors", d("requests", "requests answered with an error")}}},
+      {"channels",
+       {{"channel", d("index", "the channel: addresses a with (a / interleave_bytes) % channels")},
+        {"requests", d("requests", "requests and pieces of requests it moved")},
+        {"reads", d("requests", "reads among them")},
+        {"writes", d("requests", "writes among them")},
+        {"bytes_read", d("bytes", "bytes read through it")},
+        {"bytes_written", d("bytes", "bytes written through it")},
+        {"busy_cycles", d("cycles", "cycles its bus moved data")},
+        {"utilization", d("ratio", "busy_cycles over the cycles elapsed")},
+        {"queued_cycles", d("cycles", "summed waits for its bus (arrival to start of transfer)")},
+        {"queued_cycles_mean", d("cycles", "queued_cycles over requests: the mean wait")},
+        {"queued_cycles_max", d("cycles", "the longest wait of one request")}}},
   };
 }
 

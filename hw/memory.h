@@ -1,8 +1,9 @@
 // The one memory of the GPU, shared by every client (vertex fetch, each depth
 // test, each ROP) through an arbiter that decides the order in which their
-// requests take the one data bus. docs/architecture.md ("Memory") describes
-// the same model for readers of the docs; docs/gpu-config.md ("Memory")
-// lists its parameters and statistics.
+// requests take the data bus of each channel (one channel by default).
+// docs/architecture.md ("Memory") describes the same model for readers of
+// the docs; docs/gpu-config.md ("Memory") lists its parameters and
+// statistics.
 //
 // Function and timing are split. A request is functional when it is issued:
 // the bytes are copied at once, and an error (an address range beyond the
@@ -43,6 +44,15 @@
 // Rounds follow simulated time and, within one time, delta order, which the
 // model's own events decide (e.g. a stage whose input arrives a delta later
 // asks a delta later). Requests are not aligned to clock edges.
+//
+// Channels: the memory is `channels` such buses side by side, each with its
+// own bus_free, round-robin pointer and statistics, and the same latency
+// and width. Address a belongs to channel (a / interleave_bytes) % channels.
+// A request is cut into pieces at the interleave boundaries it crosses (with
+// one channel it stays whole: no boundary changes the channel); each piece
+// is a request of its own on its channel (its own B, its own wait), arriving
+// at the request's A, and the group completes when its last piece does. The grant order above holds
+// per channel, among that channel's pieces; the channels never wait for each other.
 //
 // A client learns its completion times only after the round: it issues a
 // group of requests (all rows of a tile, a write-back and a fill, all
@@ -90,6 +100,17 @@ struct MemoryClientStats {
   uint64_t errors = 0;          // requests answered with an error
 };
 
+// Told of every bus transfer as the arbiter grants it (Memory::set_probe):
+// its channel and the sc_time values at which it starts and ends on that
+// channel's bus. Per channel they come in start order (a grant starts at or
+// after the channel's bus_free), so a trace can stream them. The trace
+// recorder is one (traces/trace_recorder.h).
+class MemoryProbe {
+ public:
+  virtual ~MemoryProbe() = default;
+  virtual void transfer(unsigned channel, uint64_t start, uint64_t end) = 0;
+};
+
 // The timing half of the memory: collects a delta's requests and grants them
 // in the order of the header comment. Knows nothing of addresses or data.
 class MemoryArbiter : public sc_core::sc_prim_channel {
@@ -102,29 +123,34 @@ class MemoryArbiter : public sc_core::sc_prim_channel {
   };
 
   MemoryArbiter(const char* name, unsigned latency_cycles, unsigned bytes_per_cycle,
-                sc_core::sc_time cycle);
+                sc_core::sc_time cycle, unsigned channels = 1);
 
   // The next client number (round-robin position). Elaboration only.
   unsigned add_client();
   unsigned num_clients() const { return static_cast<unsigned>(m_clients.size()); }
 
-  // Queues a request of `len` bytes arriving `offset` after now; its
-  // completion goes to `sink` in this delta's update phase.
-  void request(unsigned client, sc_core::sc_time offset, uint64_t len, bool write, Sink& sink) {
-    Client& c = m_clients[client];
-    if (c.queue.empty()) {
-      if (m_active.empty()) request_update();
-      m_active.push_back(client);
+  // Queues a request of `len` bytes on `channel` arriving `offset` after
+  // now; its completion goes to `sink` in this delta's update phase.
+  void request(unsigned client, unsigned channel, sc_core::sc_time offset, uint64_t len, bool write,
+               Sink& sink) {
+    Channel& ch = m_channels[channel];
+    std::vector<Request>& q = ch.queues[client];
+    if (q.empty()) {
+      if (m_active_channels.empty()) request_update();
+      if (ch.active.empty()) m_active_channels.push_back(channel);
+      ch.active.push_back(client);
     }
     const uint64_t arrival = simcontext()->time_stamp().value() + offset.value();
     const uint64_t busy = (len + m_bytes_per_cycle - 1) / m_bytes_per_cycle;
-    c.queue.push_back(Request{arrival, busy, write, &sink});
+    q.push_back(Request{arrival, busy, len, write, &sink});
     sink.pending = true;
   }
 
-  // When the bus finishes its last reserved transfer.
-  sc_core::sc_time bus_free() const { return sc_core::sc_time::from_value(m_bus_free); }
-  uint64_t busy_cycles() const { return m_busy_cycles; }
+  unsigned num_channels() const { return static_cast<unsigned>(m_channels.size()); }
+  // When the last channel finishes its last reserved transfer.
+  sc_core::sc_time bus_free() const;
+  // Bus cycles of all channels together.
+  uint64_t busy_cycles() const;
   uint64_t client_busy_cycles(unsigned client) const { return m_clients.at(client).busy_cycles; }
   sc_core::sc_time client_queued(unsigned client) const {
     return sc_core::sc_time::from_value(m_clients.at(client).queued);
@@ -132,34 +158,54 @@ class MemoryArbiter : public sc_core::sc_prim_channel {
   sc_core::sc_time client_queued_max(unsigned client) const {
     return sc_core::sc_time::from_value(m_clients.at(client).queued_max);
   }
+  // One channel's totals: the pieces it granted.
+  struct ChannelStats {
+    uint64_t requests = 0, reads = 0, writes = 0;
+    uint64_t bytes_read = 0, bytes_written = 0;
+    uint64_t busy_cycles = 0;
+    sc_core::sc_time queued, queued_max;  // as MemoryClientStats
+    sc_core::sc_time bus_free;
+  };
+  ChannelStats channel_stats(unsigned channel) const;
+  void set_probe(MemoryProbe* probe) { m_probe = probe; }
 
  private:
   struct Request {
     uint64_t arrival;  // sc_time value
     uint64_t busy;     // bus cycles
+    uint64_t len;      // bytes
     bool write;
     Sink* sink;
   };
-  // A client's requests of this round in issue order, and its timing totals.
+  // A client's timing totals over every channel.
   struct Client {
-    std::vector<Request> queue;
-    size_t head = 0;  // the next one to grant
     uint64_t busy_cycles = 0;
     uint64_t queued = 0;      // sc_time value
     uint64_t queued_max = 0;  // sc_time value
   };
+  // One bus: per client its requests of this round in issue order, the
+  // bus's reservation and round-robin pointer, and its totals.
+  struct Channel {
+    std::vector<std::vector<Request>> queues;  // per client
+    std::vector<size_t> heads;                 // per client: the next one to grant
+    std::vector<unsigned> active;              // clients with requests this round
+    uint64_t bus_free = 0;
+    unsigned next = 0;  // round-robin pointer: the client with the highest priority
+    uint64_t requests = 0, reads = 0, writes = 0, bytes_read = 0, bytes_written = 0;
+    uint64_t busy_cycles = 0, queued = 0, queued_max = 0;
+  };
 
   void update() override;
-  void grant(Client& client, const Request& r);
+  void arbitrate(unsigned channel);
+  void grant(unsigned channel, unsigned client, const Request& r);
 
   uint64_t m_bytes_per_cycle;
   uint64_t m_cycle;    // sc_time value of one clock cycle
   uint64_t m_latency;  // sc_time value of latency_cycles
-  uint64_t m_bus_free = 0;
-  uint64_t m_busy_cycles = 0;
-  unsigned m_next = 0;  // round-robin pointer: the client with the highest priority
   std::vector<Client> m_clients;
-  std::vector<unsigned> m_active;  // clients with requests this round
+  std::vector<Channel> m_channels;
+  std::vector<unsigned> m_active_channels;  // channels with requests this round
+  MemoryProbe* m_probe = nullptr;
 };
 
 class Memory : public sc_core::sc_module {
@@ -169,9 +215,11 @@ class Memory : public sc_core::sc_module {
   tlm_utils::multi_passthrough_target_socket_optional<Memory> socket;
 
   // `size` bytes, zero-filled. Timing as in the header comment; `cycle` is the
-  // clock period (GpuConfig::cycle()).
+  // clock period (GpuConfig::cycle()); `channels` buses interleaved every
+  // `interleave_bytes` (a power of two) bytes.
   Memory(sc_core::sc_module_name name, uint64_t size, unsigned latency_cycles,
-         unsigned bytes_per_cycle, sc_core::sc_time cycle);
+         unsigned bytes_per_cycle, sc_core::sc_time cycle, unsigned channels = 1,
+         unsigned interleave_bytes = 256);
 
   // Registers a client named `client_name` (unique) and returns its number:
   // clients are numbered in the order they are added, which is their order
@@ -204,12 +252,25 @@ class Memory : public sc_core::sc_module {
   MemoryClientStats client_stats(unsigned index) const;
   uint64_t busy_cycles() const { return m_arbiter.busy_cycles(); }
   sc_core::sc_time bus_free() const { return m_arbiter.bus_free(); }
+  unsigned num_channels() const { return m_arbiter.num_channels(); }
+  unsigned channel_of(uint64_t addr) const {
+    return static_cast<unsigned>((addr >> m_interleave_shift) % num_channels());
+  }
+  MemoryArbiter::ChannelStats channel_stats(unsigned channel) const {
+    return m_arbiter.channel_stats(channel);
+  }
+  // Every transfer from now on goes to `probe` too (nullptr: none).
+  void set_probe(MemoryProbe* probe) { m_arbiter.set_probe(probe); }
 
   // {"size_bytes", "latency", "bytes_per_cycle", "busy_cycles", "utilization",
   //  "clients": {name: {requests, reads, writes, bytes_read, bytes_written,
   //  busy_cycles, queued_cycles, queued_cycles_mean, queued_cycles_max,
-  //  errors}}}; utilization is busy cycles over the cycles elapsed so far;
-  // queued_cycles_mean is queued_cycles over requests (0 without requests).
+  //  errors}}, "channels": [{channel, requests, reads, writes, bytes_read,
+  //  bytes_written, busy_cycles, utilization, queued_cycles,
+  //  queued_cycles_mean, queued_cycles_max}]}; utilization is busy cycles
+  // over the cycles elapsed so far (the top-level one over the cycles of all
+  // channels); queued_cycles_mean is queued_cycles over requests (0 without
+  // requests). A client's requests count its issues, a channel's the pieces.
   nlohmann::json stats_json() const;
   // What each stats_json() field means: {name: {"unit", "description"}}.
   static nlohmann::json descriptions();
@@ -230,6 +291,7 @@ class Memory : public sc_core::sc_module {
   std::vector<uint8_t> m_data;
   unsigned m_latency;
   unsigned m_bytes_per_cycle;
+  unsigned m_interleave_shift;  // log2(interleave_bytes)
   sc_core::sc_time m_cycle;
   std::vector<Client> m_clients;
   // Per socket initiator (multi-socket index): its client number.

@@ -15,6 +15,8 @@
 
 namespace gpusim {
 
+class MemoryProbe;  // hw/memory.h
+
 // One fragment at a depth test. Values are decoded from the buffer format.
 struct DepthFragment {
   int x = 0, y = 0;  // GL window coordinates
@@ -108,6 +110,8 @@ class TraceProbes {
   virtual FifoProbe<ShadedStampBatch>* fifo_probe(size_t fifo, ProbeTag<ShadedStampBatch>) = 0;
   virtual FifoProbe<ControlToken>* fifo_probe(size_t fifo, ProbeTag<ControlToken>) = 0;
   virtual FragmentProbe* fragment_probe() = 0;
+  // The memory's bus transfers (nullptr: not traced).
+  virtual MemoryProbe* memory_probe() { return nullptr; }
 };
 
 }  // namespace gpusim

@@ -9,7 +9,7 @@ Gpu::Gpu(sc_core::sc_module_name name, const GpuConfig& config, const FrameState
     : sc_core::sc_module(name),
       m_config(config),
       m_memory("memory", memory_bytes, config.memory.latency, config.memory.bytes_per_cycle,
-               config.cycle()),
+               config.cycle(), config.memory.channels, config.memory.interleave_bytes),
       m_topology(config),
       m_command_processor("command_processor", config, frame),
       m_fetch("vertex_fetch", config, frame),
@@ -85,6 +85,7 @@ void Gpu::set_last_writer(std::vector<int64_t>* per_pixel) {
 
 void Gpu::attach_trace(TraceProbes& probes) {
   m_topology.attach_trace(probes);
+  m_memory.set_probe(probes.memory_probe());
   for (Unit& u : m_units) {
     u.depth->set_fragment_probe(probes.fragment_probe());
     u.rop->set_fragment_probe(probes.fragment_probe());

@@ -121,20 +121,44 @@ void read_stage_stats(const nlohmann::json& timing_stages, std::vector<StageLoad
   }
 }
 
-std::optional<double> memory_utilization(const nlohmann::json& timing) {
+std::optional<MemoryLoad> memory_load(const nlohmann::json& timing) {
   const auto it = timing.find("memory");
   if (it == timing.end() || !it->is_object()) return std::nullopt;
-  return number_at(*it, "utilization");
+  const std::optional<double> top = number_at(*it, "utilization");
+  const auto channels = it->find("channels");
+  if (channels == it->end() || !channels->is_array() || channels->empty()) {
+    if (!top) return std::nullopt;
+    return MemoryLoad{*top, -1, 1, *top};
+  }
+  MemoryLoad load;
+  load.channels = static_cast<unsigned>(channels->size());
+  double sum = 0.0;
+  for (size_t i = 0; i < channels->size(); ++i) {
+    const nlohmann::json& ch = (*channels)[i];
+    const double u = ch.is_object() ? number_at(ch, "utilization").value_or(0.0) : 0.0;
+    sum += u;
+    if (load.channel < 0 || u > load.utilization) {
+      load.utilization = u;
+      load.channel = static_cast<int>(i);
+    }
+  }
+  load.mean = sum / load.channels;
+  return load;
 }
 
 Bottleneck find_bottleneck(const TraceManifest& netlist, const std::vector<StageLoad>& stages,
-                           uint64_t span, std::optional<double> memory_utilization) {
+                           uint64_t span, std::optional<MemoryLoad> memory) {
   // A kind is as busy as its busiest unit: the frame waits for the slowest
   // unit however idle the others are (the load-balance table shows them).
   std::map<std::string, std::vector<const StageLoad*>> kinds;
   for (const StageLoad& s : stages) kinds[s.kind].push_back(&s);
   Bottleneck b;
-  b.memory_utilization = memory_utilization;
+  if (memory) {
+    b.memory_utilization = memory->utilization;
+    b.memory_channel = memory->channel;
+    b.memory_channels = memory->channels;
+    b.memory_mean_utilization = memory->mean;
+  }
   const StageLoad* best = nullptr;
   for (const auto& [kind, group] : kinds) {
     for (const StageLoad* s : group) {
@@ -222,17 +246,23 @@ std::string bottleneck_text(const Bottleneck& b, const std::string& span, bool a
     out += format_text(" (busy %s of the %s, stalled %s)\n", percent(b.busy).c_str(), span.c_str(),
                        percent(b.stalled).c_str());
   }
+  // One channel is "the bus"; of several, the busiest is named with the mean.
+  const std::string bus =
+      b.memory_channels > 1 && b.memory_utilization
+          ? format_text("memory channel %d (busiest of %u, mean %s)", b.memory_channel,
+                        b.memory_channels, percent(b.memory_mean_utilization).c_str())
+          : std::string("memory bus");
   if (b.memory_bound) {
     out += format_text(
-        "  memory-bound: the bus is %s utilized and memory stalls are %s of %s's busy "
+        "  memory-bound: %s %s utilized and memory stalls are %s of %s's busy "
         "cycles (stats.json, whole frame)\n",
+        b.memory_channels > 1 ? (bus + " is").c_str() : "the bus is",
         percent(*b.memory_utilization).c_str(), percent(b.memory_stall_share).c_str(),
         b.kind.c_str());
   } else if (b.memory_utilization) {
-    out += format_text(
-        "  %s-bound: memory bus %s utilized; memory stalls are %s of %s's busy cycles\n",
-        b.kind.c_str(), percent(*b.memory_utilization).c_str(),
-        percent(b.memory_stall_share).c_str(), b.kind.c_str());
+    out += format_text("  %s-bound: %s %s utilized; memory stalls are %s of %s's busy cycles\n",
+                       b.kind.c_str(), bus.c_str(), percent(*b.memory_utilization).c_str(),
+                       percent(b.memory_stall_share).c_str(), b.kind.c_str());
   }
   const auto describe = [&](const KindShare& k, const char* what) {
     std::string s = k.kind + " " + percent(k.mean) + " " + what;
@@ -337,6 +367,11 @@ nlohmann::json bottleneck_json(const Bottleneck& b) {
       {"starves", shares(b.starves, "starved")},
       {"memory_utilization",
        b.memory_utilization ? nlohmann::json(*b.memory_utilization) : nlohmann::json()},
+      {"memory_channel",
+       b.memory_channel < 0 ? nlohmann::json() : nlohmann::json(b.memory_channel)},
+      {"memory_channels", b.memory_channels},
+      {"memory_mean_utilization",
+       b.memory_utilization ? nlohmann::json(b.memory_mean_utilization) : nlohmann::json()},
       {"memory_stall_share", b.memory_stall_share},
       {"memory_bound", b.memory_bound},
       {"bound", b.bound},

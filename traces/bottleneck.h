@@ -4,8 +4,9 @@
 // stats.json) share, with the text and JSON both print for it.
 //
 // The bottleneck is the stage kind with the busiest stage (the frame waits
-// for the slowest unit); it is memory-bound when the bus is busy and memory
-// stalls make up most of that kind's busy cycles. The stages it stalls
+// for the slowest unit); it is memory-bound when the busiest memory channel
+// is busy and memory stalls make up most of that kind's busy cycles (one
+// channel: the bus). The stages it stalls
 // (upstream) and starves (downstream) are found by walking the netlist's
 // FIFOs, which a TraceManifest describes: manifest.json's for a trace,
 // manifest_from_stats() (traces/stats_summary.h) for a stats.json.
@@ -47,10 +48,15 @@ struct Bottleneck {
   double mean_busy = 0.0;
   double stalled = 0.0;  // the busiest stage's own stalled share
   size_t stages = 0;
-  std::vector<KindShare> stalls;             // upstream, nearest first: stalled shares
-  std::vector<KindShare> starves;            // downstream, nearest first: starved shares
-  std::optional<double> memory_utilization;  // stats.json, whole frame
-  double memory_stall_share = 0.0;           // of the kind's busy cycles (stats.json)
+  std::vector<KindShare> stalls;   // upstream, nearest first: stalled shares
+  std::vector<KindShare> starves;  // downstream, nearest first: starved shares
+  // stats.json, whole frame: the busiest channel's utilization, which
+  // channel it is (-1: not known), of how many, and the channels' mean.
+  std::optional<double> memory_utilization;
+  int memory_channel = -1;
+  unsigned memory_channels = 1;
+  double memory_mean_utilization = 0.0;
+  double memory_stall_share = 0.0;  // of the kind's busy cycles (stats.json)
   bool memory_bound = false;
   // What bounds the frame: "memory" when memory_bound, else `kind`.
   std::string bound;
@@ -72,12 +78,20 @@ std::string percent(double share);
 // memory_stall from stats.json's timing.stages.
 void read_stage_stats(const nlohmann::json& timing_stages, std::vector<StageLoad>& stages);
 
-// stats.json's timing.memory.utilization, when it has one.
-std::optional<double> memory_utilization(const nlohmann::json& timing);
+// The memory's load in stats.json's timing.memory: the busiest channel of
+// timing.memory.channels (the lowest on a tie), or the top-level
+// utilization when there is no channel list.
+struct MemoryLoad {
+  double utilization = 0.0;  // the busiest channel's
+  int channel = -1;          // which, -1 without a channel list
+  unsigned channels = 1;
+  double mean = 0.0;  // the mean over the channels
+};
+std::optional<MemoryLoad> memory_load(const nlohmann::json& timing);
 
 // The bottleneck among `stages` (non-empty), shares over `span` cycles.
 Bottleneck find_bottleneck(const TraceManifest& netlist, const std::vector<StageLoad>& stages,
-                           uint64_t span, std::optional<double> memory_utilization);
+                           uint64_t span, std::optional<MemoryLoad> memory);
 
 // Per unit of the netlist: stats.json timing.units' counts and the unit's
 // stages' busy cycles from `stages`.

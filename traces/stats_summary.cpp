@@ -155,7 +155,11 @@ StatsSummary::StatsSummary(const nlohmann::json& stats, const std::string& path)
   read_stage_stats(stages, m_stages);
 
   const nlohmann::json& memory = object_at(timing, "memory");
-  m_memory_utilization = memory_utilization(timing);
+  {
+    const auto u = memory.find("utilization");
+    if (u != memory.end() && u->is_number()) m_memory_utilization = u->get<double>();
+  }
+  if (memory.contains("channels") && memory["channels"].is_array()) m_channels = memory["channels"];
   m_memory_busy = cycles_at(memory, "busy_cycles");
   m_bytes_per_cycle = cycles_at(memory, "bytes_per_cycle");
   for (const auto& item : object_at(memory, "clients").items()) {
@@ -188,7 +192,7 @@ StatsSummary::StatsSummary(const nlohmann::json& stats, const std::string& path)
     m_rates.push_back({item.key(), item.value().get<double>(), number(rates, peak.c_str())});
   }
 
-  m_bottleneck = find_bottleneck(m_manifest, m_stages, m_manifest.cycles, m_memory_utilization);
+  m_bottleneck = find_bottleneck(m_manifest, m_stages, m_manifest.cycles, memory_load(timing));
   m_units = unit_loads(m_manifest, m_stages, timing);
 }
 
@@ -210,7 +214,15 @@ std::string StatsSummary::text() const {
     }
   }
 
-  if (m_memory_utilization) {
+  if (m_memory_utilization && m_channels.size() > 1) {
+    out += format_text(
+        "\nMemory: %zu channels, %s utilized on average (%llu busy cycles of %zu x %llu, %llu "
+        "bytes per cycle each)\n",
+        m_channels.size(), percent(*m_memory_utilization).c_str(),
+        static_cast<unsigned long long>(m_memory_busy), m_channels.size(),
+        static_cast<unsigned long long>(m.cycles),
+        static_cast<unsigned long long>(m_bytes_per_cycle));
+  } else if (m_memory_utilization) {
     out += format_text(
         "\nMemory: the bus is %s utilized (%llu busy cycles of %llu, %llu bytes "
         "per cycle)\n",
@@ -230,6 +242,21 @@ std::string StatsSummary::text() const {
                            : 0.0)
               .c_str(),
           c.queued_cycles_mean, c.queued_cycles_max);
+    }
+    if (m_channels.size() > 1) {
+      out += format_text("  %-16s %10s %12s %12s %10s %7s %12s %10s\n", "channel", "requests",
+                         "bytes read", "written", "bus cycles", "bus", "wait mean", "wait max");
+      for (const nlohmann::json& ch : m_channels) {
+        if (!ch.is_object()) continue;
+        const auto count = [&](const char* k) {
+          return static_cast<unsigned long long>(cycles_at(ch, k));
+        };
+        out += format_text("  %-16s %10llu %12llu %12llu %10llu %7s %12.1f %10.0f\n",
+                           ("channel " + std::to_string(count("channel"))).c_str(),
+                           count("requests"), count("bytes_read"), count("bytes_written"),
+                           count("busy_cycles"), percent(number(ch, "utilization")).c_str(),
+                           number(ch, "queued_cycles_mean"), number(ch, "queued_cycles_max"));
+      }
     }
   }
 

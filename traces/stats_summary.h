@@ -72,6 +72,7 @@ class StatsSummary {
   std::optional<double> m_memory_utilization;
   uint64_t m_memory_busy = 0, m_bytes_per_cycle = 0;
   std::vector<Client> m_clients;
+  nlohmann::json m_channels;  // timing.memory.channels, shown when there are several
 };
 
 // Every number that differs between two stats.json files.

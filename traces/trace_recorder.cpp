@@ -158,6 +158,13 @@ void TraceRecorder::declare_signals() {
       m_shown.push_back({t.unit, f.signal, 1});
     }
   }
+  // The memory channels last, whatever the stage filter: one busy wire each.
+  m_channels.resize(m_config.memory.channels);
+  for (size_t c = 0; c < m_channels.size(); ++c) {
+    m_channels[c].signal = m_vcd.add("gpu.memory", "channel_" + std::to_string(c) + "_busy", 1, 0);
+  }
+  if (!m_channels.empty())
+    m_shown.push_back({kMemoryGroup, m_channels[0].signal, m_channels.size()});
 }
 
 void TraceRecorder::write_save_file(const std::string& path) {
@@ -173,7 +180,9 @@ void TraceRecorder::write_save_file(const std::string& path) {
       "[signals_width] 320\n[sst_expanded] 1\n[sst_vpaned_height] 250\n";
   for (size_t k = 0; k < m_shown.size(); ++k) {
     const int unit = m_shown[k].unit;
-    const std::string label = unit < 0 ? "front end" : "unit " + std::to_string(unit);
+    const std::string label = unit == kMemoryGroup ? "memory"
+                              : unit < 0           ? "front end"
+                                                   : "unit " + std::to_string(unit);
     if (k == 0 || m_shown[k - 1].unit != unit) g += "@800200\n-" + label + "\n";
     for (size_t i = 0; i < m_shown[k].count; ++i) {
       const size_t signal = m_shown[k].signal + i;
@@ -334,6 +343,48 @@ void TraceRecorder::close_item(size_t stage) {
   m_finished.push_back(f);
 }
 
+void TraceRecorder::transfer(unsigned channel, uint64_t start, uint64_t end) {
+  // Whole cycles, as every wire: a transfer shorter than a cycle that
+  // starts and ends within one is not seen.
+  const uint64_t first = start / m_cycle_value, last = end / m_cycle_value;
+  if (last <= first) return;
+  auto& pending = m_channels[channel].pending;
+  if (!pending.empty() && first <= pending.back().second) {
+    pending.back().second = std::max(pending.back().second, last);
+    return;
+  }
+  pending.emplace_back(first, last);
+  if (pending.size() == 1 && !m_channels[channel].busy)
+    m_memory_next = std::min(m_memory_next, first);
+}
+
+void TraceRecorder::memory_until(uint64_t limit) {
+  for (;;) {
+    uint64_t next = std::numeric_limits<uint64_t>::max();
+    for (const Channel& c : m_channels) {
+      if (!c.pending.empty())
+        next = std::min(next, c.busy ? c.pending.front().second : c.pending.front().first);
+    }
+    m_memory_next = next;
+    if (next >= limit) return;
+    // Grants start at or after the time they are made, so never before m_now.
+    if (next > m_now) end_cycle(next);
+    for (Channel& c : m_channels) {
+      while (!c.pending.empty()) {
+        if (!c.busy && c.pending.front().first <= next) {
+          c.busy = true;
+        } else if (c.busy && c.pending.front().second <= next) {
+          c.busy = false;
+          c.pending.pop_front();
+        } else {
+          break;
+        }
+      }
+      m_vcd.set(c.signal, c.busy);
+    }
+  }
+}
+
 void TraceRecorder::end_cycle(uint64_t next) {
   if (m_write_vcd) m_vcd.end_cycle(m_now);
   // FIFO counters: like the VCD, the values at the window's start first.
@@ -486,6 +537,7 @@ void TraceRecorder::rop_wrote(unsigned unit, const RopFragment& f) {
 
 void TraceRecorder::finish(uint64_t cycles, uint64_t end_time) {
   advance(end_time);
+  if (m_memory_next <= m_now) memory_until(m_now + 1);
   for (size_t i = 0; i < m_stages.size(); ++i) {
     if (m_stages[i].kept) close_item(i);
   }

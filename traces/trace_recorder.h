@@ -12,12 +12,15 @@
 #pragma once
 
 #include <cstdint>
+#include <deque>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "hw/draw_state.h"
 #include "hw/gpu_config.h"
+#include "hw/memory.h"
 #include "hw/trace_probe.h"
 #include "traces/record_files.h"
 #include "traces/timeline_writer.h"
@@ -27,7 +30,7 @@
 
 namespace gpusim {
 
-class TraceRecorder : public TraceProbes, public FragmentProbe {
+class TraceRecorder : public TraceProbes, public FragmentProbe, public MemoryProbe {
  public:
   // Where each file goes (temporary names; the caller renames them). An
   // empty path: that format is not written (--trace-formats; vcd and gtkw go
@@ -51,6 +54,9 @@ class TraceRecorder : public TraceProbes, public FragmentProbe {
   FifoProbe<ShadedStampBatch>* fifo_probe(size_t fifo, ProbeTag<ShadedStampBatch>) override;
   FifoProbe<ControlToken>* fifo_probe(size_t fifo, ProbeTag<ControlToken>) override;
   FragmentProbe* fragment_probe() override { return m_fragments_traced ? this : nullptr; }
+  // The memory channels' busy wires are VCD signals only.
+  MemoryProbe* memory_probe() override { return m_write_vcd ? this : nullptr; }
+  void transfer(unsigned channel, uint64_t start, uint64_t end) override;
 
   void depth_tested(unsigned unit, const DepthFragment& f) override;
   void rop_wrote(unsigned unit, const RopFragment& f) override;
@@ -103,8 +109,14 @@ class TraceRecorder : public TraceProbes, public FragmentProbe {
 
   void advance(uint64_t now) {
     const uint64_t cycle = now / m_cycle_value;
-    if (cycle != m_now) end_cycle(cycle);
+    if (cycle != m_now) {
+      if (m_memory_next < cycle) memory_until(cycle);
+      end_cycle(cycle);
+    }
   }
+  // Sets the channels' busy wires at each of their changes before cycle
+  // `limit`, ending the cycles in between.
+  void memory_until(uint64_t limit);
   // Writes what happened in m_now, then moves to `next`.
   void end_cycle(uint64_t next);
   void set_state(Stage& s, State state);
@@ -133,12 +145,22 @@ class TraceRecorder : public TraceProbes, public FragmentProbe {
   std::vector<Stage> m_stages;
   std::vector<Fifo> m_fifos;
   std::vector<size_t> m_dirty_fifos;
+  static constexpr int kMemoryGroup = -2;
   struct Shown {
-    int unit;              // -1: the front end
+    int unit;              // -1: the front end, kMemoryGroup: the memory channels
     size_t signal, count;  // consecutive VCD signals
   };
-  std::vector<Shown> m_shown;                   // in declaration order
-  std::vector<int> m_depth_stage, m_rop_stage;  // per unit: stage index
+  std::vector<Shown> m_shown;  // in declaration order
+  // Per memory channel: its busy wire and the bus transfers granted but not
+  // yet written, merged into [start, end) cycle ranges in start order.
+  struct Channel {
+    size_t signal = 0;
+    bool busy = false;
+    std::deque<std::pair<uint64_t, uint64_t>> pending;
+  };
+  std::vector<Channel> m_channels;
+  uint64_t m_memory_next = std::numeric_limits<uint64_t>::max();  // earliest change pending
+  std::vector<int> m_depth_stage, m_rop_stage;                    // per unit: stage index
   bool m_fragments_traced = false;
   // The formats written (Paths not empty).
   bool m_write_vcd = true, m_write_timeline = true, m_write_transactions = true;

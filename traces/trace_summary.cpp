@@ -47,7 +47,7 @@ TraceSummary::TraceSummary(const TraceReader& reader)
   const nlohmann::json stats = reader.stats();
   read_stats(stats);
   const nlohmann::json timing = stats.value("timing", nlohmann::json::object());
-  m_bottleneck = find_bottleneck(m_manifest, m_stages, m_end - m_start, memory_utilization(timing));
+  m_bottleneck = find_bottleneck(m_manifest, m_stages, m_end - m_start, memory_load(timing));
   m_units = unit_loads(m_manifest, m_stages, timing);
 }
 

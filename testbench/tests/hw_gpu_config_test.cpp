@@ -49,6 +49,8 @@ TEST(GpuConfig, Defaults) {
   EXPECT_EQ(c.fifo_depth, 16u);
   EXPECT_EQ(c.memory.latency, 20u);
   EXPECT_EQ(c.memory.bytes_per_cycle, 32u);
+  EXPECT_EQ(c.memory.channels, 1u);
+  EXPECT_EQ(c.memory.interleave_bytes, 256u);
   EXPECT_EQ(c.vertex_cache_entries, 32u);
   EXPECT_EQ(c.tile_cache_entries, 16u);
   EXPECT_EQ(c.samples_per_pass, 4u);
@@ -112,7 +114,7 @@ TEST(GpuConfig, RoundTrip) {
   c.fifo_depths["shader_to_clipper"] = 7;
   c.stages["tile_rasterizer"] = {2, 9};
   c.stages["command_processor"] = {5, 0};
-  c.memory = {100, 8};
+  c.memory = {100, 8, 4, 1024};
   c.vertex_cache_entries = 0;
   c.tile_cache_entries = 18;
   c.lighting_cycles_per_pixel = 0;
@@ -181,7 +183,8 @@ TEST(GpuConfig, UnknownKeysNameTheirPathAndTheAllowedKeys) {
             "setup_to_distributor, distributor_to_rasterizer, rasterizer_to_depth, "
             "depth_to_interpolator, interpolator_to_rop, rop_to_resolve)");
   EXPECT_EQ(error_of(json::parse(R"({"memory": {"latancy": 4}})")),
-            "gpu.json: memory.latancy: unknown key (allowed: latency, bytes_per_cycle)");
+            "gpu.json: memory.latancy: unknown key (allowed: latency, bytes_per_cycle, channels, "
+            "interleave_bytes)");
   // The host's command queue is configurable like every other FIFO.
   EXPECT_EQ(gpu_config_from_json(json::parse(R"({"fifo_depths": {"commands": 3}})"), "g")
                 .fifo_depth_of("commands"),
@@ -236,6 +239,12 @@ TEST(GpuConfig, OutOfRangeValues) {
             "gpu.json: stages.tile_rasterizer.latency: -1 is out of range 0..1000000");
   EXPECT_EQ(error_of(json::parse(R"({"memory": {"bytes_per_cycle": 0}})")),
             "gpu.json: memory.bytes_per_cycle: 0 is out of range 1..65536");
+  EXPECT_EQ(error_of(json::parse(R"({"memory": {"channels": 0}})")),
+            "gpu.json: memory.channels: 0 is out of range 1..64");
+  EXPECT_EQ(error_of(json::parse(R"({"memory": {"interleave_bytes": 16}})")),
+            "gpu.json: memory.interleave_bytes: 16 is out of range 32..1048576");
+  EXPECT_EQ(error_of(json::parse(R"({"memory": {"interleave_bytes": 96}})")),
+            "gpu.json: memory.interleave_bytes: must be a power of two, got 96");
   EXPECT_EQ(error_of(json{{"watchdog_cycles", 0}}),
             "gpu.json: watchdog_cycles: 0 is out of range 1..1000000000000");
   EXPECT_EQ(error_of(json{{"vertex_cache_entries", 70000}}),

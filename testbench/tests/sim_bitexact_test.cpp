@@ -3,7 +3,10 @@
 // set of configurations: every value of units {1,2,3,4,8,16}, FIFO depth
 // {1,2,16}, tile size {8,16,64} and stamp {2x2,4x4,8x8}, and every pair of
 // values of any two of them. Each case runs in its own process (ctest), since
-// a SystemC model elaborates once per process.
+// a SystemC model elaborates once per process. Memory channels (timing only,
+// so they must not move a pixel) vary with the FIFO depth's index: 1 channel,
+// 4 channels, and 3 channels interleaved every 32 bytes (a 64-byte tile row
+// split over two channels).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -30,12 +33,16 @@ constexpr std::array<unsigned, 3> kStamps{2, 4, 8};
 // pairs because (i, j) -> (i + j, i + 2j) is invertible mod 3; every other
 // pair of factors is covered since one index runs over all values while the
 // other is fixed.
+constexpr std::array<unsigned, 3> kChannels{1, 4, 3};
+constexpr std::array<unsigned, 3> kInterleave{256, 256, 32};
+
 struct MatrixRow {
-  unsigned units, fifo_depth, tile_size, stamp;
+  unsigned units, fifo_depth, tile_size, stamp, channels, interleave;
 };
 MatrixRow matrix_row(int row) {
   const int i = row / 3, j = row % 3;
-  return {kUnits[i], kFifoDepths[j], kTileSizes[(i + j) % 3], kStamps[(i + 2 * j) % 3]};
+  return {kUnits[i],    kFifoDepths[j], kTileSizes[(i + j) % 3], kStamps[(i + 2 * j) % 3],
+          kChannels[j], kInterleave[j]};
 }
 
 GpuConfig config_for(const MatrixRow& r) {
@@ -44,6 +51,8 @@ GpuConfig config_for(const MatrixRow& r) {
   c.fifo_depth = r.fifo_depth;
   c.tile_size = r.tile_size;
   c.stamp = {r.stamp, r.stamp};
+  c.memory.channels = r.channels;
+  c.memory.interleave_bytes = r.interleave;
   return c;
 }
 
@@ -135,6 +144,7 @@ std::string case_name(const ::testing::TestParamInfo<Case>& info) {
   std::replace(scene.begin(), scene.end(), '/', '_');
   os << scene << "_u" << r.units << "_f" << r.fifo_depth << "_t" << r.tile_size << "_s" << r.stamp
      << "x" << r.stamp;
+  if (r.channels > 1) os << "_c" << r.channels << "i" << r.interleave;
   return os.str();
 }
 

@@ -233,6 +233,7 @@ TEST_F(TraceRecord, VcdStatesIntegrateToTheStageCounters) {
   std::map<std::string, std::map<std::string, std::string>> stage_ids;
   std::map<std::string, std::string> fifo_ids;
   for (const auto& [id, var] : vcd.vars) {
+    if (var.scope == "gpu.memory") continue;  // MemoryChannelWiresIntegrateToTheirBusyCycles
     if (var.width > 1) {
       fifo_ids[var.name] = id;
     } else {
@@ -300,11 +301,43 @@ TEST_F(TraceRecord, VcdStatesIntegrateToTheStageCounters) {
       stage(g, next + n);
     }
   }
+  want.push_back("gpu.memory.channel_0_busy");  // the memory last
   EXPECT_EQ(vcd.order, want);
 
   // Something happened: the setup stage worked, and some FIFO filled up.
   EXPECT_GT(integral["triangle_setup"]["busy"], 0u);
   EXPECT_EQ(manifest(dir_)["records"]["vcd_changes"].get<uint64_t>() > 0, true);
+}
+
+// Each memory channel's busy wire is high exactly in the cycles its bus
+// moves data: over the frame, its channel's busy_cycles in stats.json. Three
+// channels interleaved every 32 bytes, so tile rows are split and every
+// channel is used.
+TEST_F(TraceRecord, MemoryChannelWiresIntegrateToTheirBusyCycles) {
+  GpuConfig config;
+  config.memory.channels = 3;
+  config.memory.interleave_bytes = 32;
+  const GpuRunResult r = traced_run(scene_path("default"), dir_, {}, config);
+  const Vcd vcd = parse_vcd(dir_ / "signals.vcd");
+  std::map<std::string, std::string> ids;  // name -> identifier
+  for (const auto& [id, var] : vcd.vars) {
+    if (var.scope != "gpu.memory") continue;
+    EXPECT_EQ(var.width, 1u);
+    ids[var.name] = id;
+  }
+  ASSERT_EQ(ids.size(), 3u);
+  const nlohmann::json& channels = r.timing["memory"]["channels"];
+  ASSERT_EQ(channels.size(), 3u);
+  for (unsigned c = 0; c < 3; ++c) {
+    const std::string name = "channel_" + std::to_string(c) + "_busy";
+    ASSERT_TRUE(ids.count(name)) << name;
+    uint64_t busy = 0;
+    for (size_t k = 0; k + 1 < vcd.steps.size(); ++k) {
+      busy += vcd.steps[k].second.at(ids[name]) * (vcd.steps[k + 1].first - vcd.steps[k].first);
+    }
+    EXPECT_GT(busy, 0u) << name;
+    EXPECT_EQ(busy, channels[c]["busy_cycles"].get<uint64_t>()) << name;
+  }
 }
 
 TEST_F(TraceRecord, TimelineIsTraceEventJson) {
@@ -593,10 +626,10 @@ TEST_F(TraceRecord, StagesKeepOnlyThose) {
   std::set<std::string> scopes;
   for (const auto& [id, var] : vcd.vars) scopes.insert(var.scope);
   EXPECT_EQ(scopes,
-            (std::set<std::string>{"gpu.front_end", "gpu.front_end.triangle_setup", "gpu.unit_0",
-                                   "gpu.unit_0.rop_0", "gpu.unit_1", "gpu.unit_1.depth_test_1",
-                                   "gpu.unit_1.rop_1", "gpu.unit_2", "gpu.unit_2.rop_2",
-                                   "gpu.unit_3", "gpu.unit_3.rop_3"}));
+            (std::set<std::string>{"gpu.front_end", "gpu.front_end.triangle_setup", "gpu.memory",
+                                   "gpu.unit_0", "gpu.unit_0.rop_0", "gpu.unit_1",
+                                   "gpu.unit_1.depth_test_1", "gpu.unit_1.rop_1", "gpu.unit_2",
+                                   "gpu.unit_2.rop_2", "gpu.unit_3", "gpu.unit_3.rop_3"}));
 }
 
 TEST_F(TraceRecord, TracingChangesNoCycleAndNoPixel) {

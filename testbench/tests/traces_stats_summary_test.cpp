@@ -200,6 +200,39 @@ TEST(StatsSummary, MemoryBoundFromSeventyPercentOfTheBusAndHalfTheBusyCycles) {
       << not_bound.text();
 }
 
+// With several channels the busiest one decides: channels 50%, 80%, 20%
+// busy (mean 50%, below the 70% threshold) make the frame memory-bound on
+// channel 1; at 69% the busiest is not enough.
+TEST(StatsSummary, BusiestMemoryChannelDecidesMemoryBound) {
+  nlohmann::json stats = made_up(0.5);
+  stats["timing"]["memory"]["channels"] = {
+      {{"channel", 0}, {"utilization", 0.5}, {"busy_cycles", 500}},
+      {{"channel", 1}, {"utilization", 0.8}, {"busy_cycles", 800}},
+      {{"channel", 2}, {"utilization", 0.2}, {"busy_cycles", 200}}};
+  const StatsSummary bound(stats, "made_up");
+  const Bottleneck& b = bound.bottleneck();
+  EXPECT_TRUE(b.memory_bound);
+  EXPECT_EQ(b.bound, "memory");
+  EXPECT_EQ(b.memory_channel, 1);
+  EXPECT_EQ(b.memory_channels, 3u);
+  EXPECT_DOUBLE_EQ(*b.memory_utilization, 0.8);
+  EXPECT_DOUBLE_EQ(b.memory_mean_utilization, 0.5);
+  EXPECT_EQ(bound.json()["bottleneck"]["memory_channel"], 1);
+  EXPECT_NE(bound.text().find("memory-bound: memory channel 1 (busiest of 3, mean 50.0%) is 80.0% "
+                              "utilized and memory stalls are 66.7% of depth_test's busy cycles"),
+            std::string::npos)
+      << bound.text();
+
+  stats["timing"]["memory"]["channels"][1]["utilization"] = 0.69;
+  const StatsSummary not_bound(stats, "made_up");
+  EXPECT_FALSE(not_bound.bottleneck().memory_bound);
+  EXPECT_EQ(not_bound.bottleneck().bound, "depth_test");
+  EXPECT_NE(not_bound.text().find("depth_test-bound: memory channel 1 (busiest of 3, mean 46.3%) "
+                                  "69.0% utilized"),
+            std::string::npos)
+      << not_bound.text();
+}
+
 TEST(StatsDiff, ListsChangesMissingKeysAndSortsByRelativeChange) {
   const nlohmann::json a = {{"stats", {{"same", 5}, {"up", 100}, {"down", 10}, {"zero", 0}}},
                             {"timing", {{"cycles", 1000}, {"units", {{{"tiles", 4}}}}}},
