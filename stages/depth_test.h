@@ -131,6 +131,7 @@ class DepthTest : public PipelineStage {
       "cycles of busy_cycles beyond ii per stamp or token: tile reads, or at end_of_frame "
       "the drain and write-back");
   TileCache m_cache;
+  bool m_overwrite = false;  // this batch overwrites its whole tile (TileCache::lookup)
 };
 
 }  // namespace gpusim

@@ -121,6 +121,7 @@ class Rop : public PipelineStage {
       "the drain and write-back");
   uint64_t& m_frames = m_stats.counter("frames", "frames", "end_of_frame tokens flushed");
   TileCache m_cache;
+  bool m_overwrite = false;  // this batch overwrites its whole tile (TileCache::lookup)
 };
 
 }  // namespace gpusim
