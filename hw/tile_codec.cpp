@@ -1,29 +1,59 @@
 #include "hw/tile_codec.h"
 
 #include <algorithm>
-#include <array>
+#include <cstring>
 
 namespace gpusim {
 
-unsigned tile_delta_bits(const uint8_t* data, size_t bytes, unsigned channels,
-                         unsigned channel_bytes) {
-  std::array<uint32_t, 4> lo, hi;
-  lo.fill(UINT32_MAX);
-  hi.fill(0);
-  const size_t value_bytes = static_cast<size_t>(channels) * channel_bytes;
-  for (size_t p = 0; p + value_bytes <= bytes; p += value_bytes) {
-    for (unsigned c = 0; c < channels; ++c) {
-      const uint8_t* b = data + p + static_cast<size_t>(c) * channel_bytes;
-      uint32_t v = 0;
-      for (unsigned i = 0; i < channel_bytes; ++i) v |= uint32_t{b[i]} << (8 * i);
-      lo[c] = std::min(lo[c], v);
-      hi[c] = std::max(hi[c], v);
+namespace {
+
+// Each channel's minimum and maximum, over 16-byte chunks: lane l of a
+// chunk is channel l mod channels (16 / sizeof(T) is a multiple of it), so
+// the loop keeps one min and max per lane, which the compiler vectorises
+// (this runs once per write-back over the whole tile), and folds the lanes
+// into channels at the end; a tail shorter than a chunk goes value by value.
+template <typename T>
+uint32_t largest_delta(const uint8_t* data, size_t bytes, unsigned channels) {
+  constexpr size_t kLanes = 16 / sizeof(T);
+  T lo[kLanes], hi[kLanes];
+  for (size_t l = 0; l < kLanes; ++l) {
+    lo[l] = static_cast<T>(~T{0});
+    hi[l] = 0;
+  }
+  size_t p = 0;
+  for (; p + 16 <= bytes; p += 16) {
+    T v[kLanes];
+    std::memcpy(v, data + p, 16);
+    for (size_t l = 0; l < kLanes; ++l) {
+      lo[l] = std::min(lo[l], v[l]);
+      hi[l] = std::max(hi[l], v[l]);
     }
+  }
+  for (size_t l = 0; p + sizeof(T) <= bytes; p += sizeof(T), ++l) {
+    T v;
+    std::memcpy(&v, data + p, sizeof(T));
+    lo[l] = std::min(lo[l], v);  // l < kLanes: the tail is shorter than a chunk
+    hi[l] = std::max(hi[l], v);
   }
   uint32_t delta = 0;
   for (unsigned c = 0; c < channels; ++c) {
-    if (hi[c] >= lo[c]) delta = std::max(delta, hi[c] - lo[c]);
+    T cl = static_cast<T>(~T{0}), ch = 0;
+    for (size_t l = c; l < kLanes; l += channels) {
+      cl = std::min(cl, lo[l]);
+      ch = std::max(ch, hi[l]);
+    }
+    if (ch >= cl) delta = std::max<uint32_t>(delta, static_cast<uint32_t>(ch - cl));
   }
+  return delta;
+}
+
+}  // namespace
+
+unsigned tile_delta_bits(const uint8_t* data, size_t bytes, unsigned channels,
+                         unsigned channel_bytes) {
+  const uint32_t delta = channel_bytes == 1   ? largest_delta<uint8_t>(data, bytes, channels)
+                         : channel_bytes == 2 ? largest_delta<uint16_t>(data, bytes, channels)
+                                              : largest_delta<uint32_t>(data, bytes, channels);
   for (const unsigned bits : {0u, 1u, 2u, 4u, 8u, 12u, 16u, 24u}) {
     if (uint64_t{delta} < (uint64_t{1} << bits)) return bits;
   }

@@ -25,7 +25,8 @@ namespace gpusim {
 constexpr uint32_t kTileHeaderBytes = 4;
 
 // The smallest delta width (bits) of the set above that holds every value's
-// distance from its channel's minimum.
+// distance from its channel's minimum. channel_bytes is 1, 2 or 4;
+// `bytes` a multiple of channels * channel_bytes.
 unsigned tile_delta_bits(const uint8_t* data, size_t bytes, unsigned channels,
                          unsigned channel_bytes);
 

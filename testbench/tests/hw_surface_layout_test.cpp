@@ -92,6 +92,22 @@ TEST(TileCodec, DeltaWidthsAndEncodedSizes) {
   EXPECT_EQ(encoded_tile_bytes(c.data(), c.size(), 4, 1, 32), 32u);
   c[4 * 5 + 1] = 203;  // green 200..203: 2 bits for all 1024 channels: 4 + 4 + 256 -> 288
   EXPECT_EQ(encoded_tile_bytes(c.data(), c.size(), 4, 1, 32), 288u);
+
+  // A partial tile of 5 x 5 unorm16 depths (50 bytes: three 16-byte chunks
+  // and one value): the largest delta in the last value counts too.
+  std::vector<uint16_t> d(25, 1000);
+  std::vector<uint8_t> db(50);
+  std::memcpy(db.data(), d.data(), 50);
+  EXPECT_EQ(tile_delta_bits(db.data(), 50, 1, 2), 0u);
+  d[24] = 1000 + 200;
+  std::memcpy(db.data(), d.data(), 50);
+  EXPECT_EQ(tile_delta_bits(db.data(), 50, 1, 2), 8u);
+  // 4 + 2 + 25 bytes = 31 -> 32, smaller than 50.
+  EXPECT_EQ(encoded_tile_bytes(db.data(), 50, 1, 2, 32), 32u);
+  d[0] = 0;  // 1200 needs 12 bits: 4 + 2 + 38 = 44 -> 64, not smaller than 50: raw
+  std::memcpy(db.data(), d.data(), 50);
+  EXPECT_EQ(tile_delta_bits(db.data(), 50, 1, 2), 12u);
+  EXPECT_EQ(encoded_tile_bytes(db.data(), 50, 1, 2, 32), 0u);
 }
 
 }  // namespace
