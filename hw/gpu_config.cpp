@@ -84,6 +84,11 @@ class Reader {
     fail(path, j.dump() + " is out of range " + std::to_string(lo) + ".." + std::to_string(hi));
   }
 
+  bool get_bool(const nlohmann::json& j, const std::string& path) const {
+    if (!j.is_boolean()) fail(path, std::string("expected true or false, got ") + j.type_name());
+    return j.get<bool>();
+  }
+
   unsigned get_unsigned(const nlohmann::json& j, const std::string& path, unsigned lo,
                         unsigned hi) const {
     return static_cast<unsigned>(get_uint(j, path, lo, hi));
@@ -179,6 +184,7 @@ sc_core::sc_time GpuConfig::cycles(uint64_t n) const {
 bool GpuConfig::operator==(const GpuConfig& o) const {
   if (clock_mhz != o.clock_mhz || units != o.units || tile_size != o.tile_size ||
       stamp != o.stamp || fifo_depth != o.fifo_depth || stages != o.stages || memory != o.memory ||
+      surfaces != o.surfaces || compression != o.compression ||
       vertex_cache_entries != o.vertex_cache_entries ||
       tile_cache_entries != o.tile_cache_entries || samples_per_pass != o.samples_per_pass ||
       lighting_cycles_per_pixel != o.lighting_cycles_per_pixel ||
@@ -196,10 +202,11 @@ GpuConfig gpu_config_from_json(const nlohmann::json& j, const std::string& sourc
   const Reader r(source_name);
   GpuConfig c;
   r.expect_object(j, "");
-  r.check_keys(j, "",
-               {"clock_mhz", "units", "tile_size", "stamp", "fifo_depth", "fifo_depths", "stages",
-                "memory", "vertex_cache_entries", "tile_cache_entries", "samples_per_pass",
-                "lighting_cycles_per_pixel", "lighting_cycles_per_light", "watchdog_cycles"});
+  r.check_keys(
+      j, "",
+      {"clock_mhz", "units", "tile_size", "stamp", "fifo_depth", "fifo_depths", "stages", "memory",
+       "surfaces", "compression", "vertex_cache_entries", "tile_cache_entries", "samples_per_pass",
+       "lighting_cycles_per_pixel", "lighting_cycles_per_light", "watchdog_cycles"});
 
   if (j.contains("clock_mhz")) {
     const auto& v = j["clock_mhz"];
@@ -286,6 +293,41 @@ GpuConfig gpu_config_from_json(const nlohmann::json& j, const std::string& sourc
         r.fail("memory.interleave_bytes",
                "must be a power of two, got " + std::to_string(c.memory.interleave_bytes));
       }
+    }
+  }
+  if (j.contains("surfaces")) {
+    const auto& s = j["surfaces"];
+    r.expect_object(s, "surfaces");
+    r.check_keys(s, "surfaces", {"tiled", "max_burst_bytes", "skip_overwritten_fill"});
+    if (s.contains("tiled")) c.surfaces.tiled = r.get_bool(s["tiled"], "surfaces.tiled");
+    if (s.contains("max_burst_bytes")) {
+      c.surfaces.max_burst_bytes =
+          r.get_unsigned(s["max_burst_bytes"], "surfaces.max_burst_bytes", 1, 1u << 24);
+    }
+    if (s.contains("skip_overwritten_fill")) {
+      c.surfaces.skip_overwritten_fill =
+          r.get_bool(s["skip_overwritten_fill"], "surfaces.skip_overwritten_fill");
+    }
+  }
+  if (j.contains("compression")) {
+    const auto& m = j["compression"];
+    r.expect_object(m, "compression");
+    r.check_keys(m, "compression",
+                 {"depth", "colour", "compressor_latency", "decompressor_latency"});
+    if (m.contains("depth")) c.compression.depth = r.get_bool(m["depth"], "compression.depth");
+    if (m.contains("colour")) c.compression.colour = r.get_bool(m["colour"], "compression.colour");
+    if (m.contains("compressor_latency")) {
+      c.compression.compressor_latency = r.get_unsigned(
+          m["compressor_latency"], "compression.compressor_latency", 0, kMaxStageCycles);
+    }
+    if (m.contains("decompressor_latency")) {
+      c.compression.decompressor_latency = r.get_unsigned(
+          m["decompressor_latency"], "compression.decompressor_latency", 0, kMaxStageCycles);
+    }
+    // A compressed tile is one variable-size block: only a tiled layout has one.
+    if ((c.compression.depth || c.compression.colour) && !c.surfaces.tiled) {
+      r.fail(c.compression.depth ? "compression.depth" : "compression.colour",
+             "compression needs surfaces.tiled true");
     }
   }
   if (j.contains("vertex_cache_entries")) {
@@ -454,6 +496,13 @@ nlohmann::json to_json(const GpuConfig& c) {
                  {"bytes_per_cycle", c.memory.bytes_per_cycle},
                  {"channels", c.memory.channels},
                  {"interleave_bytes", c.memory.interleave_bytes}};
+  j["surfaces"] = {{"tiled", c.surfaces.tiled},
+                   {"max_burst_bytes", c.surfaces.max_burst_bytes},
+                   {"skip_overwritten_fill", c.surfaces.skip_overwritten_fill}};
+  j["compression"] = {{"depth", c.compression.depth},
+                      {"colour", c.compression.colour},
+                      {"compressor_latency", c.compression.compressor_latency},
+                      {"decompressor_latency", c.compression.decompressor_latency}};
   j["vertex_cache_entries"] = c.vertex_cache_entries;
   j["tile_cache_entries"] = c.tile_cache_entries;
   j["samples_per_pass"] = c.samples_per_pass;

@@ -45,6 +45,34 @@ struct MemoryConfig {
   bool operator!=(const MemoryConfig& o) const { return !(*this == o); }
 };
 
+// Framebuffer surfaces: layout and transfers of the colour and depth tiles
+// (hw/surface_layout.h, docs/architecture.md "Memory").
+struct SurfaceConfig {
+  bool tiled = false;                  // each screen tile one contiguous block
+  unsigned max_burst_bytes = 1024;     // a tiled tile transfer splits into bursts of at most this
+  bool skip_overwritten_fill = false;  // no read for a miss on a tile the batch overwrites
+
+  bool operator==(const SurfaceConfig& o) const {
+    return tiled == o.tiled && max_burst_bytes == o.max_burst_bytes &&
+           skip_overwritten_fill == o.skip_overwritten_fill;
+  }
+  bool operator!=(const SurfaceConfig& o) const { return !(*this == o); }
+};
+
+// Lossless tile compression in the tile caches (hw/tile_codec.h); needs tiled surfaces.
+struct CompressionConfig {
+  bool depth = false;
+  bool colour = false;
+  unsigned compressor_latency = 8;    // cycles before an encoded write-back leaves
+  unsigned decompressor_latency = 8;  // cycles after a compressed fill arrives
+
+  bool operator==(const CompressionConfig& o) const {
+    return depth == o.depth && colour == o.colour && compressor_latency == o.compressor_latency &&
+           decompressor_latency == o.decompressor_latency;
+  }
+  bool operator!=(const CompressionConfig& o) const { return !(*this == o); }
+};
+
 struct GpuConfig {
   double clock_mhz = 1000.0;
   unsigned units = 4;                   // tile rasterizer units
@@ -58,6 +86,8 @@ struct GpuConfig {
   // every stage at its documented default.
   std::map<std::string, StageCost, std::less<>> stages = default_stage_costs();
   MemoryConfig memory;
+  SurfaceConfig surfaces;
+  CompressionConfig compression;
   unsigned vertex_cache_entries = 32;  // post-transform vertex cache; 0 disables it
   unsigned tile_cache_entries = 16;    // framebuffer tiles cached per unit, per buffer
   // Multisampling: samples of a pixel the rasterizer's edge core, the depth

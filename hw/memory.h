@@ -324,6 +324,17 @@ class MemoryPort : public sc_core::sc_object {
     issue(true, addr, const_cast<void*>(src), len, offset);
   }
 
+  // Untimed access to the same store (Memory::debug_read/debug_write): for a
+  // client whose timed traffic is smaller than the data it holds (a
+  // compressed tile moves its encoded size; the store keeps the decoded
+  // bytes). No arbitration, no statistics.
+  void debug_read(uint64_t addr, void* dst, uint64_t len) const {
+    m_memory->debug_read(addr, dst, len);
+  }
+  void debug_write(uint64_t addr, const void* src, uint64_t len) {
+    m_memory->debug_write(addr, src, len);
+  }
+
   // When the requests issued since the previous call complete: waits one
   // delta first if any of them has not been through its round yet (no
   // simulated time passes). A group whose requests were all resolved

@@ -79,6 +79,8 @@ void DepthTest::run() {
   layout.tile_size = m_config.tile_size;
   layout.units = m_config.units;
   layout.unit = m_unit;
+  layout.set_surfaces(m_config, m_config.compression.depth);
+  layout.codec_channel_bytes = depth_bytes_per_pixel(fb.depth_format);
   m_cache.configure(layout);
   // Byte offset of stamp pixel p from the stamp origin's inside a tile (rows
   // of a tile are tile_size pixels apart, TileCache::pixel()).
@@ -186,6 +188,9 @@ void DepthTest::test(StampBatch& batch, sc_core::sc_time& t) {
     return;
   }
 
+  // always with writes: every covered sample is written, no old value read.
+  m_overwrite = st.depth_func == CompareFunc::always && st.depth_write &&
+                m_cache.covers_tile(batch.stamps, batch.samples, fb.samples);
   if (fb.samples > 1) {
     switch (fb.depth_format) {
       case DepthFormat::unorm16:
@@ -291,7 +296,7 @@ void DepthTest::test_stamps(StampBatch& batch, sc_core::sc_time& t, const Render
     }
     const bool inside =
         s.x + static_cast<int>(stamp_w) <= fb.width && s.y + static_cast<int>(stamp_h) <= fb.height;
-    const unsigned entry = m_cache.lookup(tx, ty, t);
+    const unsigned entry = m_cache.lookup(tx, ty, t, m_overwrite);
     uint8_t* const origin = m_cache.pixel(entry, s.x, s.y);
     bool dirty = false;
     uint64_t passed = 0;
@@ -371,7 +376,7 @@ void DepthTest::test_samples(StampBatch& batch, sc_core::sc_time& t, const Rende
   size_t kept = 0, in = 0, out = 0;  // stamps kept; sample masks read and kept
   for (size_t n = 0; n < batch.stamps.size(); ++n) {
     Stamp s = batch.stamps[n];
-    const unsigned entry = m_cache.lookup(s.x >> m_tile_shift, s.y >> m_tile_shift, t);
+    const unsigned entry = m_cache.lookup(s.x >> m_tile_shift, s.y >> m_tile_shift, t, m_overwrite);
     uint8_t* const origin = m_cache.pixel(entry, s.x, s.y);
     bool dirty = false;
     for (uint64_t bits = s.mask; bits != 0; bits &= bits - 1) {

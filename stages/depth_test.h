@@ -17,6 +17,9 @@
 // config.tile_cache_entries tiles of frame.depth_address,
 // depth_bytes_per_pixel(format) bytes per pixel), looked up once per stamp
 // (a stamp lies inside one tile: the rasterizer aligns stamps to tiles).
+// With surfaces.skip_overwritten_fill, a batch with func always and
+// depth_write that covers every pixel (sample) of its one tile allocates it
+// without a read; the layout and compression.depth are the cache's.
 // clear: a fast clear of every tile this unit owns to
 // encode_depth(clear_depth); cleared tiles reach memory when first evicted or
 // at end_of_frame.
@@ -131,6 +134,7 @@ class DepthTest : public PipelineStage {
       "cycles of busy_cycles beyond ii per stamp or token: tile reads, or at end_of_frame "
       "the drain and write-back");
   TileCache m_cache;
+  bool m_overwrite = false;  // this batch overwrites its whole tile (TileCache::lookup)
 };
 
 }  // namespace gpusim

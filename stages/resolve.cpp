@@ -22,6 +22,9 @@ void Resolve::run() {
   const int k = static_cast<int>(fb.supersample);
   const int tile = static_cast<int>(m_config.tile_size);
   const int tiles_x = (fb.width / k + tile - 1) / tile, tiles_y = (fb.height / k + tile - 1) / tile;
+  m_surface =
+      SurfaceLayout(m_config.surfaces.tiled, fb.width, fb.height,
+                    color_bytes_per_pixel(fb.color_format) * fb.samples, tile, m_config.units);
   for (;;) {
     // Every unit passes on the same tokens in the same order.
     PacketKind kind = PacketKind::work;
@@ -61,13 +64,17 @@ uint64_t Resolve::resolve_tile(int tx, int ty) {
 
   // The k render-target rows of every output row, one request each.
   m_rows.resize(static_cast<size_t>(k) * static_cast<size_t>(th) * row_bytes);
-  for (int j = 0; j < th * k; ++j) {
-    const uint64_t y =
-        static_cast<uint64_t>(k) * static_cast<uint64_t>(y0) + static_cast<uint64_t>(j);
-    const uint64_t addr =
-        m_frame.color_address +
-        (y * static_cast<uint64_t>(fb.width) + static_cast<uint64_t>(k * x0)) * pixel_bytes;
-    mem.read(addr, m_rows.data() + static_cast<size_t>(j) * row_bytes, row_bytes);
+  if (m_surface.tiled()) {
+    read_tiles(k * tx, k * ty, k, row_bytes);
+  } else {
+    for (int j = 0; j < th * k; ++j) {
+      const uint64_t y =
+          static_cast<uint64_t>(k) * static_cast<uint64_t>(y0) + static_cast<uint64_t>(j);
+      const uint64_t addr =
+          m_frame.color_address +
+          (y * static_cast<uint64_t>(fb.width) + static_cast<uint64_t>(k * x0)) * pixel_bytes;
+      mem.read(addr, m_rows.data() + static_cast<size_t>(j) * row_bytes, row_bytes);
+    }
   }
   const sc_core::sc_time reads = mem.wait_round().reads;
   const sc_core::sc_time now = sc_core::sc_time_stamp();
@@ -130,6 +137,42 @@ uint64_t Resolve::resolve_tile(int tx, int ty) {
   m_pixels += static_cast<uint64_t>(tw) * static_cast<uint64_t>(th);
   m_samples += static_cast<uint64_t>(tw) * static_cast<uint64_t>(th) * n;
   return cycles;
+}
+
+// Tiled colour buffer: render-target tiles [rx0, rx0 + k) x [ry0, ry0 + k)
+// (those inside it), each one block in bursts, copied into m_rows' rows.
+void Resolve::read_tiles(int rx0, int ry0, int k, size_t row_bytes) {
+  const int tile = static_cast<int>(m_config.tile_size);
+  const size_t pixel_bytes =
+      color_bytes_per_pixel(m_frame.framebuffer.color_format) * m_frame.framebuffer.samples;
+  const uint64_t burst = m_config.surfaces.max_burst_bytes;
+  size_t total = 0;
+  for (int j = 0; j < k && ry0 + j < m_surface.tiles_y(); ++j) {
+    for (int i = 0; i < k && rx0 + i < m_surface.tiles_x(); ++i) {
+      total += static_cast<size_t>(m_surface.tile_width(rx0 + i)) *
+               static_cast<size_t>(m_surface.tile_height(ry0 + j)) * pixel_bytes;
+    }
+  }
+  m_block.resize(total);
+  size_t at = 0;
+  for (int j = 0; j < k && ry0 + j < m_surface.tiles_y(); ++j) {
+    for (int i = 0; i < k && rx0 + i < m_surface.tiles_x(); ++i) {
+      const int w = m_surface.tile_width(rx0 + i), h = m_surface.tile_height(ry0 + j);
+      const uint64_t bytes = static_cast<uint64_t>(w) * static_cast<uint64_t>(h) * pixel_bytes;
+      const uint64_t addr = m_frame.color_address + m_surface.tile_offset(rx0 + i, ry0 + j);
+      for (uint64_t off = 0; off < bytes; off += burst)
+        mem.read(addr + off, m_block.data() + at + off, std::min(burst, bytes - off));
+      // Row r of this tile is row j * tile + r of the output tile's rows, at
+      // column i * tile.
+      for (int r = 0; r < h; ++r) {
+        std::memcpy(m_rows.data() + static_cast<size_t>(j * tile + r) * row_bytes +
+                        static_cast<size_t>(i * tile) * pixel_bytes,
+                    m_block.data() + at + static_cast<size_t>(r) * w * pixel_bytes,
+                    static_cast<size_t>(w) * pixel_bytes);
+      }
+      at += bytes;
+    }
+  }
 }
 
 }  // namespace gpusim

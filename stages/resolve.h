@@ -16,7 +16,10 @@
 // Walk: the output in tiles of tile_size pixels, rows bottom-up, left to
 // right. Per tile, the render-target rows it covers (k per output row, each
 // k * tile_size * N samples, contiguous) are read as one group and waited
-// for (a blocking unit, like the tile caches); the tile is filtered at
+// for (a blocking unit, like the tile caches); with surfaces.tiled, the k x k
+// render-target tiles it covers instead, each one block in bursts of at most
+// surfaces.max_burst_bytes (as the tile caches move them; compressed tiles
+// are read raw: the resolve does not see the ROPs' compression state); the tile is filtered at
 // ii(resolve) per output stamp (config.stamp pixels) and sample pass
 // (ceil(n / samples_per_pass)); its output rows are then written, posted.
 // busy_cycles per tile = the read stall + ii * stamps * passes; after the
@@ -37,6 +40,7 @@
 #include "hw/packets.h"
 #include "hw/pipeline_stage.h"
 #include "hw/stats.h"
+#include "hw/surface_layout.h"
 
 namespace gpusim {
 
@@ -54,11 +58,14 @@ class Resolve : public PipelineStage {
   void run();
   // Filters output tile (tx, ty); returns its cycles, the read stall included.
   uint64_t resolve_tile(int tx, int ty);
+  void read_tiles(int rx0, int ry0, int k, size_t row_bytes);
 
   bool m_frame_done = false;
   sc_core::sc_event m_frame_done_event;
-  std::vector<uint8_t> m_rows;  // a tile's render-target rows
-  std::vector<uint8_t> m_out;   // a tile's output rows
+  std::vector<uint8_t> m_rows;   // a tile's render-target rows
+  std::vector<uint8_t> m_out;    // a tile's output rows
+  SurfaceLayout m_surface;       // the colour buffer's (surfaces.tiled)
+  std::vector<uint8_t> m_block;  // tiled: the render-target tiles as read
 
   uint64_t& m_tiles = m_stats.counter("tiles", "tiles", "output tiles filtered");
   uint64_t& m_pixels = m_stats.counter("pixels", "pixels", "output pixels written");

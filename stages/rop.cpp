@@ -180,6 +180,9 @@ void Rop::run() {
   layout.tile_size = m_config.tile_size;
   layout.units = m_config.units;
   layout.unit = m_unit;
+  layout.set_surfaces(m_config, m_config.compression.colour);
+  layout.codec_channels = 4;
+  layout.codec_channel_bytes = color_bytes_per_pixel(fb.color_format) / 4;
   m_cache.configure(layout);
 
   const unsigned bytes = color_bytes_per_pixel(fb.color_format);  // per sample
@@ -287,6 +290,9 @@ void Rop::blend(const ShadedStampBatch& batch, sc_core::sc_time& t) {
 
   const ColorFormat format = fb.color_format;
   const bool half = format == ColorFormat::rgba16f;
+  // Unblended with every channel enabled: no old colour read.
+  m_overwrite = !st.blend && mask[0] && mask[1] && mask[2] && mask[3] &&
+                m_cache.covers_tile(batch.stamps, batch.samples, fb.samples);
   size_t c = 0;  // colours consumed
 #if defined(__SSE2__)
   // rgba8 with every channel enabled (the common case): one register per
@@ -396,7 +402,7 @@ size_t Rop::for_each_fragment(const ShadedStampBatch& batch, sc_core::sc_time& t
     }
     const bool inside =
         s.x + static_cast<int>(stamp_w) <= fb.width && s.y + static_cast<int>(stamp_h) <= fb.height;
-    const unsigned entry = m_cache.lookup(tx, ty, t);
+    const unsigned entry = m_cache.lookup(tx, ty, t, m_overwrite);
     m_cache.mark_dirty(entry);
     uint8_t* const origin = m_cache.pixel(entry, s.x, s.y);
     for (uint64_t bits = s.mask; bits != 0; bits &= bits - 1, ++c) {

@@ -15,8 +15,11 @@
 // bit patterns) is accessed through this unit's TileCache (hw/tile_cache.h,
 // config.tile_cache_entries tiles), looked up once per stamp; the tile is
 // read on a miss even when no pixel needs the old colour (no partial-tile
-// tracking). clear: a fast clear of every owned tile to the encoded
-// clear_color.
+// tracking), except that with surfaces.skip_overwritten_fill a batch that
+// covers every pixel (sample) of its one tile, unblended with all four
+// channels enabled, allocates it without a read. The layout (tiled or not)
+// and compression.colour are the cache's (hw/tile_cache.h). clear: a fast
+// clear of every owned tile to the encoded clear_color.
 //
 // Multisampled frames (section 14): N colours per pixel, a pixel's samples
 // adjacent (tiles N times larger); a pixel's colour is blended into and
@@ -121,6 +124,7 @@ class Rop : public PipelineStage {
       "the drain and write-back");
   uint64_t& m_frames = m_stats.counter("frames", "frames", "end_of_frame tokens flushed");
   TileCache m_cache;
+  bool m_overwrite = false;  // this batch overwrites its whole tile (TileCache::lookup)
 };
 
 }  // namespace gpusim

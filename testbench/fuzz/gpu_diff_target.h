@@ -151,7 +151,7 @@ class DiffInstance {
       counts[item.key()] = item.value().get<uint64_t>() - before[item.key()].get<uint64_t>();
     }
     const golden::Result want = golden::render(scene);
-    const Framebuffer got = read_framebuffer(m_gpu->memory(), m_frame);
+    const Framebuffer got = read_framebuffer(m_gpu->memory(), m_frame, m_config);
     std::ostringstream os;
     if (counts != want.stats.to_json()) {
       os << "counters differ: cycle model " << counts.dump() << ", golden "

@@ -11,6 +11,7 @@
 
 #include "hw/input_error.h"
 #include "hw/simulation_context.h"
+#include "hw/surface_layout.h"
 #include "stages/gpu.h"
 #include "testbench/io/output_file.h"
 #include "testbench/sim/conservation.h"
@@ -150,7 +151,7 @@ void inject_faults(const Topology& netlist, const GpuRunOptions& options, const 
 // itself with one sample and no supersampling; the depth of sample 0 of each
 // output pixel's lower-left render-target pixel (docs/pipeline-spec.md,
 // section 14).
-Framebuffer read_framebuffer(Memory& memory, const FrameState& frame) {
+Framebuffer read_framebuffer(Memory& memory, const FrameState& frame, const GpuConfig& config) {
   const FramebufferDesc& d = frame.framebuffer;  // the render target
   const int k = static_cast<int>(d.supersample);
   const int width = d.width / k, height = d.height / k;
@@ -162,27 +163,35 @@ Framebuffer read_framebuffer(Memory& memory, const FrameState& frame) {
   const uint8_t* c = frame.needs_resolve() ? memory.data(frame.resolve_address, pixels * cb)
                                            : memory.data(frame.color_address, pixels * cb);
   const uint8_t* z = memory.data(frame.depth_address, target_samples * zb);
+  // Byte offsets of a pixel in the render target's buffers (converted from
+  // the tiled layout on readout); the resolve's output is row-major.
+  const auto layout = [&](unsigned bytes) {
+    return SurfaceLayout(config.surfaces.tiled, d.width, d.height, bytes * d.samples,
+                         config.tile_size, config.units);
+  };
+  const SurfaceLayout color_layout = layout(cb), depth_layout = layout(zb);
   for (int y = 0; y < height; ++y) {
     for (int x = 0; x < width; ++x) {
       const size_t p = fb.pixel_index(x, y);
+      const size_t cp = frame.needs_resolve() ? p * cb : color_layout.pixel_offset(x, y);
       for (int ch = 0; ch < 4; ++ch) {
         if (d.color_format == ColorFormat::rgba8) {
-          fb.color[p * 4 + ch] = c[p * 4 + ch];
+          fb.color[p * 4 + ch] = c[cp + ch];
         } else {
           uint16_t h;
-          std::memcpy(&h, c + p * 8 + ch * 2, 2);
+          std::memcpy(&h, c + cp + ch * 2, 2);
           fb.color[p * 4 + ch] = h;
         }
       }
-      const size_t sample0 = (static_cast<size_t>(k * y) * d.width + static_cast<size_t>(k * x)) *
-                             d.samples;  // sample 0 of render-target pixel (kx, ky)
+      // Sample 0 of render-target pixel (kx, ky).
+      const size_t sample0 = depth_layout.pixel_offset(k * x, k * y);
       if (d.depth_format == DepthFormat::unorm16) {
         uint16_t v;
-        std::memcpy(&v, z + sample0 * 2, 2);
+        std::memcpy(&v, z + sample0, 2);
         fb.depth[p] = v;
       } else {
         uint32_t v;
-        std::memcpy(&v, z + sample0 * 4, 4);
+        std::memcpy(&v, z + sample0, 4);
         fb.depth[p] = v;
       }
     }
@@ -369,7 +378,7 @@ GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOp
 
   result.completed = true;
   result.cycles = static_cast<uint64_t>(host.finished / config.cycle());
-  result.framebuffer = read_framebuffer(gpu.memory(), loaded.frame);
+  result.framebuffer = read_framebuffer(gpu.memory(), loaded.frame, config);
   result.counts = gpu.pipeline_counts();
   result.timing = gpu.stats_json(result.cycles);
 

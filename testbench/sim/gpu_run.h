@@ -36,8 +36,10 @@ struct LoadedFrame {
 LoadedFrame load_frame(const Scene& scene);
 // The output frame in `memory` after `frame` (a load_frame result) ran: the
 // resolved colour (or the colour buffer with one sample and no
-// supersampling) and sample 0's depth, at the scene's width x height.
-Framebuffer read_framebuffer(Memory& memory, const FrameState& frame);
+// supersampling) and sample 0's depth, at the scene's width x height. The
+// render target's colour and depth are laid out as `config` says
+// (surfaces.tiled, hw/surface_layout.h); the resolve's output is row-major.
+Framebuffer read_framebuffer(Memory& memory, const FrameState& frame, const GpuConfig& config);
 
 struct GpuRunOptions {
   bool record_last_writer = false;  // per-pixel primitive id, for --check

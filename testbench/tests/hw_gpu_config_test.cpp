@@ -60,6 +60,13 @@ TEST(GpuConfig, Defaults) {
   EXPECT_EQ(c.lighting_cycles_per_pixel, 1u);
   EXPECT_EQ(c.lighting_cycles_per_light, 2u);
   EXPECT_EQ(c.watchdog_cycles, 1000000u);
+  EXPECT_FALSE(c.surfaces.tiled);
+  EXPECT_EQ(c.surfaces.max_burst_bytes, 1024u);
+  EXPECT_FALSE(c.surfaces.skip_overwritten_fill);
+  EXPECT_FALSE(c.compression.depth);
+  EXPECT_FALSE(c.compression.colour);
+  EXPECT_EQ(c.compression.compressor_latency, 8u);
+  EXPECT_EQ(c.compression.decompressor_latency, 8u);
 
   ASSERT_EQ(GpuConfig::stage_names().size(), 11u);
   EXPECT_EQ(GpuConfig::stage_names().front(), "command_processor");
@@ -120,6 +127,8 @@ TEST(GpuConfig, RoundTrip) {
   c.lighting_cycles_per_pixel = 0;
   c.lighting_cycles_per_light = 7;
   c.watchdog_cycles = 5000;
+  c.surfaces = {true, 256, true};
+  c.compression = {true, false, 3, 5};
 
   const json j = to_json(c);
   // Every value resolved.
@@ -165,11 +174,11 @@ TEST(GpuConfig, RoundTrip) {
 }
 
 TEST(GpuConfig, UnknownKeysNameTheirPathAndTheAllowedKeys) {
-  EXPECT_EQ(
-      error_of(json{{"unitz", 4}}),
-      "gpu.json: unitz: unknown key (allowed: clock_mhz, units, tile_size, stamp, "
-      "fifo_depth, fifo_depths, stages, memory, vertex_cache_entries, tile_cache_entries, "
-      "samples_per_pass, lighting_cycles_per_pixel, lighting_cycles_per_light, watchdog_cycles)");
+  EXPECT_EQ(error_of(json{{"unitz", 4}}),
+            "gpu.json: unitz: unknown key (allowed: clock_mhz, units, tile_size, stamp, "
+            "fifo_depth, fifo_depths, stages, memory, surfaces, compression, vertex_cache_entries, "
+            "tile_cache_entries, samples_per_pass, lighting_cycles_per_pixel, "
+            "lighting_cycles_per_light, watchdog_cycles)");
   // The old name of the tile rasterizer is refused with the list of stages.
   EXPECT_EQ(error_of(json::parse(R"({"stages": {"rasterizer": {"ii": 1}}})")),
             "gpu.json: stages.rasterizer: unknown key (allowed: command_processor, "
@@ -328,6 +337,39 @@ std::string override_error(const json& base, const std::vector<ConfigOverride>& 
   return "(no error)";
 }
 
+TEST(GpuConfig, SurfacesAndCompression) {
+  const GpuConfig c = gpu_config_from_json(json::parse(R"({"surfaces": {"tiled": true,
+      "max_burst_bytes": 64}, "compression": {"colour": true, "decompressor_latency": 0}})"),
+                                           "gpu.json");
+  EXPECT_TRUE(c.surfaces.tiled);
+  EXPECT_EQ(c.surfaces.max_burst_bytes, 64u);
+  EXPECT_FALSE(c.surfaces.skip_overwritten_fill);
+  EXPECT_TRUE(c.compression.colour);
+  EXPECT_FALSE(c.compression.depth);
+  EXPECT_EQ(c.compression.compressor_latency, 8u);
+  EXPECT_EQ(c.compression.decompressor_latency, 0u);
+  // A compressed tile is one block of variable size: only tiled surfaces have one.
+  EXPECT_EQ(error_of(json::parse(R"({"compression": {"depth": true}})")),
+            "gpu.json: compression.depth: compression needs surfaces.tiled true");
+  EXPECT_EQ(error_of(json::parse(R"({"surfaces": {"tiled": false},
+                                     "compression": {"colour": true}})")),
+            "gpu.json: compression.colour: compression needs surfaces.tiled true");
+  EXPECT_EQ(error_of(json::parse(R"({"surfaces": {"tiled": 1}})")),
+            "gpu.json: surfaces.tiled: expected true or false, got number");
+  EXPECT_EQ(error_of(json::parse(R"({"surfaces": {"max_burst_bytes": 0}})")),
+            "gpu.json: surfaces.max_burst_bytes: 0 is out of range 1..16777216");
+  EXPECT_EQ(error_of(json::parse(R"({"compression": {"color": true}})")),
+            "gpu.json: compression.color: unknown key (allowed: depth, colour, "
+            "compressor_latency, decompressor_latency)");
+  EXPECT_EQ(override_error(to_json(GpuConfig()), sets({"compression.depth=true"})),
+            "--set compression.depth=true: compression.depth: compression needs surfaces.tiled "
+            "true");
+  EXPECT_EQ(gpu_config_with_overrides(to_json(GpuConfig()),
+                                      sets({"surfaces.tiled=true", "compression.depth=true"}))
+                .compression.depth,
+            true);
+}
+
 TEST(GpuConfigOverrides, SetNestedKeysOnTheDefaults) {
   const GpuConfig c = gpu_config_with_overrides(
       json::object(),
@@ -377,11 +419,11 @@ TEST(GpuConfigOverrides, ErrorsNameTheOverride) {
             "1..1000000");
   EXPECT_EQ(override_error(json::object(), sets({"units=eight"})),
             "--set units=eight: units: expected an integer, got string");
-  EXPECT_EQ(
-      override_error(json::object(), sets({"unitz=4"})),
-      "--set unitz=4: unitz: unknown key (allowed: clock_mhz, units, tile_size, stamp, "
-      "fifo_depth, fifo_depths, stages, memory, vertex_cache_entries, tile_cache_entries, "
-      "samples_per_pass, lighting_cycles_per_pixel, lighting_cycles_per_light, watchdog_cycles)");
+  EXPECT_EQ(override_error(json::object(), sets({"unitz=4"})),
+            "--set unitz=4: unitz: unknown key (allowed: clock_mhz, units, tile_size, stamp, "
+            "fifo_depth, fifo_depths, stages, memory, surfaces, compression, vertex_cache_entries, "
+            "tile_cache_entries, samples_per_pass, lighting_cycles_per_pixel, "
+            "lighting_cycles_per_light, watchdog_cycles)");
   // An unknown stage is reported at the stage, which the key leads through.
   EXPECT_EQ(override_error(json::object(), sets({"stages.setup.ii=1"})),
             "--set stages.setup.ii=1: stages.setup: unknown key (allowed: command_processor, "

@@ -1059,5 +1059,224 @@ TEST(BackEndTiming, StagesAloneMatchTheCostModel) {
   EXPECT_EQ(count(rop_d.stats(), "bytes_written"), 2048u);
 }
 
+// ---------------------------------------------------------------------------
+// Tiled surfaces, bursts, compression and the no-fill path, timed by hand
+// (docs/architecture.md, "Tiled surfaces and compression"). As above: clock
+// 1 ns, 32 bytes per cycle, latency 20, tiles 16x16, depth_test {1, 2}, rop
+// {1, 4}; a unorm24 or rgba8 tile is 1024 bytes.
+TEST(BackEndTiming, TiledBurstsCompressionAndNoFill) {
+  GpuConfig cfg = config(1, 16, 4, 4, 16, 4);
+  cfg.stages["depth_test"] = {1, 2};
+  cfg.stages["rop"] = {1, 4};
+  const sc_time cycle = cfg.cycle();
+
+  Scene scene = make_scene(64, 64, ColorFormat::rgba8, DepthFormat::unorm24);
+  scene.draws.push_back(Draw{});
+  scene.draws[0].state.depth_func = CompareFunc::always;
+  const FrameState frame = frame_state(scene);
+  Scene small = scene;  // two tiles, both owned
+  small.framebuffer.width = 32;
+  small.framebuffer.height = 16;
+  const FrameState small_frame = frame_state(small);
+  const auto tri = full_screen_triangle(frame.framebuffer, 0.5f);
+  auto batch = [&](std::vector<std::array<int, 2>> origins) {
+    StampBatch b;
+    b.triangle = tri;
+    for (const auto& o : origins)
+      b.stamps.push_back(make_stamp(*tri, o[0], o[1], cfg, frame.framebuffer));
+    return b;
+  };
+  // Every stamp of tile (tx, ty), and all but its last.
+  auto whole_tile = [&](int tx, int ty, bool all) {
+    std::vector<std::array<int, 2>> o;
+    for (int j = 0; j < 4; ++j) {
+      for (int i = 0; i < 4; ++i) o.push_back({tx * 16 + 4 * i, ty * 16 + 4 * j});
+    }
+    if (!all) o.pop_back();
+    return batch(o);
+  };
+  const StampBatch eof{PacketKind::end_of_frame, nullptr, {}, {}};
+  const StampBatch clear{PacketKind::clear, nullptr, {}, {}};
+
+  struct Bench {
+    Bench(const char* name, const GpuConfig& c, const FrameState& f, std::vector<StampBatch> t)
+        : mem((std::string(name) + "_mem").c_str(), memory_size(f), 20, 32, c.cycle()),
+          in((std::string(name) + "_in").c_str(), 16),
+          out((std::string(name) + "_out").c_str(), 16),
+          depth(name, c, f, 0),
+          tokens(std::move(t)) {
+      std::memset(mem.data(0, mem.size()), kFill, mem.size());
+      depth.in(in);
+      depth.out(out);
+      depth.mem.bind(mem);
+    }
+    uint64_t count(const char* name) const {
+      return depth.stats().to_json().at(name).get<uint64_t>();
+    }
+    Memory mem;
+    Fifo<StampBatch> in, out;
+    DepthTest depth;
+    std::vector<StampBatch> tokens;
+    std::vector<double> times;
+  };
+
+  // (e) Tiled, bursts of 100 bytes: a tile is 10 bursts of 100 bytes (4 bus
+  //   cycles each) and one of 24 (1): 41 cycles, the latency once.
+  //   batch of 3 stamps read at 0 misses: 3 + 41 + 20 = 64 busy, readable at 66
+  //   batch of 2 read at 64: hits, 2 busy, readable at 68
+  //   end_of_frame read at 66: the dirty tile leaves at 68 in 11 bursts,
+  //     the bus frees at 109, done at 129: forwarded at 129.
+  GpuConfig tiled = cfg;
+  tiled.surfaces.tiled = true;
+  tiled.surfaces.max_burst_bytes = 100;
+  Bench e("depth_e", tiled, frame,
+          {batch({{0, 0}, {4, 0}, {8, 4}}), batch({{0, 12}, {12, 12}}), eof});
+
+  // (f) Tiled with depth compression (latencies 8 and 8), one cache entry,
+  //   32x16 after a clear. Tile 0 and tile 1 each get one stamp at z = 0.5
+  //   among the clear depth 0.75: deltas up to 4194303 need 22 bits, coded
+  //   in 24: 4 + 4 + 768 = 776 bytes, moved as 800 (25 bus cycles).
+  //   clear read at 0: 1 busy, readable at 3
+  //   A (tile 0) read at 1: filled from the clear value, 1 busy, readable at 4
+  //   B (tile 1) read at 2: filled from the clear value; tile 0 written
+  //     back, posted, through the compressor: issued at 2 + 8 = 10, bus
+  //     10..35, done at 55; 1 busy, readable at 5
+  //   A again read at 3: a compressed fill of 800 bytes issued at 3 and the
+  //     write-back of tile 1 issued at 3 + 8 = 11: the earlier arrival goes
+  //     first, after the bus frees at 35: fill 35..60, data at 80, usable
+  //     at 88; write-back 60..85, done at 105. 85 stall + 1 busy, ends at
+  //     89, readable at 91
+  //   end_of_frame read at 89: tile 0 (dirty) leaves at 89 + 2 + 8 = 99,
+  //     bus 99..124, done at 144 (after tile 1's at 105): forwarded at 144.
+  GpuConfig compressed = cfg;
+  compressed.tile_cache_entries = 1;
+  compressed.surfaces.tiled = true;
+  compressed.compression.depth = true;
+  Bench f("depth_f", compressed, small_frame,
+          {clear, batch({{0, 0}}), batch({{16, 0}}), batch({{0, 0}}), eof});
+
+  // (g) The no-fill path, linear surfaces: a batch writing every pixel of
+  //   tile 0 (depth always, writes on) misses without a read; one missing a
+  //   stamp of tile 1 reads it.
+  //   full batch read at 0: 16 busy, readable at 18
+  //   partial batch read at 16: 15 + 52 = 67 busy, readable at 85
+  //   end_of_frame read at 83: both tiles leave at 85, 64 bus cycles, done
+  //     at 169: forwarded at 169.
+  GpuConfig nofill = cfg;
+  nofill.surfaces.skip_overwritten_fill = true;
+  Bench g("depth_g", nofill, frame, {whole_tile(0, 0, true), whole_tile(1, 0, false), eof});
+  // (h) The same tokens without the no-fill path: the full batch reads too,
+  //   16 + 52 = 68, readable at 70; the partial one 15 + 52, from 68 to 135,
+  //   readable at 137; end_of_frame read at 135: written from 137, done at 221.
+  Bench h("depth_h", cfg, frame, {whole_tile(0, 0, true), whole_tile(1, 0, false), eof});
+
+  // (i) ROP, tiled, colour compression and the no-fill path, 16x16 (one
+  //   tile): 16 stamps of one colour cover it, unblended: no read, 16 busy.
+  //   end_of_frame read at 16: the constant tile is 4 + 4 bytes, moved as
+  //   32 (1 bus cycle), issued at 16 + 4 + 8 = 28, done at 49: frame_done at 49.
+  Scene one_tile = scene;
+  one_tile.framebuffer.width = 16;
+  one_tile.framebuffer.height = 16;
+  const FrameState one_frame = frame_state(one_tile);
+  GpuConfig colour = cfg;
+  colour.surfaces.tiled = true;
+  colour.surfaces.skip_overwritten_fill = true;
+  colour.compression.colour = true;
+  Memory mem_i("mem_i", memory_size(one_frame), 20, 32, cycle);
+  Fifo<ShadedStampBatch> in_i("in_i", 16);
+  Rop rop_i("rop_i", colour, one_frame, 0);
+  rop_i.in(in_i);
+  rop_i.mem.bind(mem_i);
+  ShadedStampBatch shaded;
+  shaded.triangle = tri;
+  shaded.stamps = whole_tile(0, 0, true).stamps;
+  shaded.colors.assign(256, glm::vec4(0.5f, 0.25f, 1.0f, 1.0f));
+  double frame_done_at = -1;
+
+  auto at = [&] { return sc_core::sc_time_stamp() / cycle; };
+  for (Bench* b : {&e, &f, &g, &h}) {
+    sc_core::sc_spawn([b] {
+      for (const auto& t : b->tokens) b->in.write(t);
+    });
+    sc_core::sc_spawn([b, &at] {
+      for (;;) {
+        b->out.read();
+        b->times.push_back(at());
+      }
+    });
+  }
+  sc_core::sc_spawn([&] {
+    in_i.write(shaded);
+    in_i.write(ShadedStampBatch{PacketKind::end_of_frame, nullptr, {}, {}, {}});
+  });
+  sc_core::sc_spawn([&] {
+    sc_core::wait(rop_i.frame_done_event());
+    frame_done_at = at();
+  });
+  sc_core::sc_start();
+
+  EXPECT_EQ(e.times, (std::vector<double>{66, 68, 129}));
+  EXPECT_EQ(e.count("busy_cycles"), 64u + 2 + 63);
+  EXPECT_EQ(e.count("bytes_read"), 1024u);
+  EXPECT_EQ(e.count("bytes_written"), 1024u);
+  EXPECT_EQ(e.mem.client_stats(0).requests, 22u);  // 11 bursts each way
+  EXPECT_EQ(e.mem.client_stats(0).busy_cycles, 82u);
+
+  EXPECT_EQ(f.times, (std::vector<double>{3, 4, 5, 91, 144}));
+  EXPECT_EQ(f.count("cache_clear_fills"), 2u);
+  EXPECT_EQ(f.count("cache_misses"), 1u);
+  EXPECT_EQ(f.count("compressed_fills"), 1u);
+  EXPECT_EQ(f.count("tiles_compressed"), 3u);
+  EXPECT_EQ(f.count("tiles_uncompressed"), 0u);
+  EXPECT_EQ(f.count("bytes_read"), 800u);
+  EXPECT_EQ(f.count("bytes_written"), 3u * 800);
+  EXPECT_EQ(f.count("compression_bytes_saved"), 4u * (1024 - 800));
+  EXPECT_EQ(f.count("compressor_busy_cycles"), 3u * 8);
+  EXPECT_EQ(f.count("decompressor_busy_cycles"), 8u);
+  // The memory holds the decoded depths: the stamps at z = 0.5, the rest
+  // at the clear depth, in the tiled layout (each 16x16 tile row-major).
+  const DepthValue z = encode_depth(DepthFormat::unorm24, 0.5f);
+  const DepthValue clear_z = encode_depth(DepthFormat::unorm24, 0.75f);
+  for (int t = 0; t < 2; ++t) {
+    for (int p = 0; p < 256; ++p) {
+      uint32_t v = 0;
+      f.mem.debug_read(small_frame.depth_address + static_cast<uint64_t>(t * 256 + p) * 4, &v, 4);
+      EXPECT_EQ(v, (p % 16 < 4 && p / 16 < 4) ? z : clear_z) << t << ", " << p;
+    }
+  }
+
+  EXPECT_EQ(g.times, (std::vector<double>{18, 85, 169}));
+  EXPECT_EQ(g.count("cache_overwrite_allocs"), 1u);
+  EXPECT_EQ(g.count("cache_misses"), 1u);
+  EXPECT_EQ(g.count("bytes_read"), 1024u);
+  EXPECT_EQ(h.times, (std::vector<double>{70, 137, 221}));
+  EXPECT_EQ(h.count("cache_overwrite_allocs"), 0u);
+  EXPECT_EQ(h.count("bytes_read"), 2048u);
+  for (int y = 0; y < 16; ++y) {
+    for (int x = 0; x < 32; ++x) {
+      uint32_t v = 0;
+      g.mem.debug_read(frame.depth_address + (static_cast<uint64_t>(y) * 64 + x) * 4, &v, 4);
+      EXPECT_EQ(v, (x >= 28 && y >= 12) ? 0xA5A5A5A5u : z) << x << ", " << y;
+    }
+  }
+
+  EXPECT_EQ(frame_done_at, 49);
+  auto count = [](const StatGroup& s, const char* name) {
+    return s.to_json().at(name).get<uint64_t>();
+  };
+  EXPECT_EQ(count(rop_i.stats(), "busy_cycles"), 16u + 33);
+  EXPECT_EQ(count(rop_i.stats(), "bytes_read"), 0u);
+  EXPECT_EQ(count(rop_i.stats(), "bytes_written"), 32u);
+  EXPECT_EQ(count(rop_i.stats(), "cache_overwrite_allocs"), 1u);
+  EXPECT_EQ(count(rop_i.stats(), "tiles_compressed"), 1u);
+  for (int p = 0; p < 256; ++p) {
+    uint8_t c[4];
+    mem_i.debug_read(one_frame.color_address + static_cast<uint64_t>(p) * 4, c, 4);
+    EXPECT_EQ(c[0], encode_unorm8(0.5f));
+    EXPECT_EQ(c[1], encode_unorm8(0.25f));
+    EXPECT_EQ(c[2], 255);
+  }
+}
+
 }  // namespace
 }  // namespace gpusim
