@@ -429,6 +429,19 @@ int run_cycle_model(const RunArgs& args, const ProgressArgs& progress_args) {
   GpuRunOptions options;
   options.record_last_writer = args.check;
   options.progress = &progress;
+  // Without --check nothing reads the vertex arrays after the GPU's memory
+  // holds them (the warnings read names, lighting and materials): free them
+  // before simulating, so that a large mesh is held once.
+  if (!args.check) {
+    options.scene_arrays_copied = [&scene] {
+      for (Draw& d : scene.draws) {
+        std::vector<glm::vec4>().swap(d.positions);
+        std::vector<glm::vec3>().swap(d.normals);
+        std::vector<glm::vec4>().swap(d.colors);
+        std::vector<uint32_t>().swap(d.indices);
+      }
+    };
+  }
   // The trace's files, committed with its frame.exr and stats.json below; on
   // any failure they are removed and an earlier trace in the directory stays.
   OutputFiles trace_files;

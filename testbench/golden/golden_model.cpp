@@ -343,9 +343,9 @@ class Renderer {
 
     switch (primitive_class(draw.primitive)) {
       case PrimitiveClass::triangle: {
-        const auto triangles = assemble_triangles(draw.primitive, draw.vertex_count());
-        for (uint32_t i = 0; i < triangles.size(); ++i) {
-          const auto& slots = triangles[i];
+        const uint64_t triangles = primitive_count(draw.primitive, draw.vertex_count());
+        for (uint32_t i = 0; i < triangles; ++i) {
+          const std::array<uint32_t, 3> slots = triangle_slots(draw.primitive, i);
           const int provoking = provoking_position(draw.primitive, i, state.provoking_vertex);
           const int64_t id = m_next_primitive_id++;
           ++m_stats.triangles_in;
@@ -799,29 +799,25 @@ ShadedVertex shade_vertex(const Scene& scene, const Draw& draw, uint32_t i) {
   return out;
 }
 
+std::array<uint32_t, 3> triangle_slots(PrimitiveType type, uint32_t i) {
+  switch (type) {
+    case PrimitiveType::triangle_strip:
+      // Odd triangles swap their first two vertices so all keep one winding.
+      return i % 2 == 0 ? std::array<uint32_t, 3>{i, i + 1, i + 2}
+                        : std::array<uint32_t, 3>{i + 1, i, i + 2};
+    case PrimitiveType::triangle_fan:
+      return {0, i + 1, i + 2};
+    default:  // triangles
+      return {3 * i, 3 * i + 1, 3 * i + 2};
+  }
+}
+
 std::vector<std::array<uint32_t, 3>> assemble_triangles(PrimitiveType type, size_t n) {
   std::vector<std::array<uint32_t, 3>> out;
-  if (n < 3) return out;
-  switch (type) {
-    case PrimitiveType::triangles:
-      out.reserve(n / 3);
-      for (uint32_t i = 0; i + 2 < n; i += 3) out.push_back({i, i + 1, i + 2});
-      break;
-    case PrimitiveType::triangle_strip:
-      out.reserve(n - 2);
-      // Odd triangles swap their first two vertices so all keep one winding.
-      for (uint32_t i = 0; i + 2 < n; ++i) {
-        out.push_back(i % 2 == 0 ? std::array<uint32_t, 3>{i, i + 1, i + 2}
-                                 : std::array<uint32_t, 3>{i + 1, i, i + 2});
-      }
-      break;
-    case PrimitiveType::triangle_fan:
-      out.reserve(n - 2);
-      for (uint32_t i = 0; i + 2 < n; ++i) out.push_back({0, i + 1, i + 2});
-      break;
-    default:  // points and lines assemble no triangles
-      break;
-  }
+  if (primitive_class(type) != PrimitiveClass::triangle) return out;  // points and lines
+  const uint64_t count = primitive_count(type, n);
+  out.reserve(count);
+  for (uint32_t i = 0; i < count; ++i) out.push_back(triangle_slots(type, i));
   return out;
 }
 

@@ -46,6 +46,9 @@ glm::vec4 light_pixel(const Scene& scene, const Material& material, const glm::v
 // Primitive assembly: the draw's triangles as triples of vertex slots (positions
 // in the index list, or vertex numbers when not indexed) in API order.
 std::vector<std::array<uint32_t, 3>> assemble_triangles(PrimitiveType type, size_t slot_count);
+// Triangle i of them (i < primitive_count(type, slot_count)), without the
+// list: render() walks a 10 M-triangle draw without holding 120 MB of triples.
+std::array<uint32_t, 3> triangle_slots(PrimitiveType type, uint32_t i);
 // Which of triangle i's three assembled slots is its provoking vertex (spec
 // section 3, GL's table of provoking vertices): the third under the
 // last-vertex convention; under the first-vertex one the first, except an odd

@@ -10,11 +10,14 @@
 #include <assimp/DefaultLogger.hpp>
 #include <assimp/Importer.hpp>
 #include <assimp/LogStream.hpp>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <utility>
+
+#include "testbench/scene/binary_ply.h"
 
 namespace gpusim {
 namespace {
@@ -156,6 +159,21 @@ bool starts_utf16(const std::string& file) {
 }  // namespace
 
 std::vector<ImportedMesh> import_mesh(const std::string& file) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(file, ec)) throw MeshImportError("is a directory");
+  // assimp picks its importer by the name's extension: only a .ply may take
+  // the direct path, which gives what assimp would (binary_ply.h).
+  std::string ext = std::filesystem::path(file).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
+  if (ext == ".ply") {
+    if (std::optional<std::vector<ImportedMesh>> mesh = read_binary_ply(file))
+      return std::move(*mesh);
+  }
+  return import_mesh_with_assimp(file);
+}
+
+std::vector<ImportedMesh> import_mesh_with_assimp(const std::string& file) {
   std::error_code ec;
   if (std::filesystem::is_directory(file, ec)) throw MeshImportError("is a directory");
   Assimp::Importer importer;

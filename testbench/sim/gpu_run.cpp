@@ -28,15 +28,6 @@ uint64_t align(uint64_t v) {
   return (v + kAlignment - 1) / kAlignment * kAlignment;
 }
 
-// Appends bytes at an aligned address and returns that address.
-template <typename T>
-uint64_t append(std::vector<uint8_t>& memory, const T* data, size_t count) {
-  const uint64_t addr = align(memory.size());
-  memory.resize(addr + count * sizeof(T));
-  if (count) std::memcpy(memory.data() + addr, data, count * sizeof(T));
-  return addr;
-}
-
 // Host: streams the frame's commands and notes when every unit is done.
 class Host : public sc_core::sc_module {
  public:
@@ -199,9 +190,8 @@ Framebuffer read_framebuffer(Memory& memory, const FrameState& frame, const GpuC
   return fb;
 }
 
-LoadedFrame load_frame(const Scene& scene) {
-  LoadedFrame out;
-  FrameState& f = out.frame;
+FrameState layout_frame(const Scene& scene, uint64_t* memory_bytes) {
+  FrameState f;
   // The render target: supersampling makes it k times the output on each
   // side, multisampling keeps N samples per pixel (docs/pipeline-spec.md,
   // section 14).
@@ -222,7 +212,13 @@ LoadedFrame load_frame(const Scene& scene) {
                                     ? static_cast<uint64_t>(out_fb.width) * out_fb.height *
                                           color_bytes_per_pixel(out_fb.color_format)
                                     : 0;
-  out.memory.resize(f.resolve_address + output_bytes);
+  uint64_t end = f.resolve_address + output_bytes;
+  // Places `count` items at the next aligned address.
+  const auto place = [&end](size_t count, size_t item_bytes) {
+    const uint64_t addr = align(end);
+    end = addr + count * item_bytes;
+    return addr;
+  };
 
   int64_t next_primitive = 0;
   for (const Draw& d : scene.draws) {
@@ -245,15 +241,39 @@ LoadedFrame load_frame(const Scene& scene) {
     DrawBuffers& b = s.buffers;
     b.vertex_count = static_cast<uint32_t>(d.positions.size());
     b.slot_count = static_cast<uint32_t>(d.vertex_count());
-    b.positions = append(out.memory, d.positions.data(), d.positions.size());
-    if (s.lighting) b.normals = append(out.memory, d.normals.data(), d.normals.size());
-    if (!d.colors.empty()) b.colors = append(out.memory, d.colors.data(), d.colors.size());
-    if (!d.indices.empty()) b.indices = append(out.memory, d.indices.data(), d.indices.size());
+    b.positions = place(d.positions.size(), sizeof(glm::vec4));
+    if (s.lighting) b.normals = place(d.normals.size(), sizeof(glm::vec3));
+    if (!d.colors.empty()) b.colors = place(d.colors.size(), sizeof(glm::vec4));
+    if (!d.indices.empty()) b.indices = place(d.indices.size(), sizeof(uint32_t));
     s.varyings = varying_layout_for(s);  // after the buffers: a Phong layout needs normals
     next_primitive += static_cast<int64_t>(primitive_count(d.primitive, b.slot_count));
     f.draws.push_back(s);
   }
-  out.memory.resize(align(out.memory.size()));
+  *memory_bytes = align(end);
+  return f;
+}
+
+void write_frame_arrays(const Scene& scene, const FrameState& frame, uint8_t* memory) {
+  const auto copy = [memory](uint64_t addr, const auto& v) {
+    if (addr != kNoBuffer && !v.empty())
+      std::memcpy(memory + addr, v.data(), v.size() * sizeof(v[0]));
+  };
+  for (size_t i = 0; i < scene.draws.size(); ++i) {
+    const Draw& d = scene.draws[i];
+    const DrawBuffers& b = frame.draws[i].buffers;
+    copy(b.positions, d.positions);
+    copy(b.normals, d.normals);
+    copy(b.colors, d.colors);
+    copy(b.indices, d.indices);
+  }
+}
+
+LoadedFrame load_frame(const Scene& scene) {
+  LoadedFrame out;
+  uint64_t bytes = 0;
+  out.frame = layout_frame(scene, &bytes);
+  out.memory.resize(bytes);
+  write_frame_arrays(scene, out.frame, out.memory.data());
   return out;
 }
 
@@ -279,15 +299,19 @@ GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOp
                                  (config.units == 1 ? "" : "s"));
   }
   fresh_simulation_context();
-  LoadedFrame loaded = load_frame(scene);
-  Gpu gpu("gpu", config, loaded.frame, loaded.memory.size(), options.unit_order);
+  // The memory image is built in the GPU's own memory (zero-filled, as the
+  // framebuffers and the padding start): no second copy of it.
+  LoadedFrame loaded;
+  uint64_t memory_bytes = 0;
+  loaded.frame = layout_frame(scene, &memory_bytes);
+  Gpu gpu("gpu", config, loaded.frame, memory_bytes, options.unit_order);
   const Topology& netlist = gpu.topology();
   inject_faults(netlist, options, config);
-  std::memcpy(gpu.memory().data(0, loaded.memory.size()), loaded.memory.data(),
-              loaded.memory.size());
-  // The image is in the GPU's memory now: free the copy (half the footprint
-  // of a large framebuffer).
-  std::vector<uint8_t>().swap(loaded.memory);
+  write_frame_arrays(scene, loaded.frame, gpu.memory().data(0, memory_bytes));
+  uint64_t primitives = 0;
+  for (const Draw& d : scene.draws) primitives += primitive_count(d.primitive, d.vertex_count());
+  // The run reads nothing of the scene's arrays from here on.
+  if (options.scene_arrays_copied) options.scene_arrays_copied();
   GpuRunResult result;
   if (options.record_last_writer) {
     result.last_writer.assign(static_cast<size_t>(loaded.frame.framebuffer.width) *
@@ -327,8 +351,6 @@ GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOp
                                                options.trace_scene);
     gpu.attach_trace(*recorder);
   }
-  uint64_t primitives = 0;
-  for (const Draw& d : scene.draws) primitives += primitive_count(d.primitive, d.vertex_count());
   Host host("host", gpu, config, loaded.frame, primitives,
             progress && progress->shown() ? progress : nullptr,
             options.fault_withhold_end_of_frame);

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
@@ -34,6 +35,12 @@ struct LoadedFrame {
   std::vector<uint8_t> memory;  // byte 0 = GPU address 0
 };
 LoadedFrame load_frame(const Scene& scene);
+// load_frame in two steps, so that the image can be built where it is used
+// (run_gpu: in the GPU's memory, with no second copy): the frame's state
+// and the image's size in bytes, then the draws' arrays written into an
+// image of that size whose other bytes (framebuffers, padding) are zero.
+FrameState layout_frame(const Scene& scene, uint64_t* memory_bytes);
+void write_frame_arrays(const Scene& scene, const FrameState& frame, uint8_t* memory);
 // The output frame in `memory` after `frame` (a load_frame result) ran: the
 // resolved colour (or the colour buffer with one sample and no
 // supersampling) and sample 0's depth, at the scene's width x height. The
@@ -47,6 +54,11 @@ struct GpuRunOptions {
   // simulation's state reported (testbench/sim/progress.h); null: neither.
   Progress* progress = nullptr;
   bool watchdog = true;  // the hang detector (testbench/sim/watchdog.h)
+  // Called once the scene's vertex arrays are in the GPU's memory, before
+  // the simulation starts; run_gpu reads no Draw array after it, so the
+  // caller may free them (gpusim run without --check: a large mesh's arrays
+  // are then held once, not twice, while simulating).
+  std::function<void()> scene_arrays_copied;
   // Elaboration order of the raster units; no result may depend on it.
   Gpu::UnitOrder unit_order = Gpu::UnitOrder::ascending;
   // Random stalls at every FIFO boundary when stall_probability > 0.

@@ -153,8 +153,8 @@ MemoryEstimate estimate_golden_memory(const Scene& scene) {
 MemoryEstimate estimate_cycle_memory(const Scene& scene, const GpuConfig& config, bool check) {
   MemoryEstimate e;
   e.parts.push_back({"scene arrays", scene_array_bytes(scene)});
-  // load_frame()'s image and the GPU's memory exist together while copying.
-  e.parts.push_back({"GPU memory image (x2 while loading)", 2 * gpu_image_bytes(scene)});
+  // run_gpu builds the image in the GPU's memory: one copy.
+  e.parts.push_back({"GPU memory image", gpu_image_bytes(scene)});
   e.parts.push_back({"framebuffer " + size_text(scene) + " read back", framebuffer_bytes(scene)});
   uint64_t most_vertices = 0;
   for (const Draw& d : scene.draws) {

@@ -46,13 +46,13 @@ TEST(Limits, FormatBytes) {
 
 TEST(Limits, EstimatesFollowTheFramebufferAndTheArrays) {
   const Scene small = scene_with(64, 32), big = scene_with(8192, 8192);
-  // The GPU memory image is what load_frame() lays out, twice while copying.
+  // The GPU memory image is what load_frame() lays out, built once, in place.
   const MemoryEstimate e = estimate_cycle_memory(small, GpuConfig{}, false);
   uint64_t image = 0;
   for (const auto& p : e.parts) {
     if (p.what.find("GPU memory image") != std::string::npos) image = p.bytes;
   }
-  EXPECT_EQ(image, 2 * load_frame(small).memory.size());
+  EXPECT_EQ(image, load_frame(small).memory.size());
   // Antialiased: N samples per render-target pixel, k^2 render-target pixels
   // per output pixel, plus the resolve's output image.
   for (const auto& [samples, k] : {std::pair{4u, 1u}, std::pair{2u, 3u}, std::pair{1u, 2u}}) {
@@ -63,7 +63,7 @@ TEST(Limits, EstimatesFollowTheFramebufferAndTheArrays) {
     for (const auto& p : estimate_cycle_memory(aa, GpuConfig{}, false).parts) {
       if (p.what.find("GPU memory image") != std::string::npos) aa_image = p.bytes;
     }
-    EXPECT_EQ(aa_image, 2 * load_frame(aa).memory.size()) << samples << " samples, x" << k;
+    EXPECT_EQ(aa_image, load_frame(aa).memory.size()) << samples << " samples, x" << k;
     // The golden model's render target: 12 bytes per sample, plus the output.
     uint64_t golden_fb = 0;
     for (const auto& p : estimate_golden_memory(aa).parts) {
