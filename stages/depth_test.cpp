@@ -4,6 +4,10 @@
 #include <limits>
 #include <string>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "hw/pixel_formats.h"
 #include "hw/sample_pattern.h"
 
@@ -46,6 +50,78 @@ DepthValue encode_depth_as(float z) {
 // test_stamps' template argument for "the render state's depth_func, read at
 // run time": never is decided in test() without a loop, so it is free.
 constexpr CompareFunc kAnyFunc = CompareFunc::never;
+
+#if defined(__SSE2__)
+constexpr uint8_t kBitCount4[16] = {0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4};
+
+// Four adjacent pixels of a stamp row in the four lanes of one register. Each
+// lane performs the scalar path's operations in its order (IEEE single, no
+// contraction; the int64 -> float conversions stay scalar, cvtsi2ss rounding
+// as static_cast does), so every lane's value equals the scalar one bit for
+// bit:
+//   - clamp01 is min(max(z, 0), 1): maxps/minps return their second operand
+//     when the first is NaN, so NaN -> 0 and -0 -> +0 as in clamp01;
+//   - unorm: double(c) * (2^n - 1), then (x + 2^52) - 2^52 as in
+//     encode_depth_as, converted exactly (an integer below 2^24);
+//   - float32: the bits of c.
+template <DepthFormat F>
+__m128i encode_depth4(__m128 z) {
+  const __m128 c = _mm_min_ps(_mm_max_ps(z, _mm_setzero_ps()), _mm_set1_ps(1.0f));
+  if constexpr (F == DepthFormat::float32) {
+    return _mm_castps_si128(c);
+  } else {
+    const __m128d max = _mm_set1_pd(unorm_depth_max(F));
+    const __m128d round = _mm_set1_pd(4503599627370496.0);  // 2^52
+    const __m128d lo = _mm_cvtps_pd(c), hi = _mm_cvtps_pd(_mm_movehl_ps(c, c));
+    const __m128i qlo = _mm_cvttpd_epi32(_mm_sub_pd(_mm_add_pd(_mm_mul_pd(lo, max), round), round));
+    const __m128i qhi = _mm_cvttpd_epi32(_mm_sub_pd(_mm_add_pd(_mm_mul_pd(hi, max), round), round));
+    return _mm_unpacklo_epi64(qlo, qhi);
+  }
+}
+
+// Four stored values, zero-extended to 32 bits, and back.
+template <unsigned Bytes>
+__m128i load_depth4(const uint8_t* p) {
+  if constexpr (Bytes == 4) {
+    return _mm_loadu_si128(reinterpret_cast<const __m128i*>(p));
+  } else {
+    return _mm_unpacklo_epi16(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p)),
+                              _mm_setzero_si128());
+  }
+}
+
+template <unsigned Bytes>
+void store_depth4(uint8_t* p, __m128i v) {
+  if constexpr (Bytes == 4) {
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(p), v);
+  } else {
+    // Sign-extending the low halves first makes packs_epi32 keep them as
+    // they are (no saturation).
+    const __m128i s = _mm_srai_epi32(_mm_slli_epi32(v, 16), 16);
+    _mm_storel_epi64(reinterpret_cast<__m128i*>(p), _mm_packs_epi32(s, s));
+  }
+}
+
+// Lane mask of the 4 bits of m: lane i all ones iff bit i is set.
+__m128i lane_mask(unsigned m) {
+  const __m128i bit = _mm_setr_epi32(1, 2, 4, 8);
+  return _mm_cmpeq_epi32(_mm_and_si128(_mm_set1_epi32(static_cast<int>(m)), bit), bit);
+}
+
+// fragment func stored, per lane, as unsigned 32-bit integers (depth_compare):
+// the sign bit flipped on both sides turns signed compares into unsigned ones.
+template <CompareFunc Func>
+__m128i depth_compare4(__m128i fragment, __m128i stored) {
+  static_assert(Func == CompareFunc::less || Func == CompareFunc::lequal, "less or lequal");
+  const __m128i sign = _mm_set1_epi32(static_cast<int>(0x80000000u));
+  const __m128i f = _mm_xor_si128(fragment, sign), s = _mm_xor_si128(stored, sign);
+  if constexpr (Func == CompareFunc::less) {
+    return _mm_cmplt_epi32(f, s);
+  } else {
+    return _mm_andnot_si128(_mm_cmpgt_epi32(f, s), _mm_set1_epi32(-1));
+  }
+}
+#endif
 
 }  // namespace
 
@@ -282,6 +358,8 @@ void DepthTest::test_stamps(StampBatch& batch, sc_core::sc_time& t, const Render
   const float dz1 = tri.z[1] - tri.z[0], dz2 = tri.z[2] - tri.z[0];  // spec section 9
   update_offsets(tri);
   const EdgeValue *o1 = m_offset[0].data(), *o2 = m_offset[1].data();
+  [[maybe_unused]] const unsigned stamp_pixels = stamp_w * stamp_h;
+  [[maybe_unused]] const bool rows_of_4 = stamp_w % 4 == 0;
 
   size_t kept = 0;
   for (size_t n = 0; n < batch.stamps.size(); ++n) {
@@ -300,7 +378,51 @@ void DepthTest::test_stamps(StampBatch& batch, sc_core::sc_time& t, const Render
     uint8_t* const origin = m_cache.pixel(entry, s.x, s.y);
     bool dirty = false;
     uint64_t passed = 0;
-    for (uint64_t bits = s.mask; bits != 0; bits &= bits - 1) {
+    bool vector_done = false;  // the stamp was tested four pixels at a time
+#if defined(__SSE2__)
+    // less and lequal, stamp rows of a multiple of 4 pixels (each group of
+    // four lies in one row, adjacent in the tile), inside the framebuffer and
+    // untraced: four pixels per register, uncovered lanes computed but
+    // neither counted nor stored.
+    if constexpr (Func != kAnyFunc) {
+      if (rows_of_4 && inside && probe == nullptr) {
+        const __m128 vz0 = _mm_set1_ps(z0), voffset = _mm_set1_ps(depth_offset);
+        const __m128 vdz1 = _mm_set1_ps(dz1), vdz2 = _mm_set1_ps(dz2), varea = _mm_set1_ps(area);
+        const EdgeValue e1 = s.e[1], e2 = s.e[2];
+        uint64_t kept_mask = 0;
+        for (unsigned p = 0; p < stamp_pixels; p += 4) {
+          const unsigned covered = static_cast<unsigned>(s.mask >> p) & 15u;
+          if (covered == 0) continue;
+          const __m128 f1 =
+              _mm_setr_ps(static_cast<float>(e1 + o1[p]), static_cast<float>(e1 + o1[p + 1]),
+                          static_cast<float>(e1 + o1[p + 2]), static_cast<float>(e1 + o1[p + 3]));
+          const __m128 f2 =
+              _mm_setr_ps(static_cast<float>(e2 + o2[p]), static_cast<float>(e2 + o2[p + 1]),
+                          static_cast<float>(e2 + o2[p + 2]), static_cast<float>(e2 + o2[p + 3]));
+          __m128 z = _mm_add_ps(
+              vz0, _mm_div_ps(_mm_add_ps(_mm_mul_ps(f1, vdz1), _mm_mul_ps(f2, vdz2)), varea));
+          if (has_offset) z = _mm_add_ps(z, voffset);
+          const __m128i fragment = encode_depth4<F>(z);
+          uint8_t* const stored = origin + m_pixel_offset[p];
+          const __m128i old = load_depth4<bytes>(stored);
+          const unsigned pass = static_cast<unsigned>(_mm_movemask_ps(
+                                    _mm_castsi128_ps(depth_compare4<Func>(fragment, old)))) &
+                                covered;
+          kept_mask |= uint64_t{pass} << p;
+          passed += kBitCount4[pass];
+          if (pass != 0 && depth_write) {
+            const __m128i m = lane_mask(pass);
+            store_depth4<bytes>(stored,
+                                _mm_or_si128(_mm_and_si128(m, fragment), _mm_andnot_si128(m, old)));
+            dirty = true;
+          }
+        }
+        s.mask = kept_mask;
+        vector_done = true;
+      }
+    }
+#endif
+    for (uint64_t bits = vector_done ? 0 : s.mask; bits != 0; bits &= bits - 1) {
       const int idx = __builtin_ctzll(bits);
       // The pixel's coordinates, needed only off the fast path.
       const auto pixel_x = [&] { return s.x + (idx & w_mask); };

@@ -390,6 +390,11 @@ size_t Rop::for_each_fragment(const ShadedStampBatch& batch, sc_core::sc_time& t
                     (std::string(name()) + ": a sample mask per colour expected").c_str());
   }
   uint64_t samples = 0;
+  // Single-sampled, untraced, no last-writer record: a stamp inside the
+  // framebuffer takes the loop without per-pixel checks below.
+  const bool plain = sample_masks == nullptr && last_writer == nullptr && probe == nullptr;
+  const unsigned stamp_pixels = stamp_w * stamp_h;
+  const uint64_t full = stamp_pixels == 64 ? ~uint64_t{0} : (uint64_t{1} << stamp_pixels) - 1;
 
   size_t c = 0;  // index into batch.colors
   for (const Stamp& s : batch.stamps) {
@@ -405,6 +410,22 @@ size_t Rop::for_each_fragment(const ShadedStampBatch& batch, sc_core::sc_time& t
     const unsigned entry = m_cache.lookup(tx, ty, t, m_overwrite);
     m_cache.mark_dirty(entry);
     uint8_t* const origin = m_cache.pixel(entry, s.x, s.y);
+    if (plain && inside) {
+      // Nothing to check or record per pixel: the colour count once per stamp.
+      const size_t covered = s.mask == full ? static_cast<size_t>(stamp_pixels)
+                                            : static_cast<size_t>(__builtin_popcountll(s.mask));
+      if (covered <= n_colors - c) {
+        if (s.mask == full) {
+          for (unsigned p = 0; p < stamp_pixels; ++p) write(colors[c + p], origin + offset[p]);
+        } else {
+          const glm::vec4* src = colors + c;
+          for (uint64_t bits = s.mask; bits != 0; bits &= bits - 1)
+            write(*src++, origin + offset[static_cast<size_t>(__builtin_ctzll(bits))]);
+        }
+        c += covered;
+        continue;
+      }
+    }
     for (uint64_t bits = s.mask; bits != 0; bits &= bits - 1, ++c) {
       if (c >= n_colors) {
         SC_REPORT_ERROR("gpusim/rop",
