@@ -17,6 +17,11 @@
 // writer, like a register that keeps its storage. The events are notified
 // only when someone can be waiting on them (see update()): a notification
 // without a waiter still costs the kernel a delta-event trigger per delta.
+// A reader blocked on an empty FIFO is woken once, when the item it waits
+// for is ready (a timed notification at its ready time), rather than in the
+// delta after the write and again by a timed wait for the producer's
+// latency: one thread switch per item instead of two, at the same instant
+// and in the same delta (see wait_for_item()).
 //
 // Statistics integrate in simulated time and are computed up to "now" on
 // demand, so they can be read at any point, including after sc_start()
@@ -190,7 +195,8 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
         m_buf(depth),
         m_ready(depth),
         m_data_written_event((std::string(name) + "_written").c_str()),
-        m_data_read_event((std::string(name) + "_read").c_str()) {
+        m_data_read_event((std::string(name) + "_read").c_str()),
+        m_item_ready_event((std::string(name) + "_ready").c_str()) {
     if (depth == 0) throw std::invalid_argument(std::string("Fifo ") + name + ": depth 0");
   }
 
@@ -378,13 +384,24 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
   }
 
   // The blocking part of read(): waits until the oldest item is readable.
+  //
+  // On an empty FIFO the reader sleeps on m_item_ready_event, which update()
+  // notifies for the ready time of the first item written: the reader wakes
+  // at that time, in its first delta, as it would from the timed wait below,
+  // and its blocked time is the same single interval. With a trace probe
+  // attached it wakes in the delta after the write and then waits for the
+  // latency, so that the probe sees the item arrive (the two intervals
+  // integrate to the same starve time).
   void wait_for_item() {
     maybe_stall(m_read_rng);
     if (size() == 0) {
       begin_blocked(m_blocked_readers, false);
+      const bool traced = kTraceHooks && m_probe != nullptr;
+      m_reader_asleep = !traced;
       do {
-        sc_core::wait(m_data_written_event);
+        sc_core::wait(traced ? m_data_written_event : m_item_ready_event);
       } while (size() == 0);
+      m_reader_asleep = false;
       end_blocked(m_blocked_readers, false);
     }
     // An item still in the writer's pipeline: waiting for it is starving too.
@@ -436,7 +453,13 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
     if constexpr (kTraceHooks) {
       if (m_probe) m_probe->occupancy(m_committed, now);
     }
-    if (m_num_written && (m_blocked_readers.level > 0 || m_events_handed_out))
+    if (m_num_written && m_reader_asleep) {
+      // The oldest item is the first one written since the FIFO was empty.
+      const sc_core::sc_time& ready = m_ready[m_head];
+      const sc_core::sc_time& now_t = time_stamp();
+      m_item_ready_event.notify(ready > now_t ? ready - now_t : sc_core::SC_ZERO_TIME);
+    }
+    if (m_num_written && ((m_blocked_readers.level > 0 && !m_reader_asleep) || m_events_handed_out))
       m_data_written_event.notify(sc_core::SC_ZERO_TIME);
     if (m_num_read && (m_blocked_writers.level > 0 || m_events_handed_out))
       m_data_read_event.notify(sc_core::SC_ZERO_TIME);
@@ -476,6 +499,8 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
   sc_core::sc_event m_data_written_event;
   sc_core::sc_event m_data_read_event;
   mutable bool m_events_handed_out = false;  // set by data_written/read_event()
+  sc_core::sc_event m_item_ready_event;      // the reader's alone (wait_for_item)
+  bool m_reader_asleep = false;              // on m_item_ready_event
 
   uint64_t m_total_written = 0;
   uint64_t m_total_read = 0;

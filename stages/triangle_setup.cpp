@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
+#include <new>
 #include <sstream>
 #include <utility>
+#include <vector>
 
 #include "hw/fixed_point.h"
 #include "hw/pixel_formats.h"
@@ -11,6 +14,54 @@
 
 namespace gpusim {
 namespace {
+
+// The storage of a RasterPrimitive (with its shared_ptr control block) comes
+// back to a free list when the last unit releases the primitive, and the next
+// setup takes it from there: past the first few hundred primitives (as many
+// as the FIFOs and the units hold at once) setup allocates nothing, where
+// make_shared cost a malloc and a free per primitive. The list is one per
+// block type, shared by every TriangleSetup of the process (single-threaded
+// like the simulation), and lives as long as the process: a primitive may
+// outlive the stage that made it (a packet still in a FIFO at teardown).
+template <typename T>
+struct RecyclingAllocator {
+  using value_type = T;
+  RecyclingAllocator() = default;
+  template <typename U>
+  RecyclingAllocator(const RecyclingAllocator<U>&) {}  // NOLINT: rebinding is implicit
+  T* allocate(std::size_t n) {
+    std::vector<void*>& list = free_list();
+    if (n == 1 && !list.empty()) {
+      void* block = list.back();
+      list.pop_back();
+      return static_cast<T*>(block);
+    }
+    return static_cast<T*>(::operator new(n * sizeof(T)));
+  }
+  void deallocate(T* p, std::size_t n) {
+    if (n == 1) {
+      free_list().push_back(p);
+    } else {
+      ::operator delete(p);
+    }
+  }
+  static std::vector<void*>& free_list() {
+    static auto* list = new std::vector<void*>;  // never freed: see above
+    return *list;
+  }
+  template <typename U>
+  bool operator==(const RecyclingAllocator<U>&) const {
+    return true;
+  }
+  template <typename U>
+  bool operator!=(const RecyclingAllocator<U>&) const {
+    return false;
+  }
+};
+
+std::shared_ptr<RasterPrimitive> new_primitive() {
+  return std::allocate_shared<RasterPrimitive>(RecyclingAllocator<RasterPrimitive>{});
+}
 
 // Spec section 10, in the written float order (the build forbids FMA).
 float polygon_offset(const RasterPrimitive& t, const RenderState& st, DepthFormat fmt) {
@@ -134,7 +185,7 @@ std::shared_ptr<RasterPrimitive> TriangleSetup::setup_triangle(const ClippedPrim
   }
   ++m_rasterized;
 
-  auto t = std::make_shared<RasterPrimitive>();
+  auto t = new_primitive();
   t->draw_id = in_tri.draw_id;
   t->primitive_kind = PrimitiveKind::triangle;
   t->vertex_count = vertex_count_of(PrimitiveKind::triangle);
@@ -232,7 +283,7 @@ std::shared_ptr<RasterPrimitive> TriangleSetup::setup_line(const ClippedPrimitiv
   }
   ++m_lines_rasterized;
 
-  auto t = std::make_shared<RasterPrimitive>();
+  auto t = new_primitive();
   t->primitive_kind = PrimitiveKind::line;
   t->vertex_count = 2;
   t->draw_id = in.draw_id;
@@ -355,7 +406,7 @@ std::shared_ptr<RasterPrimitive> TriangleSetup::setup_point(const ClippedPrimiti
   const RenderState& st = m_frame.draws.at(in.draw_id).state;
   ++m_points_rasterized;
   const ClippedVertex& v = in.v[0];
-  auto t = std::make_shared<RasterPrimitive>();
+  auto t = new_primitive();
   t->primitive_kind = PrimitiveKind::point;
   t->vertex_count = 1;
   t->draw_id = in.draw_id;

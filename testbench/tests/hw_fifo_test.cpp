@@ -155,6 +155,72 @@ TEST(Fifo, StarvedConsumer) {
   EXPECT_EQ(in_cycles(s.writer_blocked), 0);
 }
 
+// A probe that only counts: attaching one takes the reader's traced wake-up
+// path (hw/fifo.h, wait_for_item): in the delta after the write, then a
+// timed wait for the item's latency.
+struct CountingProbe : FifoProbe<int> {
+  void read_called(uint64_t) override {}
+  void taken(const int&, uint64_t) override {}
+  void written(const int&, uint64_t) override {}
+  void blocked(bool, bool, uint64_t) override { ++intervals; }
+  void occupancy(size_t, uint64_t) override {}
+  int intervals = 0;
+};
+
+// A starved reader and an item still in its producer's latency, on two
+// FIFOs with the same traffic: untraced, the reader sleeps until the item is
+// ready; traced, it wakes in the delta after the write and waits out the
+// latency. Same read times and figures either way, by hand:
+//   t=0  item 0 written, ready at 3 -> read at 3;  the reader waits to 4
+//   t=5  item 1, ready 8; t=6 item 2, ready 9 -> read at 8 and at 9 (ready)
+//   t=16 item 3 with no latency -> read at 16, in the next delta
+// starved [0,3) + [4,8) + [10,16) = 13; occupancy 1 on [0,3) and [5,6), 2 on
+// [6,8), 1 on [8,9): area 9 over 17 cycles, empty 10, at most 2.
+TEST(Fifo, StarvedReaderWakesAtTheReadyTimeTracedOrNot) {
+  Fifo<int> plain("plain", 4), traced("traced", 4);
+  CountingProbe probe;
+  traced.set_probe(&probe);
+  std::vector<double> times[2];
+  Fifo<int>* fifos[2] = {&plain, &traced};
+  for (int k = 0; k < 2; ++k) {
+    Fifo<int>& f = *fifos[k];
+    spawn([&f] {
+      const auto now = [] { return sc_core::sc_time_stamp(); };
+      f.write(0, now() + cycles(3));
+      wait(cycles(5));
+      f.write(1, now() + cycles(3));
+      wait(cycles(1));
+      f.write(2, now() + cycles(3));
+      wait(cycles(10));
+      f.write(3);
+    });
+    spawn([&f, t = &times[k]] {
+      for (int i = 0; i < 4; ++i) {
+        EXPECT_EQ(f.read(), i);
+        t->push_back(in_cycles(sc_core::sc_time_stamp()));
+        wait(cycles(1));
+      }
+    });
+  }
+  sc_core::sc_start();
+
+  EXPECT_EQ(in_cycles(sc_core::sc_time_stamp()), 17);
+  for (int k = 0; k < 2; ++k) {
+    SCOPED_TRACE(k == 0 ? "untraced" : "traced");
+    EXPECT_EQ(times[k], (std::vector<double>{3, 8, 9, 16}));
+    const FifoStats s = fifos[k]->stats();
+    EXPECT_EQ(in_cycles(s.reader_blocked), 13);
+    EXPECT_DOUBLE_EQ(s.mean_occupancy, 9.0 / 17.0);
+    EXPECT_EQ(in_cycles(s.empty), 10);
+    EXPECT_EQ(s.max_occupancy, 2u);
+    EXPECT_EQ(in_cycles(s.writer_blocked), 0);
+  }
+  // The traced reader's starve time is split where the item arrived: items 0
+  // and 1 give two intervals each (waiting for a write, then for its
+  // latency), item 3 one: 5 intervals, 10 begin/end calls.
+  if constexpr (kTraceHooks) EXPECT_EQ(probe.intervals, 10);
+}
+
 // A reader blocked when the simulation ends is counted up to "now": the
 // consumer waits from t=0 for an item that arrives at 10, then waits for one
 // that never comes while the producer idles until 25: 10 + 15 cycles.

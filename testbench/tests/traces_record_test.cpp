@@ -220,6 +220,24 @@ class TraceRecord : public ::testing::Test {
   fs::path dir_;
 };
 
+// A traced FIFO's starved reader wakes in the delta after the write and then
+// waits out the producer's latency; an untraced one sleeps until the item is
+// ready (hw/fifo.h, wait_for_item). The two schedules must agree on the
+// frame, the pipeline counters and every timing figure of stats.json.
+TEST_F(TraceRecord, TracingMovesNoCycleNorPixel) {
+  for (const char* name : {"default", "lines_points", "clears_samples4"}) {
+    SCOPED_TRACE(name);
+    const std::string scene = scene_path(name);
+    const GpuRunResult traced = traced_run(scene, dir_ / name);
+    const GpuRunResult plain = run_gpu(load_scene(scene), GpuConfig{}, GpuRunOptions{});
+    EXPECT_EQ(traced.cycles, plain.cycles);
+    EXPECT_EQ(traced.counts, plain.counts);
+    EXPECT_EQ(traced.timing.dump(), plain.timing.dump());
+    EXPECT_TRUE(traced.framebuffer.color == plain.framebuffer.color);
+    EXPECT_TRUE(traced.framebuffer.depth == plain.framebuffer.depth);
+  }
+}
+
 TEST_F(TraceRecord, VcdStatesIntegrateToTheStageCounters) {
   const GpuRunResult r = traced_run(scene_path("default"), dir_);
   const Vcd vcd = parse_vcd(dir_ / "signals.vcd");
