@@ -108,6 +108,7 @@
 #include "hw/draw_state.h"
 #include "hw/fifo.h"
 #include "hw/gpu_config.h"
+#include "hw/hierarchical_z.h"
 #include "hw/packets.h"
 #include "hw/pipeline_stage.h"
 #include "hw/stats.h"
@@ -125,10 +126,16 @@ class TileRasterizer : public PipelineStage {
   TileRasterizer(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame,
                  unsigned unit);
 
+  // Hierarchical Z: the unit's update link from its depth test (the GPU
+  // connects it when config.hierarchical_z.enabled; must outlive the unit).
+  void set_hz_link(HzUpdateLink* link) { m_hz_link = link; }
+
   uint64_t tiles_visited() const { return m_tiles_visited; }
   uint64_t stamps_emitted() const { return m_stamps_emitted; }
   uint64_t fragments() const { return m_fragments; }
   uint64_t samples() const { return m_samples_covered; }
+  uint64_t hz_fragments_culled() const { return m_hz_fragments_culled; }
+  uint64_t hz_samples_culled() const { return m_hz_samples_culled; }
 
  private:
   static constexpr int kMaxStampPixels = 64;
@@ -155,6 +162,12 @@ class TileRasterizer : public PipelineStage {
   // Waits the cycles walked since the last output, then writes m_batch (the
   // stamps of one tile) as the batch of `tri`.
   void emit_batch(const std::shared_ptr<const RasterPrimitive>& tri);
+  // Hierarchical Z: a clear or end_of_frame passing (resets the blocks),
+  // the test of one tile for the current primitive (applies the visible
+  // updates first), and the widening of a block by a depth-writing batch.
+  void hz_control(PacketKind kind);
+  bool hz_culls(int tile);
+  void hz_widen(int tile);
 
   const int m_tile;                // tile side, pixels
   const int m_stamp_w, m_stamp_h;  // stamp, pixels
@@ -187,6 +200,22 @@ class TileRasterizer : public PipelineStage {
   // mask, so they leave tile by tile in walk order.
   std::map<std::tuple<int, int, int>, uint64_t> m_line_stamps;
 
+  // Hierarchical Z (config.hierarchical_z): per screen tile (ty * tiles_x +
+  // tx; only this unit's are used) the block's range and its sequence number,
+  // the clear epoch (depth clears and frames passed), and per primitive its
+  // range and what its depth state allows: culling and widening.
+  const bool m_hz;
+  const sc_core::sc_time m_hz_delay;  // access_latency cycles
+  HzUpdateLink* m_hz_link = nullptr;
+  int m_tiles_x = 0;
+  std::vector<HzRange> m_hz_block;
+  std::vector<uint32_t> m_hz_seq;
+  uint32_t m_hz_epoch = 0;
+  size_t m_clears_seen = 0;
+  HzRange m_hz_prim;
+  CompareFunc m_hz_func = CompareFunc::always;
+  bool m_hz_cull = false, m_hz_write = false;
+
   uint64_t& m_triangles = m_stats.counter("triangles", "triangles", "triangles walked");
   uint64_t& m_lines = m_stats.counter("lines", "lines", "lines received (either rule)");
   uint64_t& m_points = m_stats.counter("points", "points", "points received");
@@ -212,9 +241,25 @@ class TileRasterizer : public PipelineStage {
                                                 "stamps emitted from accepted tiles without tests");
   uint64_t& m_stamps_emitted =
       m_stats.counter("stamps_emitted", "stamps", "non-empty stamps written");
-  uint64_t& m_fragments = m_stats.counter("fragments", "fragments", "covered pixels");
+  uint64_t& m_fragments = m_stats.counter("fragments", "fragments", "covered pixels emitted");
   uint64_t& m_samples_covered = m_stats.counter(
       "samples", "samples", "covered samples (one per covered pixel unless multisampled)");
+  uint64_t& m_hz_tests = m_stats.counter(
+      "hz_tests", "tests", "hierarchical Z tests: (triangle, tile) pairs the coverage test kept");
+  uint64_t& m_hz_tiles_culled =
+      m_stats.counter("hz_tiles_culled", "tiles",
+                      "tiles of a triangle rejected by hierarchical Z: nothing emitted");
+  uint64_t& m_hz_fragments_culled = m_stats.counter(
+      "hz_fragments_culled", "fragments",
+      "covered pixels of tiles rejected by hierarchical Z (a model count: no cycles)");
+  uint64_t& m_hz_samples_culled = m_stats.counter(
+      "hz_samples_culled", "samples",
+      "covered samples of tiles rejected by hierarchical Z (one per pixel unless multisampled)");
+  uint64_t& m_hz_updates_applied = m_stats.counter(
+      "hz_updates_applied", "updates", "exact tile ranges from the depth test written to a block");
+  uint64_t& m_hz_updates_dropped =
+      m_stats.counter("hz_updates_dropped", "updates",
+                      "depth test updates superseded by a later batch or a clear, not applied");
 };
 
 }  // namespace gpusim
