@@ -41,6 +41,20 @@
 //          until the last write completes, at least ii; the token is then
 //          forwarded, readable at once.
 // ii and latency are config.stage("depth_test").
+//
+// Hierarchical Z (config.hierarchical_z.enabled; stages/tile_rasterizer.h):
+// after a batch with hz_seq != 0 (one the rasterizer counted as depth
+// writing), the tile's exact [min, max] over its pixels inside the
+// framebuffer and all their samples is sent to the rasterizer, stamped with
+// the time the batch is done and the clear epoch (depth clears and frames
+// seen). It comes from per-stamp ranges kept beside the tile: the stamps the
+// batch wrote are rescanned, all of them when the tile's are not known in
+// this epoch (its first access after a clear or at frame start: a fill),
+// then reduced. The reduction is off the batch's path: no cycles. Hardware
+// keeps the stamp ranges per cache entry (tile_size^2 / stamp pixels x 2 x
+// 32 bits: 1 Kbit for 16 x 16 tiles of 4 x 4 stamps); the model keeps them
+// per screen tile, which gives the same values, since only this unit writes
+// its tiles.
 #pragma once
 
 #include <array>

@@ -98,6 +98,41 @@
 // other units' tiles.
 // A control token costs ii(rasterizer) and is forwarded with the latency.
 // No memory traffic.
+//
+// Hierarchical Z (config.hierarchical_z, issue #11; off by default): per
+// screen tile of this unit a block [min, max] of the stored depth values
+// (the depth buffer's encoding, every sample), conservative: every stored
+// value of the tile lies in it. Frame start: [0, 2^32 - 1] (unknown); a depth
+// clear passing the unit sets every block to the clear value. Per triangle,
+// its range P = hz_primitive_range() (hw/hierarchical_z.cpp: the vertices'
+// window z widened by a rounding margin and the polygon offset, encoded;
+// proved there to bound every value the depth test computes for it), and per
+// tile the coverage test keeps, one HZ test against the block B:
+//   less: cull if P.min >= B.max; lequal: P.min > B.max; greater:
+//   P.max <= B.min; gequal: P.max < B.min; equal: P outside B; never:
+//   always; always, notequal, depth test off, lines and points: never.
+// A culled tile emits nothing. A depth-writing batch (depth test on, write
+// on, func not never) widens its block first: less and lequal lower min to
+// P.min, greater and gequal raise max to P.max, the others take the union
+// (a line's or point's P is the full range); it carries the block's
+// incremented sequence number (StampBatch::hz_seq). The depth test answers
+// each such batch with the tile's exact range (stages/depth_test.h); an
+// update is applied when it is visible (sent at t_u, visible once t_u +
+// update_latency < sc_time_stamp() at a test; hw/hierarchical_z.h proves it
+// independent of process order), in sending order, and only if it names the
+// block's current sequence number (no depth-writing batch emitted since)
+// and the current clear epoch (depth clears and frames passed); otherwise it
+// is dropped. Updates are taken at each HZ test.
+// Cost: the HZ test is a pipeline stage of access_latency cycles beside the
+// tile test: every batch and control token leaves access_latency cycles
+// later, and a culled tile costs its tile test (1 cycle) only; no stamps.
+// Updates cost the rasterizer no cycles (a write port of their own).
+// hz_fragments_culled counts the covered pixels of culled tiles (accepted
+// tiles exactly, partial tiles through the coverage routine): a model-side
+// count, no cycles. Storage: 2 x 32 bits per tile (unorm16 needs 2 x 16),
+// plus a sequence number (16 bits suffice, hw/hierarchical_z.h): at 1080p
+// with 16 x 16 tiles, 120 x 68 = 8160 blocks, 8160 x 80 bits = 79.7 KiB on
+// chip for the GPU, a 1 / units share per unit.
 #pragma once
 
 #include <array>
