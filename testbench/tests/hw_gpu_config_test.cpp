@@ -51,6 +51,7 @@ TEST(GpuConfig, Defaults) {
   EXPECT_EQ(c.memory.bytes_per_cycle, 32u);
   EXPECT_EQ(c.vertex_cache_entries, 32u);
   EXPECT_EQ(c.tile_cache_entries, 16u);
+  EXPECT_EQ(c.hierarchical_z, (HierarchicalZConfig{false, 5, 4}));
   EXPECT_EQ(c.samples_per_pass, 4u);
   EXPECT_EQ(c.sample_passes(1), 1u);
   EXPECT_EQ(c.sample_passes(4), 1u);
@@ -118,6 +119,7 @@ TEST(GpuConfig, RoundTrip) {
   c.lighting_cycles_per_pixel = 0;
   c.lighting_cycles_per_light = 7;
   c.watchdog_cycles = 5000;
+  c.hierarchical_z = {true, 0, 17};
 
   const json j = to_json(c);
   // Every value resolved.
@@ -145,6 +147,9 @@ TEST(GpuConfig, RoundTrip) {
   d.memory.latency = 99;
   EXPECT_NE(d, c);
   d = c;
+  d.hierarchical_z.update_latency = 3;
+  EXPECT_NE(d, c);
+  d = c;
   d.stamp = {2, 8};
   EXPECT_NE(d, c);
   d = c;
@@ -163,11 +168,11 @@ TEST(GpuConfig, RoundTrip) {
 }
 
 TEST(GpuConfig, UnknownKeysNameTheirPathAndTheAllowedKeys) {
-  EXPECT_EQ(
-      error_of(json{{"unitz", 4}}),
-      "gpu.json: unitz: unknown key (allowed: clock_mhz, units, tile_size, stamp, "
-      "fifo_depth, fifo_depths, stages, memory, vertex_cache_entries, tile_cache_entries, "
-      "samples_per_pass, lighting_cycles_per_pixel, lighting_cycles_per_light, watchdog_cycles)");
+  EXPECT_EQ(error_of(json{{"unitz", 4}}),
+            "gpu.json: unitz: unknown key (allowed: clock_mhz, units, tile_size, stamp, "
+            "fifo_depth, fifo_depths, stages, memory, vertex_cache_entries, tile_cache_entries, "
+            "samples_per_pass, lighting_cycles_per_pixel, lighting_cycles_per_light, "
+            "watchdog_cycles, hierarchical_z)");
   // The old name of the tile rasterizer is refused with the list of stages.
   EXPECT_EQ(error_of(json::parse(R"({"stages": {"rasterizer": {"ii": 1}}})")),
             "gpu.json: stages.rasterizer: unknown key (allowed: command_processor, "
@@ -209,6 +214,13 @@ TEST(GpuConfig, WrongTypes) {
   EXPECT_EQ(error_of(json{{"fifo_depths", 4}}),
             "gpu.json: fifo_depths: expected an object, got number");
   EXPECT_EQ(error_of(json{{"memory", nullptr}}), "gpu.json: memory: expected an object, got null");
+  EXPECT_EQ(error_of(json::parse(R"({"hierarchical_z": {"enabled": 1}})")),
+            "gpu.json: hierarchical_z.enabled: expected true or false, got 1");
+  EXPECT_EQ(error_of(json::parse(R"({"hierarchical_z": {"update_latency": 1.5}})")),
+            "gpu.json: hierarchical_z.update_latency: expected an integer, got 1.5");
+  EXPECT_EQ(error_of(json::parse(R"({"hierarchical_z": {"on": true}})")),
+            "gpu.json: hierarchical_z.on: unknown key (allowed: enabled, access_latency, "
+            "update_latency)");
 }
 
 TEST(GpuConfig, OutOfRangeValues) {
@@ -228,6 +240,8 @@ TEST(GpuConfig, OutOfRangeValues) {
   EXPECT_EQ(error_of(json{{"stamp", {16, 8}}}), "gpu.json: stamp: 16x8 has more than 64 pixels");
   EXPECT_EQ(error_of(json{{"stamp", {0, 4}}}), "gpu.json: stamp[0]: 0 is out of range 1..256");
   EXPECT_EQ(error_of(json{{"fifo_depth", 0}}), "gpu.json: fifo_depth: 0 is out of range 1..65536");
+  EXPECT_EQ(error_of(json::parse(R"({"hierarchical_z": {"access_latency": 1000001}})")),
+            "gpu.json: hierarchical_z.access_latency: 1000001 is out of range 0..1000000");
   EXPECT_EQ(error_of(json::parse(R"({"fifo_depths": {"interpolator_to_rop": 0}})")),
             "gpu.json: fifo_depths.interpolator_to_rop: 0 is out of range 1..65536");
   EXPECT_EQ(error_of(json::parse(R"({"stages": {"tile_rasterizer": {"ii": 0}}})")),
@@ -368,11 +382,11 @@ TEST(GpuConfigOverrides, ErrorsNameTheOverride) {
             "1..1000000");
   EXPECT_EQ(override_error(json::object(), sets({"units=eight"})),
             "--set units=eight: units: expected an integer, got string");
-  EXPECT_EQ(
-      override_error(json::object(), sets({"unitz=4"})),
-      "--set unitz=4: unitz: unknown key (allowed: clock_mhz, units, tile_size, stamp, "
-      "fifo_depth, fifo_depths, stages, memory, vertex_cache_entries, tile_cache_entries, "
-      "samples_per_pass, lighting_cycles_per_pixel, lighting_cycles_per_light, watchdog_cycles)");
+  EXPECT_EQ(override_error(json::object(), sets({"unitz=4"})),
+            "--set unitz=4: unitz: unknown key (allowed: clock_mhz, units, tile_size, stamp, "
+            "fifo_depth, fifo_depths, stages, memory, vertex_cache_entries, tile_cache_entries, "
+            "samples_per_pass, lighting_cycles_per_pixel, lighting_cycles_per_light, "
+            "watchdog_cycles, hierarchical_z)");
   // An unknown stage is reported at the stage, which the key leads through.
   EXPECT_EQ(override_error(json::object(), sets({"stages.setup.ii=1"})),
             "--set stages.setup.ii=1: stages.setup: unknown key (allowed: command_processor, "
