@@ -276,7 +276,12 @@ class TileRasterizer : public PipelineStage {
                                                 "stamps emitted from accepted tiles without tests");
   uint64_t& m_stamps_emitted =
       m_stats.counter("stamps_emitted", "stamps", "non-empty stamps written");
-  uint64_t& m_fragments = m_stats.counter("fragments", "fragments", "covered pixels emitted");
+  // With hierarchical Z the pixels of culled tiles are not emitted (they are
+  // in hz_fragments_culled); without, the description stays as it was.
+  uint64_t& m_fragments =
+      m_stats.counter("fragments", "fragments",
+                      m_hz ? "covered pixels emitted (not those of tiles culled by hierarchical Z)"
+                           : "covered pixels");
   uint64_t& m_samples_covered = m_stats.counter(
       "samples", "samples", "covered samples (one per covered pixel unless multisampled)");
   uint64_t& m_hz_tests = m_stats.counter(
