@@ -189,7 +189,7 @@ bool GpuConfig::operator==(const GpuConfig& o) const {
       tile_cache_entries != o.tile_cache_entries || samples_per_pass != o.samples_per_pass ||
       lighting_cycles_per_pixel != o.lighting_cycles_per_pixel ||
       lighting_cycles_per_light != o.lighting_cycles_per_light ||
-      watchdog_cycles != o.watchdog_cycles) {
+      watchdog_cycles != o.watchdog_cycles || hierarchical_z != o.hierarchical_z) {
     return false;
   }
   for (const auto& n : fifo_names()) {
@@ -202,11 +202,11 @@ GpuConfig gpu_config_from_json(const nlohmann::json& j, const std::string& sourc
   const Reader r(source_name);
   GpuConfig c;
   r.expect_object(j, "");
-  r.check_keys(
-      j, "",
-      {"clock_mhz", "units", "tile_size", "stamp", "fifo_depth", "fifo_depths", "stages", "memory",
-       "surfaces", "compression", "vertex_cache_entries", "tile_cache_entries", "samples_per_pass",
-       "lighting_cycles_per_pixel", "lighting_cycles_per_light", "watchdog_cycles"});
+  r.check_keys(j, "",
+               {"clock_mhz", "units", "tile_size", "stamp", "fifo_depth", "fifo_depths", "stages",
+                "memory", "surfaces", "compression", "hierarchical_z", "vertex_cache_entries",
+                "tile_cache_entries", "samples_per_pass", "lighting_cycles_per_pixel",
+                "lighting_cycles_per_light", "watchdog_cycles"});
 
   if (j.contains("clock_mhz")) {
     const auto& v = j["clock_mhz"];
@@ -328,6 +328,26 @@ GpuConfig gpu_config_from_json(const nlohmann::json& j, const std::string& sourc
     if ((c.compression.depth || c.compression.colour) && !c.surfaces.tiled) {
       r.fail(c.compression.depth ? "compression.depth" : "compression.colour",
              "compression needs surfaces.tiled true");
+    }
+  }
+  if (j.contains("hierarchical_z")) {
+    const auto& h = j["hierarchical_z"];
+    r.expect_object(h, "hierarchical_z");
+    r.check_keys(h, "hierarchical_z", {"enabled", "access_latency", "update_latency"});
+    if (h.contains("enabled")) {
+      if (!h["enabled"].is_boolean()) {
+        r.fail("hierarchical_z.enabled",
+               std::string("expected true or false, got ") + h["enabled"].dump());
+      }
+      c.hierarchical_z.enabled = h["enabled"].get<bool>();
+    }
+    if (h.contains("access_latency")) {
+      c.hierarchical_z.access_latency =
+          r.get_unsigned(h["access_latency"], "hierarchical_z.access_latency", 0, kMaxStageCycles);
+    }
+    if (h.contains("update_latency")) {
+      c.hierarchical_z.update_latency =
+          r.get_unsigned(h["update_latency"], "hierarchical_z.update_latency", 0, kMaxStageCycles);
     }
   }
   if (j.contains("vertex_cache_entries")) {
@@ -503,6 +523,9 @@ nlohmann::json to_json(const GpuConfig& c) {
                       {"colour", c.compression.colour},
                       {"compressor_latency", c.compression.compressor_latency},
                       {"decompressor_latency", c.compression.decompressor_latency}};
+  j["hierarchical_z"] = {{"enabled", c.hierarchical_z.enabled},
+                         {"access_latency", c.hierarchical_z.access_latency},
+                         {"update_latency", c.hierarchical_z.update_latency}};
   j["vertex_cache_entries"] = c.vertex_cache_entries;
   j["tile_cache_entries"] = c.tile_cache_entries;
   j["samples_per_pass"] = c.samples_per_pass;

@@ -73,6 +73,21 @@ struct CompressionConfig {
   bool operator!=(const CompressionConfig& o) const { return !(*this == o); }
 };
 
+// Hierarchical Z (stages/tile_rasterizer.h, "Hierarchical Z"): a per-unit
+// [min, max] of the stored depth per screen tile, tested by the rasterizer
+// before it walks a tile and kept exact by updates from the depth test.
+struct HierarchicalZConfig {
+  bool enabled = false;
+  unsigned access_latency = 5;  // cycles of latency the HZ test adds to a tile's batch (pipelined)
+  unsigned update_latency = 4;  // cycles before a depth test update is visible to the rasterizer
+
+  bool operator==(const HierarchicalZConfig& o) const {
+    return enabled == o.enabled && access_latency == o.access_latency &&
+           update_latency == o.update_latency;
+  }
+  bool operator!=(const HierarchicalZConfig& o) const { return !(*this == o); }
+};
+
 struct GpuConfig {
   double clock_mhz = 1000.0;
   unsigned units = 4;                   // tile rasterizer units
@@ -88,6 +103,7 @@ struct GpuConfig {
   MemoryConfig memory;
   SurfaceConfig surfaces;
   CompressionConfig compression;
+  HierarchicalZConfig hierarchical_z;
   unsigned vertex_cache_entries = 32;  // post-transform vertex cache; 0 disables it
   unsigned tile_cache_entries = 16;    // framebuffer tiles cached per unit, per buffer
   // Multisampling: samples of a pixel the rasterizer's edge core, the depth

@@ -144,7 +144,7 @@ std::ostream& operator<<(std::ostream& os, const SetupPacket& p) {
 
 bool StampBatch::operator==(const StampBatch& o) const {
   return kind == o.kind && same_triangle(triangle, o.triangle) && stamps == o.stamps &&
-         samples == o.samples;
+         samples == o.samples && hz_seq == o.hz_seq;
 }
 
 std::ostream& operator<<(std::ostream& os, const StampBatch& b) {
@@ -154,6 +154,7 @@ std::ostream& operator<<(std::ostream& os, const StampBatch& b) {
   for (const Stamp& s : b.stamps)
     os << " (" << s.x << ", " << s.y << ": " << std::hex << s.mask << std::dec << ")";
   if (!b.samples.empty()) os << " " << b.samples.size() << " sample masks";
+  if (b.hz_seq != 0) os << " hz_seq " << b.hz_seq;
   return os << "}";
 }
 

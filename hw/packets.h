@@ -213,9 +213,14 @@ struct StampBatch {
   // (stamp order, then bit order), its covered samples, bit s for sample s;
   // empty with one sample per pixel, where a covered pixel is its sample.
   std::vector<uint16_t> samples;
+  // Hierarchical Z (hw/hierarchical_z.h): the tile's sequence number when the
+  // batch may write depth and hierarchical Z is on, so the depth test's exact
+  // update names the batch it follows; 0 otherwise (no update).
+  uint32_t hz_seq = 0;
   bool operator==(const StampBatch& o) const;
   friend void swap(StampBatch& a, StampBatch& b) noexcept {
     std::swap(a.kind, b.kind);
+    std::swap(a.hz_seq, b.hz_seq);
     a.triangle.swap(b.triangle);
     a.stamps.swap(b.stamps);
     a.samples.swap(b.samples);

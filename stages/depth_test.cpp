@@ -167,6 +167,15 @@ void DepthTest::run() {
         layout.bytes_per_pixel;
   }
 
+  if (m_hz_link != nullptr) {
+    m_tiles_x = (fb.width + static_cast<int>(m_config.tile_size) - 1) >> m_tile_shift;
+    const int tiles_y = (fb.height + static_cast<int>(m_config.tile_size) - 1) >> m_tile_shift;
+    m_stamps_x = static_cast<int>(m_config.tile_size / m_config.stamp[0]);
+    m_stamps_per_tile = m_stamps_x * static_cast<int>(m_config.tile_size / m_config.stamp[1]);
+    m_hz_stamp.resize(static_cast<size_t>(m_tiles_x) * tiles_y * m_stamps_per_tile);
+    m_hz_known.assign(static_cast<size_t>(m_tiles_x) * tiles_y, 0);
+  }
+
   // Read into and written from one packet object: the FIFOs recycle its
   // buffers (hw/fifo.h), so no batch allocates.
   StampBatch batch;
@@ -176,10 +185,18 @@ void DepthTest::run() {
     uint64_t cycles = m_cost.ii;
     sc_core::sc_time ready_after = m_latency;
     bool forward = true;
+    int hz_tile = -1;
+    uint32_t hz_seq = 0;
     switch (batch.kind) {
       case PacketKind::work:
         cycles = m_cost.ii * std::max<uint64_t>(batch.stamps.size(), 1) *
                  m_config.sample_passes(fb.samples);
+        if (batch.hz_seq != 0 && m_hz_link != nullptr) {
+          hz_seq = batch.hz_seq;
+          hz_tile =
+              (batch.stamps[0].y >> m_tile_shift) * m_tiles_x + (batch.stamps[0].x >> m_tile_shift);
+          m_hz_written.clear();
+        }
         test(batch, t);
         forward = !batch.stamps.empty();
         break;
@@ -194,6 +211,7 @@ void DepthTest::run() {
         }
         m_cache.clear(value.data());
         ++m_depth_clears;
+        ++m_hz_epoch;
         break;
       }
       case PacketKind::end_of_frame:
@@ -201,6 +219,7 @@ void DepthTest::run() {
         m_cache.flush(t);
         ready_after = sc_core::SC_ZERO_TIME;
         m_clears_seen = 0;
+        ++m_hz_epoch;
         break;
     }
     uint64_t stall = stall_cycles(t);
@@ -210,6 +229,13 @@ void DepthTest::run() {
     }
     m_memory_stall_cycles += stall;
     work(cycles + stall);
+    if (hz_seq != 0) {
+      // The tile's exact range leaves when the batch is done; the reduction
+      // over the stamp ranges is off the batch's path (no cycles).
+      m_hz_link->send(HzUpdate{sc_core::sc_time_stamp(), static_cast<uint32_t>(hz_tile), hz_seq,
+                               m_hz_epoch, hz_tile_range(hz_tile, m_hz_entry)});
+      ++m_hz_updates_sent;
+    }
     if (forward) emit_at(out, std::move(batch), sc_core::sc_time_stamp() + ready_after);
   }
 }
@@ -375,6 +401,7 @@ void DepthTest::test_stamps(StampBatch& batch, sc_core::sc_time& t, const Render
     const bool inside =
         s.x + static_cast<int>(stamp_w) <= fb.width && s.y + static_cast<int>(stamp_h) <= fb.height;
     const unsigned entry = m_cache.lookup(tx, ty, t, m_overwrite);
+    m_hz_entry = entry;  // a batch's stamps share one tile, so one entry
     uint8_t* const origin = m_cache.pixel(entry, s.x, s.y);
     bool dirty = false;
     uint64_t passed = 0;
@@ -460,7 +487,10 @@ void DepthTest::test_stamps(StampBatch& batch, sc_core::sc_time& t, const Render
         s.mask &= ~(uint64_t{1} << idx);
       }
     }
-    if (dirty) m_cache.mark_dirty(entry);
+    if (dirty) {
+      m_cache.mark_dirty(entry);
+      if (m_hz_link != nullptr) hz_note(s.x, s.y);
+    }
     m_fragments_passed += passed;
     m_samples_passed += passed;
     if (s.mask != 0) batch.stamps[kept++] = s;
@@ -499,6 +529,7 @@ void DepthTest::test_samples(StampBatch& batch, sc_core::sc_time& t, const Rende
   for (size_t n = 0; n < batch.stamps.size(); ++n) {
     Stamp s = batch.stamps[n];
     const unsigned entry = m_cache.lookup(s.x >> m_tile_shift, s.y >> m_tile_shift, t, m_overwrite);
+    m_hz_entry = entry;
     uint8_t* const origin = m_cache.pixel(entry, s.x, s.y);
     bool dirty = false;
     for (uint64_t bits = s.mask; bits != 0; bits &= bits - 1) {
@@ -548,12 +579,59 @@ void DepthTest::test_samples(StampBatch& batch, sc_core::sc_time& t, const Rende
       ++m_fragments_passed;
       m_samples_passed += static_cast<uint64_t>(__builtin_popcount(passed));
     }
-    if (dirty) m_cache.mark_dirty(entry);
+    if (dirty) {
+      m_cache.mark_dirty(entry);
+      if (m_hz_link != nullptr) hz_note(s.x, s.y);
+    }
     if (s.mask != 0) batch.stamps[kept++] = s;
   }
   batch.stamps.resize(kept);
   batch.samples.resize(out);
   m_stamps_passed += kept;
+}
+
+void DepthTest::hz_note(int x, int y) {
+  const int tile = static_cast<int>(m_config.tile_size);
+  m_hz_written.push_back(((y & (tile - 1)) / static_cast<int>(m_config.stamp[1])) * m_stamps_x +
+                         (x & (tile - 1)) / static_cast<int>(m_config.stamp[0]));
+}
+
+HzRange DepthTest::hz_tile_range(int tile, unsigned entry) {
+  const FramebufferDesc& fb = m_frame.framebuffer;
+  const unsigned bytes = depth_bytes_per_pixel(fb.depth_format);
+  const int ts = static_cast<int>(m_config.tile_size);
+  const int sw = static_cast<int>(m_config.stamp[0]), sh = static_cast<int>(m_config.stamp[1]);
+  const int ox = (tile % m_tiles_x) * ts, oy = (tile / m_tiles_x) * ts;
+  HzRange* const stamps = &m_hz_stamp[static_cast<size_t>(tile) * m_stamps_per_tile];
+  // One stamp's range: its pixels inside the framebuffer, every sample.
+  const auto scan = [&](int k) {
+    const int sx = ox + (k % m_stamps_x) * sw, sy = oy + (k / m_stamps_x) * sh;
+    HzRange r{~DepthValue{0}, 0};
+    for (int y = sy; y < std::min(sy + sh, fb.height); ++y) {
+      for (int x = sx; x < std::min(sx + sw, fb.width); ++x) {
+        const uint8_t* p = m_cache.pixel(entry, x, y);
+        for (unsigned s = 0; s < fb.samples; ++s) {
+          const DepthValue v = load_depth(p + s * bytes, bytes);
+          r.min = std::min(r.min, v);
+          r.max = std::max(r.max, v);
+        }
+      }
+    }
+    stamps[k] = r;
+  };
+  uint32_t& known = m_hz_known[static_cast<size_t>(tile)];
+  if (known != m_hz_epoch + 1) {
+    for (int k = 0; k < m_stamps_per_tile; ++k) scan(k);
+    known = m_hz_epoch + 1;
+  } else {
+    for (const int k : m_hz_written) scan(k);
+  }
+  HzRange r{~DepthValue{0}, 0};
+  for (int k = 0; k < m_stamps_per_tile; ++k) {
+    r.min = std::min(r.min, stamps[k].min);
+    r.max = std::max(r.max, stamps[k].max);
+  }
+  return r;
 }
 
 }  // namespace gpusim

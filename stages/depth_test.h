@@ -44,6 +44,20 @@
 //          until the last write completes, at least ii; the token is then
 //          forwarded, readable at once.
 // ii and latency are config.stage("depth_test").
+//
+// Hierarchical Z (config.hierarchical_z.enabled; stages/tile_rasterizer.h):
+// after a batch with hz_seq != 0 (one the rasterizer counted as depth
+// writing), the tile's exact [min, max] over its pixels inside the
+// framebuffer and all their samples is sent to the rasterizer, stamped with
+// the time the batch is done and the clear epoch (depth clears and frames
+// seen). It comes from per-stamp ranges kept beside the tile: the stamps the
+// batch wrote are rescanned, all of them when the tile's are not known in
+// this epoch (its first access after a clear or at frame start: a fill),
+// then reduced. The reduction is off the batch's path: no cycles. Hardware
+// keeps the stamp ranges per cache entry (tile_size^2 / stamp pixels x 2 x
+// 32 bits: 1 Kbit for 16 x 16 tiles of 4 x 4 stamps); the model keeps them
+// per screen tile, which gives the same values, since only this unit writes
+// its tiles.
 #pragma once
 
 #include <array>
@@ -52,6 +66,7 @@
 #include "hw/draw_state.h"
 #include "hw/fifo.h"
 #include "hw/gpu_config.h"
+#include "hw/hierarchical_z.h"
 #include "hw/memory.h"
 #include "hw/packets.h"
 #include "hw/pipeline_stage.h"
@@ -74,6 +89,10 @@ class DepthTest : public PipelineStage {
   void set_fragment_probe(FragmentProbe* probe) {
     if constexpr (kTraceHooks) m_probe = probe;  // a build without hooks ignores it
   }
+
+  // Hierarchical Z: the link to this unit's rasterizer (the GPU connects it
+  // when config.hierarchical_z.enabled; must outlive the unit).
+  void set_hz_link(HzUpdateLink* link) { m_hz_link = link; }
 
   uint64_t fragments_passed() const { return m_fragments_passed; }
   uint64_t depth_clears() const { return m_depth_clears; }
@@ -100,6 +119,12 @@ class DepthTest : public PipelineStage {
                     FragmentProbe* probe);
   // Fills m_offset for the triangle's edge steps (kept while they are unchanged).
   void update_offsets(const RasterPrimitive& tri);
+  // Hierarchical Z: the exact range of `tile` (held by cache entry `entry`)
+  // after a batch, from the per-stamp ranges (the written stamps'
+  // recomputed, or every stamp's when the tile's are not known this epoch).
+  HzRange hz_tile_range(int tile, unsigned entry);
+  // Notes a stamp at (x, y) the batch wrote.
+  void hz_note(int x, int y);
 
   // log2 of the tile side and of the stamp width (powers of two): a stamp's
   // tile is its origin >> m_tile_shift, a mask bit's row is bit >> m_stamp_shift.
@@ -118,6 +143,18 @@ class DepthTest : public PipelineStage {
 
   size_t m_clears_seen = 0;  // this frame's clear tokens so far (FrameState::clear)
 
+  // Hierarchical Z (null link: off). Per screen tile, per stamp of it, the
+  // range of its stored values inside the framebuffer, valid when the tile's
+  // m_hz_known equals the epoch + 1; the last cache entry looked up, and the
+  // stamps (index in the tile) a batch wrote.
+  HzUpdateLink* m_hz_link = nullptr;
+  uint32_t m_hz_epoch = 0;  // depth clears and frames passed, as the rasterizer counts them
+  int m_tiles_x = 0, m_stamps_x = 0, m_stamps_per_tile = 0;
+  std::vector<HzRange> m_hz_stamp;
+  std::vector<uint32_t> m_hz_known;
+  unsigned m_hz_entry = 0;
+  std::vector<int> m_hz_written;
+
   uint64_t& m_depth_clears =
       m_stats.counter("depth_clears", "clears", "depth clears executed (fast clears)");
   uint64_t& m_stamps = m_stats.counter("stamps", "stamps", "stamps tested");
@@ -133,6 +170,8 @@ class DepthTest : public PipelineStage {
       "memory_stall_cycles", "cycles",
       "cycles of busy_cycles beyond ii per stamp or token: tile reads, or at end_of_frame "
       "the drain and write-back");
+  uint64_t& m_hz_updates_sent = m_stats.counter(
+      "hz_updates_sent", "updates", "exact tile ranges sent to the rasterizer's hierarchical Z");
   TileCache m_cache;
   bool m_overwrite = false;  // this batch overwrites its whole tile (TileCache::lookup)
 };

@@ -41,6 +41,13 @@ Gpu::Gpu(sc_core::sc_module_name name, const GpuConfig& config, const FrameState
         std::make_unique<Interpolator>(named("interpolator").c_str(), config, frame, u);
     unit.rop = std::make_unique<Rop>(named("rop").c_str(), config, frame, u);
 
+    if (config.hierarchical_z.enabled) {
+      unit.hz =
+          std::make_unique<HzUpdateLink>(config.hierarchical_z.update_latency, config.cycle());
+      unit.rasterizer->set_hz_link(unit.hz.get());
+      unit.depth->set_hz_link(unit.hz.get());
+    }
+
     t.connect("distributor_to_rasterizer", n, &m_distributor, &m_distributor.out[u],
               *unit.rasterizer, unit.rasterizer->in);
     t.connect("rasterizer_to_depth", n, unit.rasterizer.get(), &unit.rasterizer->out, *unit.depth,
@@ -116,10 +123,11 @@ nlohmann::json Gpu::pipeline_counts() const {
 Gpu::FragmentCounts Gpu::fragment_counts() const {
   FragmentCounts n;
   for (const Unit& u : m_units) {
-    n.generated += u.rasterizer->fragments();
+    // Hierarchical Z's culled tiles were covered too (the golden model's count).
+    n.generated += u.rasterizer->fragments() + u.rasterizer->hz_fragments_culled();
     n.passed_depth += u.depth->fragments_passed();
     n.written += u.rop->fragments_written();
-    n.samples_generated += u.rasterizer->samples();
+    n.samples_generated += u.rasterizer->samples() + u.rasterizer->hz_samples_culled();
     n.samples_passed_depth += u.depth->samples_passed();
     n.samples_written += u.rop->samples_written();
   }

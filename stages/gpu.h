@@ -93,6 +93,8 @@ class Gpu : public sc_core::sc_module {
     std::unique_ptr<DepthTest> depth;
     std::unique_ptr<Interpolator> interpolator;
     std::unique_ptr<Rop> rop;
+    // Depth test -> rasterizer hierarchical Z updates (config.hierarchical_z.enabled).
+    std::unique_ptr<HzUpdateLink> hz;
   };
 
   const GpuConfig& m_config;

@@ -39,7 +39,9 @@ TileRasterizer::TileRasterizer(sc_core::sc_module_name name, const GpuConfig& co
       m_stamp_w_shift(log2_side(config.stamp[0])),
       m_stamp_h_shift(log2_side(config.stamp[1])),
       m_full_mask(m_stamp_pixels == 64 ? ~uint64_t{0} : (uint64_t{1} << m_stamp_pixels) - 1),
-      m_owner(unit) {
+      m_owner(unit),
+      m_hz(config.hierarchical_z.enabled),
+      m_hz_delay(clock_cycles(config.hierarchical_z.access_latency)) {
   if (unit >= config.units) {
     throw std::invalid_argument("TileRasterizer: unit " + std::to_string(unit) + " of " +
                                 std::to_string(config.units));
@@ -58,10 +60,27 @@ void TileRasterizer::run() {
     m_sample_dx[i] = o.dx;
     m_sample_dy[i] = o.dy;
   }
+  if (m_hz) {
+    const FramebufferDesc& fb = m_frame.framebuffer;
+    m_tiles_x = (fb.width + m_tile - 1) >> m_tile_shift;
+    const size_t tiles =
+        static_cast<size_t>(m_tiles_x) * ((fb.height + m_tile - 1) >> m_tile_shift);
+    m_hz_block.assign(tiles, HzRange{});  // the buffer's contents are unknown
+    m_hz_seq.assign(tiles, 0);
+  }
   for (;;) {
     SetupPacket p = receive(in);
     if (p.kind != PacketKind::work) {
-      forward_control(out, p.kind);
+      if (!m_hz) {
+        forward_control(out, p.kind);
+        continue;
+      }
+      hz_control(p.kind);
+      // As forward_control, through the HZ stage's latency like the batches.
+      work(m_cost.ii);
+      StampBatch token{};
+      token.kind = p.kind;
+      emit_at(out, std::move(token), sc_core::sc_time_stamp() + m_latency + m_hz_delay);
       continue;
     }
     rasterize(p.triangle);
@@ -76,9 +95,88 @@ void TileRasterizer::emit_batch(const std::shared_ptr<const RasterPrimitive>& tr
   m_pending_cycles = 0;
   m_batch.kind = PacketKind::work;
   m_batch.triangle = tri;
-  // Moved in: m_batch comes back holding the slot's stale packet, whose
-  // stamp buffer the next tile refills (hw/fifo.h).
-  emit(out, std::move(m_batch));
+  m_batch.hz_seq = 0;
+  if (!m_hz) {
+    // Moved in: m_batch comes back holding the slot's stale packet, whose
+    // stamp buffer the next tile refills (hw/fifo.h).
+    emit(out, std::move(m_batch));
+    return;
+  }
+  if (m_hz_write) {
+    // A batch's stamps lie in one tile.
+    const int tile =
+        (m_batch.stamps[0].y >> m_tile_shift) * m_tiles_x + (m_batch.stamps[0].x >> m_tile_shift);
+    hz_widen(tile);
+    m_batch.hz_seq = ++m_hz_seq[static_cast<size_t>(tile)];
+  }
+  emit_at(out, std::move(m_batch), sc_core::sc_time_stamp() + m_latency + m_hz_delay);
+}
+
+void TileRasterizer::hz_control(PacketKind kind) {
+  if (kind == PacketKind::clear) {
+    const ClearState c = next_clear(m_clears_seen++);
+    if (!c.depth) return;
+    const DepthValue v = encode_depth(m_frame.framebuffer.depth_format, c.depth_value);
+    std::fill(m_hz_block.begin(), m_hz_block.end(), HzRange{v, v});
+  } else {
+    m_clears_seen = 0;
+    std::fill(m_hz_block.begin(), m_hz_block.end(), HzRange{});
+  }
+  ++m_hz_epoch;  // the depth test counts the same tokens: older updates are dropped
+}
+
+// A depth-writing batch can move the tile's values only towards the
+// primitive's range, and only in the direction the compare function passes.
+void TileRasterizer::hz_widen(int tile) {
+  HzRange& b = m_hz_block[static_cast<size_t>(tile)];
+  switch (m_hz_func) {
+    case CompareFunc::less:
+    case CompareFunc::lequal:
+      b.min = std::min(b.min, m_hz_prim.min);
+      break;
+    case CompareFunc::greater:
+    case CompareFunc::gequal:
+      b.max = std::max(b.max, m_hz_prim.max);
+      break;
+    default:
+      b.min = std::min(b.min, m_hz_prim.min);
+      b.max = std::max(b.max, m_hz_prim.max);
+      break;
+  }
+}
+
+bool TileRasterizer::hz_culls(int tile) {
+  if (m_hz_link != nullptr) {
+    m_hz_link->take_visible(sc_core::sc_time_stamp(), [&](const HzUpdate& u) {
+      // Exact only if it describes the last depth-writing batch emitted to
+      // the block in this epoch: every earlier one has then been tested too.
+      if (u.epoch == m_hz_epoch && u.seq == m_hz_seq[u.tile]) {
+        m_hz_block[u.tile] = u.range;
+        ++m_hz_updates_applied;
+      } else {
+        ++m_hz_updates_dropped;
+      }
+    });
+  }
+  ++m_hz_tests;
+  const HzRange& b = m_hz_block[static_cast<size_t>(tile)];
+  const HzRange& p = m_hz_prim;
+  switch (m_hz_func) {
+    case CompareFunc::never:
+      return true;
+    case CompareFunc::less:
+      return p.min >= b.max;
+    case CompareFunc::lequal:
+      return p.min > b.max;
+    case CompareFunc::greater:
+      return p.max <= b.min;
+    case CompareFunc::gequal:
+      return p.max < b.min;
+    case CompareFunc::equal:
+      return p.max < b.min || p.min > b.max;
+    default:
+      return false;
+  }
 }
 
 void TileRasterizer::rasterize(const std::shared_ptr<const RasterPrimitive>& tri) {
@@ -95,6 +193,20 @@ void TileRasterizer::rasterize(const std::shared_ptr<const RasterPrimitive>& tri
       break;
   }
   if (t.x0 > t.x1 || t.y0 > t.y1) return;
+  if (m_hz) {
+    // What the primitive's depth state lets hierarchical Z do (the depth
+    // test's own cases, stages/depth_test.h): cull with a function that can
+    // fail against a range (triangles only: hz_primitive_range), widen for a
+    // batch that can store.
+    const RenderState& st = m_frame.draws.at(t.draw_id).state;
+    m_hz_func = st.depth_test ? st.depth_func : CompareFunc::always;
+    m_hz_cull = t.primitive_kind == PrimitiveKind::triangle && m_hz_func != CompareFunc::always &&
+                m_hz_func != CompareFunc::notequal;
+    m_hz_write = st.depth_test && st.depth_write && m_hz_func != CompareFunc::never;
+    if (m_hz_cull || m_hz_write) {
+      m_hz_prim = hz_primitive_range(t, m_frame.framebuffer.depth_format);
+    }
+  }
   if (t.line_rule == LineRule::bresenham) {
     walk_line(tri);
     return;
@@ -330,11 +442,23 @@ void TileRasterizer::rasterize_edges(const std::shared_ptr<const RasterPrimitive
         ++m_tiles_rejected;
         continue;
       }
-      if (accept) ++m_tiles_accepted;
-
       // Stamps of the tile that intersect the box (the tile meets the box).
       const int px0 = std::max(ox, t.x0), px1 = std::min(ox + ts - 1, t.x1);
       const int py0 = std::max(oy, t.y0), py1 = std::min(oy + ts - 1, t.y1);
+      // Hierarchical Z, in the tile test's cycle: a culled tile emits nothing.
+      // Its covered pixels are counted by the walk below for
+      // hz_fragments_culled, a model-side count that costs no cycles.
+      const bool culled = N == 3 && m_hz_cull && hz_culls(ty * m_tiles_x + tx);
+      if (culled) {
+        ++m_hz_tiles_culled;
+        if (accept) {
+          m_hz_fragments_culled += static_cast<uint64_t>(px1 - px0 + 1) * (py1 - py0 + 1);
+          m_hz_samples_culled += static_cast<uint64_t>(px1 - px0 + 1) * (py1 - py0 + 1) * m_samples;
+          continue;
+        }
+      }
+      if (accept) ++m_tiles_accepted;
+
       const int si0 = (px0 - ox) >> m_stamp_w_shift, si1 = (px1 - ox) >> m_stamp_w_shift;
       const int sj0 = (py0 - oy) >> m_stamp_h_shift, sj1 = (py1 - oy) >> m_stamp_h_shift;
       std::array<EdgeValue, N> e_row;
@@ -359,6 +483,16 @@ void TileRasterizer::rasterize_edges(const std::shared_ptr<const RasterPrimitive
             for (int j = jlo; j <= jhi; ++j) box |= row << (j * sw);
           }
           uint64_t mask;
+          if (culled) {
+            const uint64_t samples_before = m_samples_covered;
+            mask = m_samples > 1 ? sample_coverage<N>(t, e_here, box) : coverage<N>(t, e_here, box);
+            const uint64_t covered = static_cast<uint64_t>(__builtin_popcountll(mask));
+            m_hz_fragments_culled += covered;
+            m_hz_samples_culled += m_samples > 1 ? m_samples_covered - samples_before : covered;
+            m_samples_covered = samples_before;
+            m_batch.samples.clear();
+            continue;
+          }
           m_pending_cycles += ii * m_passes;
           if (accept) {
             ++m_stamps_accepted;

@@ -98,6 +98,41 @@
 // other units' tiles.
 // A control token costs ii(rasterizer) and is forwarded with the latency.
 // No memory traffic.
+//
+// Hierarchical Z (config.hierarchical_z, issue #11; off by default): per
+// screen tile of this unit a block [min, max] of the stored depth values
+// (the depth buffer's encoding, every sample), conservative: every stored
+// value of the tile lies in it. Frame start: [0, 2^32 - 1] (unknown); a depth
+// clear passing the unit sets every block to the clear value. Per triangle,
+// its range P = hz_primitive_range() (hw/hierarchical_z.cpp: the vertices'
+// window z widened by a rounding margin and the polygon offset, encoded;
+// proved there to bound every value the depth test computes for it), and per
+// tile the coverage test keeps, one HZ test against the block B:
+//   less: cull if P.min >= B.max; lequal: P.min > B.max; greater:
+//   P.max <= B.min; gequal: P.max < B.min; equal: P outside B; never:
+//   always; always, notequal, depth test off, lines and points: never.
+// A culled tile emits nothing. A depth-writing batch (depth test on, write
+// on, func not never) widens its block first: less and lequal lower min to
+// P.min, greater and gequal raise max to P.max, the others take the union
+// (a line's or point's P is the full range); it carries the block's
+// incremented sequence number (StampBatch::hz_seq). The depth test answers
+// each such batch with the tile's exact range (stages/depth_test.h); an
+// update is applied when it is visible (sent at t_u, visible once t_u +
+// update_latency < sc_time_stamp() at a test; hw/hierarchical_z.h proves it
+// independent of process order), in sending order, and only if it names the
+// block's current sequence number (no depth-writing batch emitted since)
+// and the current clear epoch (depth clears and frames passed); otherwise it
+// is dropped. Updates are taken at each HZ test.
+// Cost: the HZ test is a pipeline stage of access_latency cycles beside the
+// tile test: every batch and control token leaves access_latency cycles
+// later, and a culled tile costs its tile test (1 cycle) only; no stamps.
+// Updates cost the rasterizer no cycles (a write port of their own).
+// hz_fragments_culled counts the covered pixels of culled tiles (accepted
+// tiles exactly, partial tiles through the coverage routine): a model-side
+// count, no cycles. Storage: 2 x 32 bits per tile (unorm16 needs 2 x 16),
+// plus a sequence number (16 bits suffice, hw/hierarchical_z.h): at 1080p
+// with 16 x 16 tiles, 120 x 68 = 8160 blocks, 8160 x 80 bits = 79.7 KiB on
+// chip for the GPU, a 1 / units share per unit.
 #pragma once
 
 #include <array>
@@ -108,6 +143,7 @@
 #include "hw/draw_state.h"
 #include "hw/fifo.h"
 #include "hw/gpu_config.h"
+#include "hw/hierarchical_z.h"
 #include "hw/packets.h"
 #include "hw/pipeline_stage.h"
 #include "hw/stats.h"
@@ -125,10 +161,16 @@ class TileRasterizer : public PipelineStage {
   TileRasterizer(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame,
                  unsigned unit);
 
+  // Hierarchical Z: the unit's update link from its depth test (the GPU
+  // connects it when config.hierarchical_z.enabled; must outlive the unit).
+  void set_hz_link(HzUpdateLink* link) { m_hz_link = link; }
+
   uint64_t tiles_visited() const { return m_tiles_visited; }
   uint64_t stamps_emitted() const { return m_stamps_emitted; }
   uint64_t fragments() const { return m_fragments; }
   uint64_t samples() const { return m_samples_covered; }
+  uint64_t hz_fragments_culled() const { return m_hz_fragments_culled; }
+  uint64_t hz_samples_culled() const { return m_hz_samples_culled; }
 
  private:
   static constexpr int kMaxStampPixels = 64;
@@ -155,6 +197,12 @@ class TileRasterizer : public PipelineStage {
   // Waits the cycles walked since the last output, then writes m_batch (the
   // stamps of one tile) as the batch of `tri`.
   void emit_batch(const std::shared_ptr<const RasterPrimitive>& tri);
+  // Hierarchical Z: a clear or end_of_frame passing (resets the blocks),
+  // the test of one tile for the current primitive (applies the visible
+  // updates first), and the widening of a block by a depth-writing batch.
+  void hz_control(PacketKind kind);
+  bool hz_culls(int tile);
+  void hz_widen(int tile);
 
   const int m_tile;                // tile side, pixels
   const int m_stamp_w, m_stamp_h;  // stamp, pixels
@@ -187,6 +235,22 @@ class TileRasterizer : public PipelineStage {
   // mask, so they leave tile by tile in walk order.
   std::map<std::tuple<int, int, int>, uint64_t> m_line_stamps;
 
+  // Hierarchical Z (config.hierarchical_z): per screen tile (ty * tiles_x +
+  // tx; only this unit's are used) the block's range and its sequence number,
+  // the clear epoch (depth clears and frames passed), and per primitive its
+  // range and what its depth state allows: culling and widening.
+  const bool m_hz;
+  const sc_core::sc_time m_hz_delay;  // access_latency cycles
+  HzUpdateLink* m_hz_link = nullptr;
+  int m_tiles_x = 0;
+  std::vector<HzRange> m_hz_block;
+  std::vector<uint32_t> m_hz_seq;
+  uint32_t m_hz_epoch = 0;
+  size_t m_clears_seen = 0;
+  HzRange m_hz_prim;
+  CompareFunc m_hz_func = CompareFunc::always;
+  bool m_hz_cull = false, m_hz_write = false;
+
   uint64_t& m_triangles = m_stats.counter("triangles", "triangles", "triangles walked");
   uint64_t& m_lines = m_stats.counter("lines", "lines", "lines received (either rule)");
   uint64_t& m_points = m_stats.counter("points", "points", "points received");
@@ -212,9 +276,30 @@ class TileRasterizer : public PipelineStage {
                                                 "stamps emitted from accepted tiles without tests");
   uint64_t& m_stamps_emitted =
       m_stats.counter("stamps_emitted", "stamps", "non-empty stamps written");
-  uint64_t& m_fragments = m_stats.counter("fragments", "fragments", "covered pixels");
+  // With hierarchical Z the pixels of culled tiles are not emitted (they are
+  // in hz_fragments_culled); without, the description stays as it was.
+  uint64_t& m_fragments =
+      m_stats.counter("fragments", "fragments",
+                      m_hz ? "covered pixels emitted (not those of tiles culled by hierarchical Z)"
+                           : "covered pixels");
   uint64_t& m_samples_covered = m_stats.counter(
       "samples", "samples", "covered samples (one per covered pixel unless multisampled)");
+  uint64_t& m_hz_tests = m_stats.counter(
+      "hz_tests", "tests", "hierarchical Z tests: (triangle, tile) pairs the coverage test kept");
+  uint64_t& m_hz_tiles_culled =
+      m_stats.counter("hz_tiles_culled", "tiles",
+                      "tiles of a triangle rejected by hierarchical Z: nothing emitted");
+  uint64_t& m_hz_fragments_culled = m_stats.counter(
+      "hz_fragments_culled", "fragments",
+      "covered pixels of tiles rejected by hierarchical Z (a model count: no cycles)");
+  uint64_t& m_hz_samples_culled = m_stats.counter(
+      "hz_samples_culled", "samples",
+      "covered samples of tiles rejected by hierarchical Z (one per pixel unless multisampled)");
+  uint64_t& m_hz_updates_applied = m_stats.counter(
+      "hz_updates_applied", "updates", "exact tile ranges from the depth test written to a block");
+  uint64_t& m_hz_updates_dropped =
+      m_stats.counter("hz_updates_dropped", "updates",
+                      "depth test updates superseded by a later batch or a clear, not applied");
 };
 
 }  // namespace gpusim

@@ -221,6 +221,8 @@ inline std::vector<std::unique_ptr<DiffInstance>>& diff_instances() {
     b.fifo_depth = 1;
     b.vertex_cache_entries = 3;
     b.tile_cache_entries = 1;
+    b.hierarchical_z.enabled = true;  // with edge tiles, float32 depth, many frames
+    b.hierarchical_z.update_latency = 0;
     GpuConfig c;
     c.units = 2;
     c.stamp = {8, 2};
@@ -231,6 +233,7 @@ inline std::vector<std::unique_ptr<DiffInstance>>& diff_instances() {
     d.tile_size = 32;
     d.stamp = {8, 8};
     d.memory = {3, 7};
+    d.hierarchical_z.enabled = true;
     v.push_back(std::make_unique<DiffInstance>("fuzz_gpu0", 1, 1, ColorFormat::rgba8,
                                                DepthFormat::unorm24, a));
     v.push_back(std::make_unique<DiffInstance>("fuzz_gpu1", 13, 7, ColorFormat::rgba16f,

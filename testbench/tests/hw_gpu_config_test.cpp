@@ -53,6 +53,7 @@ TEST(GpuConfig, Defaults) {
   EXPECT_EQ(c.memory.interleave_bytes, 256u);
   EXPECT_EQ(c.vertex_cache_entries, 32u);
   EXPECT_EQ(c.tile_cache_entries, 16u);
+  EXPECT_EQ(c.hierarchical_z, (HierarchicalZConfig{false, 5, 4}));
   EXPECT_EQ(c.samples_per_pass, 4u);
   EXPECT_EQ(c.sample_passes(1), 1u);
   EXPECT_EQ(c.sample_passes(4), 1u);
@@ -129,6 +130,7 @@ TEST(GpuConfig, RoundTrip) {
   c.watchdog_cycles = 5000;
   c.surfaces = {true, 256, true};
   c.compression = {true, false, 3, 5};
+  c.hierarchical_z = {true, 0, 17};
 
   const json j = to_json(c);
   // Every value resolved.
@@ -156,6 +158,9 @@ TEST(GpuConfig, RoundTrip) {
   d.memory.latency = 99;
   EXPECT_NE(d, c);
   d = c;
+  d.hierarchical_z.update_latency = 3;
+  EXPECT_NE(d, c);
+  d = c;
   d.stamp = {2, 8};
   EXPECT_NE(d, c);
   d = c;
@@ -176,7 +181,7 @@ TEST(GpuConfig, RoundTrip) {
 TEST(GpuConfig, UnknownKeysNameTheirPathAndTheAllowedKeys) {
   EXPECT_EQ(error_of(json{{"unitz", 4}}),
             "gpu.json: unitz: unknown key (allowed: clock_mhz, units, tile_size, stamp, "
-            "fifo_depth, fifo_depths, stages, memory, surfaces, compression, vertex_cache_entries, "
+            "fifo_depth, fifo_depths, stages, memory, surfaces, compression, hierarchical_z, vertex_cache_entries, "
             "tile_cache_entries, samples_per_pass, lighting_cycles_per_pixel, "
             "lighting_cycles_per_light, watchdog_cycles)");
   // The old name of the tile rasterizer is refused with the list of stages.
@@ -221,6 +226,13 @@ TEST(GpuConfig, WrongTypes) {
   EXPECT_EQ(error_of(json{{"fifo_depths", 4}}),
             "gpu.json: fifo_depths: expected an object, got number");
   EXPECT_EQ(error_of(json{{"memory", nullptr}}), "gpu.json: memory: expected an object, got null");
+  EXPECT_EQ(error_of(json::parse(R"({"hierarchical_z": {"enabled": 1}})")),
+            "gpu.json: hierarchical_z.enabled: expected true or false, got 1");
+  EXPECT_EQ(error_of(json::parse(R"({"hierarchical_z": {"update_latency": 1.5}})")),
+            "gpu.json: hierarchical_z.update_latency: expected an integer, got 1.5");
+  EXPECT_EQ(error_of(json::parse(R"({"hierarchical_z": {"on": true}})")),
+            "gpu.json: hierarchical_z.on: unknown key (allowed: enabled, access_latency, "
+            "update_latency)");
 }
 
 TEST(GpuConfig, OutOfRangeValues) {
@@ -240,6 +252,8 @@ TEST(GpuConfig, OutOfRangeValues) {
   EXPECT_EQ(error_of(json{{"stamp", {16, 8}}}), "gpu.json: stamp: 16x8 has more than 64 pixels");
   EXPECT_EQ(error_of(json{{"stamp", {0, 4}}}), "gpu.json: stamp[0]: 0 is out of range 1..256");
   EXPECT_EQ(error_of(json{{"fifo_depth", 0}}), "gpu.json: fifo_depth: 0 is out of range 1..65536");
+  EXPECT_EQ(error_of(json::parse(R"({"hierarchical_z": {"access_latency": 1000001}})")),
+            "gpu.json: hierarchical_z.access_latency: 1000001 is out of range 0..1000000");
   EXPECT_EQ(error_of(json::parse(R"({"fifo_depths": {"interpolator_to_rop": 0}})")),
             "gpu.json: fifo_depths.interpolator_to_rop: 0 is out of range 1..65536");
   EXPECT_EQ(error_of(json::parse(R"({"stages": {"tile_rasterizer": {"ii": 0}}})")),
@@ -421,7 +435,7 @@ TEST(GpuConfigOverrides, ErrorsNameTheOverride) {
             "--set units=eight: units: expected an integer, got string");
   EXPECT_EQ(override_error(json::object(), sets({"unitz=4"})),
             "--set unitz=4: unitz: unknown key (allowed: clock_mhz, units, tile_size, stamp, "
-            "fifo_depth, fifo_depths, stages, memory, surfaces, compression, vertex_cache_entries, "
+            "fifo_depth, fifo_depths, stages, memory, surfaces, compression, hierarchical_z, vertex_cache_entries, "
             "tile_cache_entries, samples_per_pass, lighting_cycles_per_pixel, "
             "lighting_cycles_per_light, watchdog_cycles)");
   // An unknown stage is reported at the stage, which the key leads through.

@@ -1,12 +1,12 @@
 // The cycle model's frame (colour and depth) and pipeline counters equal the
 // golden model's bit for bit, for every test scene under a pairwise covering
 // set of configurations: every value of units {1,2,3,4,8,16}, FIFO depth
-// {1,2,16}, tile size {8,16,64} and stamp {2x2,4x4,8x8}, and every pair of
-// values of any two of them. Each case runs in its own process (ctest), since
-// a SystemC model elaborates once per process. Memory channels (timing only,
-// so they must not move a pixel) vary with the FIFO depth's index: 1 channel,
-// 4 channels, and 3 channels interleaved every 32 bytes (a 64-byte tile row
-// split over two channels).
+// {1,2,16}, tile size {8,16,64}, stamp {2x2,4x4,8x8} and hierarchical Z
+// {off, on}, and every pair of values of any two of them. Each case runs in
+// its own process (ctest), since a SystemC model elaborates once per process.
+// Memory channels (timing only, so they must not move a pixel) vary with the
+// FIFO depth's index: 1 channel, 4 channels, and 3 channels interleaved every
+// 32 bytes (a 64-byte tile row split over two channels).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -29,20 +29,22 @@ constexpr std::array<unsigned, 3> kTileSizes{8, 16, 64};
 constexpr std::array<unsigned, 3> kStamps{2, 4, 8};
 
 // Row (i, j) of the covering array: units i, FIFO depth j, tile (i + j) mod 3,
-// stamp (i + 2j) mod 3. Over the 18 rows, (tile, stamp) runs through all 9
-// pairs because (i, j) -> (i + j, i + 2j) is invertible mod 3; every other
-// pair of factors is covered since one index runs over all values while the
-// other is fixed.
+// stamp (i + 2j) mod 3, hierarchical Z on iff i + j is odd. Over the 18 rows, (tile, stamp) runs
+// through all 9 pairs because (i, j) -> (i + j, i + 2j) is invertible mod 3; every other pair of
+// factors is covered since one index runs over all values while the other is fixed. Hierarchical
+// Z's parity of i + j = i - j (mod 2) takes both values with i fixed, with j fixed, and among the
+// rows of one tile (i + j in {t, t + 3, ...}) or one stamp (i - j in {s, s + 3, s - 3}).
 constexpr std::array<unsigned, 3> kChannels{1, 4, 3};
 constexpr std::array<unsigned, 3> kInterleave{256, 256, 32};
 
 struct MatrixRow {
   unsigned units, fifo_depth, tile_size, stamp, channels, interleave;
+  bool hz;
 };
 MatrixRow matrix_row(int row) {
   const int i = row / 3, j = row % 3;
-  return {kUnits[i],    kFifoDepths[j], kTileSizes[(i + j) % 3], kStamps[(i + 2 * j) % 3],
-          kChannels[j], kInterleave[j]};
+  return {kUnits[i],    kFifoDepths[j],  kTileSizes[(i + j) % 3], kStamps[(i + 2 * j) % 3],
+          kChannels[j], kInterleave[j], (i + j) % 2 == 1};
 }
 
 GpuConfig config_for(const MatrixRow& r) {
@@ -53,6 +55,7 @@ GpuConfig config_for(const MatrixRow& r) {
   c.stamp = {r.stamp, r.stamp};
   c.memory.channels = r.channels;
   c.memory.interleave_bytes = r.interleave;
+  c.hierarchical_z.enabled = r.hz;
   return c;
 }
 
@@ -94,20 +97,21 @@ void expect_same_frame(const Framebuffer& got, const Framebuffer& want, int supe
 }
 
 TEST(CoveringArray, CoversEveryValueAndEveryPair) {
-  std::set<std::pair<int, int>> pairs[6];  // (factor a, factor b) value pairs per factor pair
+  std::set<std::pair<int, int>> pairs[10];  // (factor a, factor b) value pairs per factor pair
   for (int row = 0; row < 18; ++row) {
     const MatrixRow r = matrix_row(row);
-    const int v[4] = {static_cast<int>(r.units), static_cast<int>(r.fifo_depth),
-                      static_cast<int>(r.tile_size), static_cast<int>(r.stamp)};
+    const int v[5] = {static_cast<int>(r.units), static_cast<int>(r.fifo_depth),
+                      static_cast<int>(r.tile_size), static_cast<int>(r.stamp),
+                      static_cast<int>(r.hz)};
     int k = 0;
-    for (int a = 0; a < 4; ++a) {
-      for (int b = a + 1; b < 4; ++b) pairs[k++].insert({v[a], v[b]});
+    for (int a = 0; a < 5; ++a) {
+      for (int b = a + 1; b < 5; ++b) pairs[k++].insert({v[a], v[b]});
     }
   }
-  const size_t sizes[4] = {kUnits.size(), kFifoDepths.size(), kTileSizes.size(), kStamps.size()};
+  const size_t sizes[5] = {kUnits.size(), kFifoDepths.size(), kTileSizes.size(), kStamps.size(), 2};
   int k = 0;
-  for (int a = 0; a < 4; ++a) {
-    for (int b = a + 1; b < 4; ++b)
+  for (int a = 0; a < 5; ++a) {
+    for (int b = a + 1; b < 5; ++b)
       EXPECT_EQ(pairs[k++].size(), sizes[a] * sizes[b]) << a << "," << b;
   }
 }
@@ -145,6 +149,7 @@ std::string case_name(const ::testing::TestParamInfo<Case>& info) {
   os << scene << "_u" << r.units << "_f" << r.fifo_depth << "_t" << r.tile_size << "_s" << r.stamp
      << "x" << r.stamp;
   if (r.channels > 1) os << "_c" << r.channels << "i" << r.interleave;
+  if (r.hz) os << "_hz";
   return os.str();
 }
 
@@ -157,7 +162,8 @@ INSTANTIATE_TEST_SUITE_P(
                           "aa_super3_samples4", "aa_super2", "clears", "clears_samples4",
                           "clears_super2", "viewport_scissor", "viewport_scissor_aa", "phong",
                           "aa_phong_samples4", "painter_default", "painter_cycle",
-                          "painter_interpenetrate", "painter_features", "provoking_interpolation"),
+                          "painter_interpenetrate", "painter_features", "provoking_interpolation",
+                          "hiz_funcs", "hiz_funcs_samples4"),
         ::testing::Range(0, 18)),
     case_name);
 
