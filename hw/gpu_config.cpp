@@ -187,6 +187,7 @@ bool GpuConfig::operator==(const GpuConfig& o) const {
       surfaces != o.surfaces || compression != o.compression ||
       vertex_cache_entries != o.vertex_cache_entries ||
       tile_cache_entries != o.tile_cache_entries || samples_per_pass != o.samples_per_pass ||
+      tile_test_overlap != o.tile_test_overlap ||
       lighting_cycles_per_pixel != o.lighting_cycles_per_pixel ||
       lighting_cycles_per_light != o.lighting_cycles_per_light ||
       watchdog_cycles != o.watchdog_cycles || hierarchical_z != o.hierarchical_z) {
@@ -205,7 +206,8 @@ GpuConfig gpu_config_from_json(const nlohmann::json& j, const std::string& sourc
   r.check_keys(j, "",
                {"clock_mhz", "units", "tile_size", "stamp", "fifo_depth", "fifo_depths", "stages",
                 "memory", "surfaces", "compression", "hierarchical_z", "vertex_cache_entries",
-                "tile_cache_entries", "samples_per_pass", "lighting_cycles_per_pixel",
+                "tile_cache_entries", "samples_per_pass", "tile_test_overlap",
+                "lighting_cycles_per_pixel",
                 "lighting_cycles_per_light", "watchdog_cycles"});
 
   if (j.contains("clock_mhz")) {
@@ -360,6 +362,9 @@ GpuConfig gpu_config_from_json(const nlohmann::json& j, const std::string& sourc
   }
   if (j.contains("samples_per_pass")) {
     c.samples_per_pass = r.get_unsigned(j["samples_per_pass"], "samples_per_pass", 1, 16);
+  }
+  if (j.contains("tile_test_overlap")) {
+    c.tile_test_overlap = r.get_bool(j["tile_test_overlap"], "tile_test_overlap");
   }
   if (j.contains("lighting_cycles_per_pixel")) {
     c.lighting_cycles_per_pixel =
@@ -529,6 +534,7 @@ nlohmann::json to_json(const GpuConfig& c) {
   j["vertex_cache_entries"] = c.vertex_cache_entries;
   j["tile_cache_entries"] = c.tile_cache_entries;
   j["samples_per_pass"] = c.samples_per_pass;
+  j["tile_test_overlap"] = c.tile_test_overlap;
   j["lighting_cycles_per_pixel"] = c.lighting_cycles_per_pixel;
   j["lighting_cycles_per_light"] = c.lighting_cycles_per_light;
   j["watchdog_cycles"] = c.watchdog_cycles;

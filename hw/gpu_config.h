@@ -111,6 +111,11 @@ struct GpuConfig {
   // per pixel costs ii * ceil(N / samples_per_pass)), and the resolve per
   // output stamp.
   unsigned samples_per_pass = 4;
+  // The tile rasterizer's tile test runs one tile ahead of its stamp
+  // evaluation (a coarse stage in front of the fine one), so a tile whose
+  // stamps take cycles costs only those; off: 1 cycle per tile visited plus
+  // its stamps (stages/tile_rasterizer.h, cost model).
+  bool tile_test_overlap = false;
   // Phong shading (docs/pipeline-spec.md, section 9b): each interpolator's
   // per-pixel lighting unit spends, per lit pixel, cycles_per_pixel on
   // renormalising the normal and clamping the colour, plus cycles_per_light

@@ -427,7 +427,10 @@ void TileRasterizer::rasterize_edges(const std::shared_ptr<const RasterPrimitive
     for (int tx = tx0; tx <= tx1; ++tx) {
       if (tile_owner(tx, ty, m_config.units) != m_owner) continue;
       ++m_tiles_visited;
-      m_pending_cycles += 1;  // the tile test
+      // The tile test; overlapped with the stamps when config.tile_test_overlap
+      // and the tile evaluates any (taken back below).
+      m_pending_cycles += 1;
+      const uint64_t cycles_before_stamps = m_pending_cycles;
 
       const int ox = tx * ts, oy = ty * ts;  // tile origin pixel
       std::array<EdgeValue, N> e_tile;
@@ -521,6 +524,9 @@ void TileRasterizer::rasterize_edges(const std::shared_ptr<const RasterPrimitive
           if (m_samples == 1) m_samples_covered += covered;
         }
         for (int k = 0; k < N; ++k) e_row[k] += step_y[k];
+      }
+      if (m_config.tile_test_overlap && m_pending_cycles != cycles_before_stamps) {
+        m_pending_cycles -= 1;
       }
       if (!m_batch.stamps.empty()) emit_batch(tri);
     }

@@ -81,7 +81,11 @@
 // scissor or the viewport) cost nothing. With N samples per pixel every stamp
 // takes passes = ceil(N / samples_per_pass) times ii. busy_cycles =
 // tiles_visited + ii * passes * (stamps_evaluated + stamps_accepted) + ii *
-// control tokens.
+// control tokens. With config.tile_test_overlap the tile test runs one tile
+// ahead of the stamps (a coarse stage feeding the fine one): a tile that
+// evaluates or emits any stamp costs only its stamps' cycles, and only tiles
+// without one (rejected, culled, or whose box-clipped stamps are all empty
+// before evaluation) pay the test's cycle.
 // Timing: the unit waits the cycles of the tiles walked since its last
 // output, then writes that tile's batch, readable latency(rasterizer) cycles
 // later; cycles of trailing tiles without coverage are waited at the end of

@@ -810,7 +810,7 @@ TEST_F(Cli, RunSetErrorsNameTheOption) {
   expect_message("--set tile_sise=32",
                  "--set tile_sise=32: tile_sise: unknown key (allowed: clock_mhz, units, "
                  "tile_size, stamp, fifo_depth, fifo_depths, stages, memory, surfaces, "
-                 "compression, hierarchical_z, vertex_cache_entries, tile_cache_entries, samples_per_pass, "
+                 "compression, hierarchical_z, vertex_cache_entries, tile_cache_entries, samples_per_pass, tile_test_overlap, "
                  "lighting_cycles_per_pixel, lighting_cycles_per_light, watchdog_cycles)");
   expect_message("--set units=four", "--set units=four: units: expected an integer, got string");
   expect_message("--set 'stamp=[8,3]'", "--set stamp=[8,3]: stamp[1]: 3 is not a power of two");

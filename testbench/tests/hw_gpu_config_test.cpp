@@ -55,6 +55,7 @@ TEST(GpuConfig, Defaults) {
   EXPECT_EQ(c.tile_cache_entries, 16u);
   EXPECT_EQ(c.hierarchical_z, (HierarchicalZConfig{false, 5, 4}));
   EXPECT_EQ(c.samples_per_pass, 4u);
+  EXPECT_FALSE(c.tile_test_overlap);
   EXPECT_EQ(c.sample_passes(1), 1u);
   EXPECT_EQ(c.sample_passes(4), 1u);
   EXPECT_EQ(c.sample_passes(16), 4u);
@@ -131,6 +132,7 @@ TEST(GpuConfig, RoundTrip) {
   c.surfaces = {true, 256, true};
   c.compression = {true, false, 3, 5};
   c.hierarchical_z = {true, 0, 17};
+  c.tile_test_overlap = true;
 
   const json j = to_json(c);
   // Every value resolved.
@@ -182,7 +184,7 @@ TEST(GpuConfig, UnknownKeysNameTheirPathAndTheAllowedKeys) {
   EXPECT_EQ(error_of(json{{"unitz", 4}}),
             "gpu.json: unitz: unknown key (allowed: clock_mhz, units, tile_size, stamp, "
             "fifo_depth, fifo_depths, stages, memory, surfaces, compression, hierarchical_z, vertex_cache_entries, "
-            "tile_cache_entries, samples_per_pass, lighting_cycles_per_pixel, "
+            "tile_cache_entries, samples_per_pass, tile_test_overlap, lighting_cycles_per_pixel, "
             "lighting_cycles_per_light, watchdog_cycles)");
   // The old name of the tile rasterizer is refused with the list of stages.
   EXPECT_EQ(error_of(json::parse(R"({"stages": {"rasterizer": {"ii": 1}}})")),
@@ -436,7 +438,7 @@ TEST(GpuConfigOverrides, ErrorsNameTheOverride) {
   EXPECT_EQ(override_error(json::object(), sets({"unitz=4"})),
             "--set unitz=4: unitz: unknown key (allowed: clock_mhz, units, tile_size, stamp, "
             "fifo_depth, fifo_depths, stages, memory, surfaces, compression, hierarchical_z, vertex_cache_entries, "
-            "tile_cache_entries, samples_per_pass, lighting_cycles_per_pixel, "
+            "tile_cache_entries, samples_per_pass, tile_test_overlap, lighting_cycles_per_pixel, "
             "lighting_cycles_per_light, watchdog_cycles)");
   // An unknown stage is reported at the stage, which the key leads through.
   EXPECT_EQ(override_error(json::object(), sets({"stages.setup.ii=1"})),
