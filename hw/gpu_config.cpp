@@ -181,6 +181,17 @@ sc_core::sc_time GpuConfig::cycles(uint64_t n) const {
   return sc_core::sc_time::from_value(cycle().value() * n);
 }
 
+GpuConfig GpuConfig::baseline() {
+  GpuConfig c;
+  c.memory.channels = 1;
+  c.memory.interleave_bytes = 256;
+  c.surfaces = SurfaceConfig{false, 1024, false};
+  c.compression.depth = c.compression.colour = false;
+  c.hierarchical_z.enabled = false;
+  c.tile_test_overlap = false;
+  return c;
+}
+
 bool GpuConfig::operator==(const GpuConfig& o) const {
   if (clock_mhz != o.clock_mhz || units != o.units || tile_size != o.tile_size ||
       stamp != o.stamp || fifo_depth != o.fifo_depth || stages != o.stages || memory != o.memory ||
@@ -326,11 +337,21 @@ GpuConfig gpu_config_from_json(const nlohmann::json& j, const std::string& sourc
       c.compression.decompressor_latency = r.get_unsigned(
           m["decompressor_latency"], "compression.decompressor_latency", 0, kMaxStageCycles);
     }
-    // A compressed tile is one variable-size block: only a tiled layout has one.
-    if ((c.compression.depth || c.compression.colour) && !c.surfaces.tiled) {
-      r.fail(c.compression.depth ? "compression.depth" : "compression.colour",
+  }
+  // A compressed tile is one variable-size block: only a tiled layout has
+  // one. The error names the key the file set: compression turned on, or
+  // (compression being on by default) tiled surfaces turned off.
+  if ((c.compression.depth || c.compression.colour) && !c.surfaces.tiled) {
+    const auto set_on = [&](const char* k) {
+      return j.contains("compression") && j["compression"].contains(k) && j["compression"][k] == true;
+    };
+    if (set_on("depth") || set_on("colour")) {
+      r.fail(set_on("depth") ? "compression.depth" : "compression.colour",
              "compression needs surfaces.tiled true");
     }
+    r.fail("surfaces.tiled",
+           "false needs compression.depth and compression.colour false (compression needs tiled "
+           "surfaces)");
   }
   if (j.contains("hierarchical_z")) {
     const auto& h = j["hierarchical_z"];

@@ -998,7 +998,9 @@ TEST_F(Cli, StatsSummaryAndDiffReadRunsStatsJson) {
     EXPECT_DOUBLE_EQ(j["rates"]["setup_triangles_per_clock"]["peak"].get<double>(),
                      rates["setup_triangles_per_clock_peak"].get<double>());
     EXPECT_NEAR(j["memory"]["utilization"].get<double>(),
-                timing["memory"]["busy_cycles"].get<double>() / cycles, 1e-12);
+                timing["memory"]["busy_cycles"].get<double>() /
+                    (cycles * timing["memory"]["channels"].size()),
+                1e-12);
     EXPECT_EQ(j["load_balance"].size(), stats["config"]["units"].get<size_t>());
     const std::string bound = j["bound"];
     EXPECT_TRUE(bound == "memory" || bound == j["bottleneck"]["kind"]) << bound;

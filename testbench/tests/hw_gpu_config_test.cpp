@@ -49,26 +49,34 @@ TEST(GpuConfig, Defaults) {
   EXPECT_EQ(c.fifo_depth, 16u);
   EXPECT_EQ(c.memory.latency, 20u);
   EXPECT_EQ(c.memory.bytes_per_cycle, 32u);
-  EXPECT_EQ(c.memory.channels, 1u);
-  EXPECT_EQ(c.memory.interleave_bytes, 256u);
+  EXPECT_EQ(c.memory.channels, 4u);
+  EXPECT_EQ(c.memory.interleave_bytes, 1024u);
+  EXPECT_EQ(c.surfaces, (SurfaceConfig{true, 1024, true}));
+  EXPECT_EQ(c.compression, (CompressionConfig{true, true, 8, 8}));
   EXPECT_EQ(c.vertex_cache_entries, 32u);
   EXPECT_EQ(c.tile_cache_entries, 16u);
   EXPECT_EQ(c.hierarchical_z, (HierarchicalZConfig{false, 5, 4}));
   EXPECT_EQ(c.samples_per_pass, 4u);
-  EXPECT_FALSE(c.tile_test_overlap);
+  EXPECT_TRUE(c.tile_test_overlap);
+  // The baseline: every mechanism of issue #11 off, the rest the defaults.
+  const GpuConfig b = GpuConfig::baseline();
+  EXPECT_EQ(b.memory, (MemoryConfig{20, 32, 1, 256}));
+  EXPECT_EQ(b.surfaces, (SurfaceConfig{false, 1024, false}));
+  EXPECT_FALSE(b.compression.depth || b.compression.colour);
+  EXPECT_FALSE(b.hierarchical_z.enabled);
+  EXPECT_FALSE(b.tile_test_overlap);
+  GpuConfig b2 = b;
+  b2.memory = c.memory;
+  b2.surfaces = c.surfaces;
+  b2.compression = c.compression;
+  b2.tile_test_overlap = true;
+  EXPECT_EQ(b2, c);
   EXPECT_EQ(c.sample_passes(1), 1u);
   EXPECT_EQ(c.sample_passes(4), 1u);
   EXPECT_EQ(c.sample_passes(16), 4u);
   EXPECT_EQ(c.lighting_cycles_per_pixel, 1u);
   EXPECT_EQ(c.lighting_cycles_per_light, 2u);
   EXPECT_EQ(c.watchdog_cycles, 1000000u);
-  EXPECT_FALSE(c.surfaces.tiled);
-  EXPECT_EQ(c.surfaces.max_burst_bytes, 1024u);
-  EXPECT_FALSE(c.surfaces.skip_overwritten_fill);
-  EXPECT_FALSE(c.compression.depth);
-  EXPECT_FALSE(c.compression.colour);
-  EXPECT_EQ(c.compression.compressor_latency, 8u);
-  EXPECT_EQ(c.compression.decompressor_latency, 8u);
 
   ASSERT_EQ(GpuConfig::stage_names().size(), 11u);
   EXPECT_EQ(GpuConfig::stage_names().front(), "command_processor");
@@ -355,7 +363,8 @@ std::string override_error(const json& base, const std::vector<ConfigOverride>& 
 
 TEST(GpuConfig, SurfacesAndCompression) {
   const GpuConfig c = gpu_config_from_json(json::parse(R"({"surfaces": {"tiled": true,
-      "max_burst_bytes": 64}, "compression": {"colour": true, "decompressor_latency": 0}})"),
+      "max_burst_bytes": 64, "skip_overwritten_fill": false}, "compression": {"colour": true,
+      "depth": false, "decompressor_latency": 0}})"),
                                            "gpu.json");
   EXPECT_TRUE(c.surfaces.tiled);
   EXPECT_EQ(c.surfaces.max_burst_bytes, 64u);
@@ -365,8 +374,14 @@ TEST(GpuConfig, SurfacesAndCompression) {
   EXPECT_EQ(c.compression.compressor_latency, 8u);
   EXPECT_EQ(c.compression.decompressor_latency, 0u);
   // A compressed tile is one block of variable size: only tiled surfaces have one.
-  EXPECT_EQ(error_of(json::parse(R"({"compression": {"depth": true}})")),
+  EXPECT_EQ(error_of(json::parse(R"({"surfaces": {"tiled": false},
+                                     "compression": {"depth": true}})")),
             "gpu.json: compression.depth: compression needs surfaces.tiled true");
+  EXPECT_EQ(error_of(json::parse(R"({"surfaces": {"tiled": false}})")),
+            "gpu.json: surfaces.tiled: false needs compression.depth and compression.colour false "
+            "(compression needs tiled surfaces)");
+  EXPECT_FALSE(gpu_config_from_json(json::parse(R"({"surfaces": {"tiled": false},
+      "compression": {"depth": false, "colour": false}})"), "gpu.json").surfaces.tiled);
   EXPECT_EQ(error_of(json::parse(R"({"surfaces": {"tiled": false},
                                      "compression": {"colour": true}})")),
             "gpu.json: compression.colour: compression needs surfaces.tiled true");
@@ -377,10 +392,10 @@ TEST(GpuConfig, SurfacesAndCompression) {
   EXPECT_EQ(error_of(json::parse(R"({"compression": {"color": true}})")),
             "gpu.json: compression.color: unknown key (allowed: depth, colour, "
             "compressor_latency, decompressor_latency)");
-  EXPECT_EQ(override_error(to_json(GpuConfig()), sets({"compression.depth=true"})),
+  EXPECT_EQ(override_error(to_json(GpuConfig::baseline()), sets({"compression.depth=true"})),
             "--set compression.depth=true: compression.depth: compression needs surfaces.tiled "
             "true");
-  EXPECT_EQ(gpu_config_with_overrides(to_json(GpuConfig()),
+  EXPECT_EQ(gpu_config_with_overrides(to_json(GpuConfig::baseline()),
                                       sets({"surfaces.tiled=true", "compression.depth=true"}))
                 .compression.depth,
             true);

@@ -26,7 +26,7 @@ namespace gpusim {
 // no time, but one delta; timing tests run without it).
 
 struct Bench {
-  GpuConfig config;
+  GpuConfig config = GpuConfig::baseline();
   FrameState frame;
   Fifo<ClippedPrimitive> input;
   TriangleSetup setup;

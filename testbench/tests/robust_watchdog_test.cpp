@@ -160,7 +160,7 @@ TEST(Watchdog, DoesNotChangeOrStopANormalRun) {
   Scene wide = strip_scene(4);
   wide.framebuffer.width = 8192;
   wide.framebuffer.height = 1024;
-  GpuConfig slow_memory;
+  GpuConfig slow_memory = GpuConfig::baseline();
   slow_memory.watchdog_cycles = 20000;
   slow_memory.memory.bytes_per_cycle = 4;
   const GpuRunResult c = run_gpu(wide, slow_memory, {});

@@ -42,11 +42,12 @@ Draw giant_triangle(bool depth_test = false) {
 // the frame (64 KiB per cycle, no latency) and tile caches that hold every
 // tile, so the only memory traffic is the final write-back.
 GpuConfig fill_bound(unsigned units) {
-  GpuConfig c;
+  GpuConfig c = GpuConfig::baseline();
   c.units = units;
   c.tile_size = 16;
   c.stamp = {4, 4};
-  c.memory = {0, 65536};
+  c.memory.latency = 0;
+  c.memory.bytes_per_cycle = 65536;
   c.tile_cache_entries = 1024;
   return c;
 }
@@ -291,7 +292,7 @@ Scene tiny_triangles(int count) {
 // test + 1 stamp, the back end 1 stamp each; 3 vertices of fetch traffic are
 // 48 bytes, 2 bus cycles at 32 bytes per cycle.
 GpuConfig setup_bound(unsigned fifo_depth) {
-  GpuConfig c;
+  GpuConfig c = GpuConfig::baseline();
   c.units = 1;
   c.fifo_depth = fifo_depth;
   c.stages["vertex_shader"] = {1, 24};
@@ -382,9 +383,10 @@ TEST(Cycles, MemoryBandwidthCapSlowsTheWriteBackAsPredicted) {
   Scene s = clip_space_scene();
   s.draws.push_back(giant_triangle(true));
   GpuConfig wide = fill_bound(1);
-  wide.memory = {20, 64};
+  wide.memory.latency = 20;
+  wide.memory.bytes_per_cycle = 64;
   GpuConfig narrow = wide;
-  narrow.memory = {20, 16};
+  narrow.memory.bytes_per_cycle = 16;
   const GpuRunResult a = run(s, wide);
   const GpuRunResult b = run(s, narrow);
   EXPECT_EQ(cycles(b) - cycles(a), 8192 * (4 - 1) + 2);
@@ -394,7 +396,7 @@ TEST(Cycles, RandomStallsAtEveryFifoLeaveTheFrameUnchanged) {
   for (const char* name : {"default", "states", "clipping", "shared_edges", "clears_samples4"}) {
     const Scene s =
         load_scene(std::string(GPUSIM_SOURCE_DIR) + "/testbench/scenes/" + name + ".json");
-    GpuConfig c;
+    GpuConfig c = GpuConfig::baseline();
     c.units = 3;
     c.fifo_depth = 2;
     GpuRunOptions stalled;

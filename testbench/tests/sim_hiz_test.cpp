@@ -46,11 +46,12 @@ Scene occluded_layer(int gap) {
 
 // One unit, 16x16 tiles, 4x4 stamps, a memory that never stalls.
 GpuConfig config(bool hz, unsigned update_latency = 4) {
-  GpuConfig c;
+  GpuConfig c = GpuConfig::baseline();
   c.units = 1;
   c.tile_size = 16;
   c.stamp = {4, 4};
-  c.memory = {0, 65536};
+  c.memory.latency = 0;
+  c.memory.bytes_per_cycle = 65536;
   c.tile_cache_entries = 1024;
   c.hierarchical_z.enabled = hz;
   c.hierarchical_z.update_latency = update_latency;

@@ -491,7 +491,7 @@ std::string first_difference(const Framebuffer& got, const Framebuffer& want) {
 struct Case {
   std::string label;
   Scene scene;
-  GpuConfig config;
+  GpuConfig config = GpuConfig::baseline();
   FrameState frame;
   std::unique_ptr<BackEnd> bench;
   golden::Result expected;
@@ -527,7 +527,7 @@ struct Case {
 
 GpuConfig config(unsigned units, unsigned tile, unsigned sw, unsigned sh, unsigned fifo,
                  unsigned entries) {
-  GpuConfig c;
+  GpuConfig c = GpuConfig::baseline();
   c.units = units;
   c.tile_size = tile;
   c.stamp = {sw, sh};
@@ -673,7 +673,7 @@ TEST(BackEnd, ColorMasksShadingAndClearValues) {
 // on every FIFO: the results must all equal the golden model's.
 TEST(BackEnd, ConfigurationsWithAndWithoutRandomStalls) {
   struct Setup {
-    GpuConfig config;
+    GpuConfig config = GpuConfig::baseline();
     int w, h;
     ColorFormat cf;
     DepthFormat df;

@@ -288,7 +288,7 @@ std::vector<ClippedPrimitive> tokens_for(const std::vector<LineCase>& cases) {
 }
 
 GpuConfig config_with(unsigned units, unsigned tile, unsigned sw, unsigned sh) {
-  GpuConfig c;
+  GpuConfig c = GpuConfig::baseline();
   c.units = units;
   c.tile_size = tile;
   c.stamp = {sw, sh};
@@ -568,7 +568,7 @@ struct DepthRecorder : FragmentProbe {
 };
 
 struct BackBench {
-  GpuConfig config;
+  GpuConfig config = GpuConfig::baseline();
   FrameState frame;
   Memory memory;
   Fifo<ClippedPrimitive> input;

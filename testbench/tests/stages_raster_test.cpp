@@ -646,7 +646,7 @@ class RasterCore : public ::testing::TestWithParam<RasterParam> {};
 
 TEST_P(RasterCore, MatchesGoldenRuleAndCosts) {
   const auto [units, tile, stamp] = GetParam();
-  GpuConfig cfg;
+  GpuConfig cfg = GpuConfig::baseline();
   cfg.units = units;
   cfg.tile_size = tile;
   cfg.stamp = stamp;
@@ -777,7 +777,7 @@ TEST_P(RasterVsRender, CountsLastWriterAndDepthEqualGolden) {
   }
   tokens.push_back(control(PacketKind::end_of_frame));
 
-  GpuConfig cfg;
+  GpuConfig cfg = GpuConfig::baseline();
   cfg.units = units;
   cfg.tile_size = tile;
   cfg.stamp = stamp;
@@ -859,7 +859,7 @@ INSTANTIATE_TEST_SUITE_P(Formats, RasterVsRender,
 // m = 0.0625; offset = 1 * 0.0625 + 2 * float(1 / 65535).
 // Covered: the 6 pixels with x + y <= 2 (x + y = 3 lies on E0, not owned).
 TEST(TriangleSetup, HandWorkedClockwiseTriangle) {
-  GpuConfig cfg;
+  GpuConfig cfg = GpuConfig::baseline();
   cfg.units = 1;
   FrameState frame;
   frame.framebuffer.width = 64;
@@ -905,7 +905,7 @@ TEST(TriangleSetup, HandWorkedClockwiseTriangle) {
 // Triangles counted rasterized whose box holds no pixel centre are not sent:
 // a sliver between centres, one left of the screen, one above it.
 TEST(TriangleSetup, EmptyBoxCountsRasterizedButSendsNothing) {
-  GpuConfig cfg;
+  GpuConfig cfg = GpuConfig::baseline();
   cfg.units = 2;
   FrameState frame;
   frame.framebuffer.width = 32;
@@ -956,7 +956,7 @@ FrameState quad_frame() {
 }
 
 TEST(RasterTiming, FullScreenQuadOneUnit) {
-  GpuConfig cfg;
+  GpuConfig cfg = GpuConfig::baseline();
   cfg.units = 1;
   cfg.tile_size = 16;
   cfg.stamp = {4, 4};
@@ -1008,7 +1008,7 @@ TEST(RasterTiming, FullScreenQuadOneUnit) {
 // with A). Unit u's last batch (its last tile in walk order has coverage
 // for B) is readable at 26 + 2 * cost + 2.
 TEST(RasterTiming, FullScreenQuadFourUnitsSplitEvenly) {
-  GpuConfig cfg;
+  GpuConfig cfg = GpuConfig::baseline();
   cfg.units = 4;
   cfg.tile_size = 16;
   cfg.stamp = {4, 4};
