@@ -284,6 +284,10 @@ void print_warnings(const Scene& scene, const nlohmann::json& c) {
   }
 }
 
+// A golden render nothing compares with the cycle model: no per-pixel last
+// writers (only --check prints them).
+constexpr golden::RenderOptions kNoLastWriters{false};
+
 int run_golden(const std::string& scene_path, const std::string& out_dir, uint64_t memory_mib,
                const ProgressArgs& progress_args) {
   Progress progress = make_progress(progress_args);
@@ -295,7 +299,7 @@ int run_golden(const std::string& scene_path, const std::string& out_dir, uint64
   check_memory(estimate_golden_memory(scene), memory_limit(memory_mib), scene_path);
   progress.begin("render", "rendering with the golden model");
   const auto start = std::chrono::steady_clock::now();
-  const golden::Result result = golden::render(scene);
+  const golden::Result result = golden::render(scene, kNoLastWriters);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const std::vector<std::string> errors = pipeline_count_errors(result.stats.to_json());
@@ -620,7 +624,7 @@ int run_replay(const ReplayArgs& args, const ProgressArgs& progress_args) {
       stats["stats"] = result.counts;
       stats["timing"] = result.timing;
     } else {
-      golden::Result result = golden::render(scene);
+      golden::Result result = golden::render(scene, kNoLastWriters);
       fb = std::move(result.framebuffer);
       stats["stats"] = result.stats.to_json();
     }

@@ -260,7 +260,7 @@ float polygon_offset(const SetupTriangle& t, const RenderState& st, DepthFormat 
 
 class Renderer {
  public:
-  explicit Renderer(const Scene& scene)
+  Renderer(const Scene& scene, const RenderOptions& options)
       : m_scene(scene),
         m_k(scene.framebuffer.supersample),
         m_samples(scene.framebuffer.samples),
@@ -272,7 +272,9 @@ class Renderer {
     m_fb.clear(rgba, scene.framebuffer.clear_depth);
     ++m_stats.color_clears;
     ++m_stats.depth_clears;
-    m_last_writer.assign(static_cast<size_t>(m_fb.width) * m_fb.height, -1);
+    if (options.record_last_writer) {
+      m_last_writer.assign(static_cast<size_t>(m_fb.width) * m_fb.height, -1);
+    }
     for (unsigned i = 0; i < m_samples; ++i) {
       const SampleOffset o = sample_offset(m_samples, i);
       m_sample_dx[i] = o.dx;
@@ -331,14 +333,29 @@ class Renderer {
     m_viewport = {viewport_of(state, m_fb.width, m_fb.height), state.depth_near, state.depth_far};
     m_guard_band = guard_band_for(m_viewport.rect);
     m_bounds = draw_bounds(state, m_fb.width, m_fb.height);
-    std::vector<ShadedVertex> shaded(draw.positions.size());
-    for (uint32_t i = 0; i < shaded.size(); ++i) shaded[i] = shade_vertex(m_scene, draw, i);
-    // The vertex in a slot, or nullptr when the primitive is invalid (an
-    // index out of range or a non-finite clip coordinate).
-    const auto vertex = [&](uint32_t slot) -> const ShadedVertex* {
+    // The shaded-vertex cache: a power of two of entries, no more than the
+    // draw has positions (up to kShadedVertexCache), entry vi % size; tag -1:
+    // empty. Meshes index neighbouring vertices close together, so a vertex
+    // is mostly shaded once; a miss only costs its shading again.
+    const size_t n = draw.positions.size();
+    size_t entries = 1;
+    while (entries < std::min<size_t>(n, kShadedVertexCache)) entries *= 2;
+    m_shaded.resize(entries);
+    m_shaded_tag.assign(entries, -1);
+    const size_t mask = entries - 1;
+    // The vertex in a slot, copied into `out` (a primitive's next vertex
+    // may evict it); false when the primitive is invalid (an index out of
+    // range or a non-finite clip coordinate).
+    const auto vertex = [&](uint32_t slot, ShadedVertex& out) {
       const uint32_t vi = draw.indices.empty() ? slot : draw.indices[slot];
-      if (vi >= shaded.size() || !is_finite(shaded[vi].clip)) return nullptr;
-      return &shaded[vi];
+      if (vi >= n) return false;
+      const size_t e = vi & mask;
+      if (m_shaded_tag[e] != vi) {
+        m_shaded[e] = shade_vertex(m_scene, draw, vi);
+        m_shaded_tag[e] = vi;
+      }
+      out = m_shaded[e];
+      return is_finite(out.clip);
     };
 
     switch (primitive_class(draw.primitive)) {
@@ -351,11 +368,7 @@ class Renderer {
           ++m_stats.triangles_in;
           std::array<ShadedVertex, 3> tri;
           bool valid = true;
-          for (int k = 0; k < 3 && valid; ++k) {
-            const ShadedVertex* v = vertex(slots[k]);
-            valid = v != nullptr;
-            if (valid) tri[k] = *v;
-          }
+          for (int k = 0; k < 3 && valid; ++k) valid = vertex(slots[k], tri[k]);
           if (!valid) {
             ++m_stats.triangles_invalid;
           } else if (state.polygon_mode == PolygonMode::fill) {
@@ -370,27 +383,26 @@ class Renderer {
         for (const LineSlots& slots : assemble_lines(draw.primitive, draw.vertex_count())) {
           const int64_t id = m_next_primitive_id++;
           ++m_stats.lines_in;
-          const ShadedVertex* a = vertex(slots.v[0]);
-          const ShadedVertex* b = vertex(slots.v[1]);
-          if (a == nullptr || b == nullptr) {
+          std::array<ShadedVertex, 2> line;
+          if (!vertex(slots.v[0], line[0]) || !vertex(slots.v[1], line[1])) {
             ++m_stats.lines_invalid;
             continue;
           }
-          render_line(state, {*a, *b}, slots.draw_first, slots.draw_last, id);
+          render_line(state, line, slots.draw_first, slots.draw_last, id);
         }
         break;
       case PrimitiveClass::point:
         for (const uint32_t slot : assemble_points(draw.primitive, draw.vertex_count())) {
           const int64_t id = m_next_primitive_id++;
           ++m_stats.points_in;
-          const ShadedVertex* v = vertex(slot);
-          if (v == nullptr) {
+          ShadedVertex v;
+          if (!vertex(slot, v)) {
             ++m_stats.points_invalid;
-          } else if (!point_in_view_volume(v->clip)) {
+          } else if (!point_in_view_volume(v.clip)) {
             ++m_stats.points_clipped_away;
           } else {
             // A point's colour is its vertex's, whatever the shading.
-            rasterize_point(state, *v, v->color, id);
+            rasterize_point(state, v, v.color, id);
           }
         }
         break;
@@ -742,7 +754,7 @@ class Renderer {
     if (!(st.color_mask[0] || st.color_mask[1] || st.color_mask[2] || st.color_mask[3])) return;
     ++m_stats.fragments_written;
     m_stats.samples_written += n;
-    m_last_writer[m_fb.pixel_index(x, y)] = id;
+    if (!m_last_writer.empty()) m_last_writer[m_fb.pixel_index(x, y)] = id;
     const ColorFormat fmt = m_fb.color_format;
     for (unsigned s = 0; s < m_samples; ++s) {
       if (!(passed >> s & 1)) continue;
@@ -770,7 +782,11 @@ class Renderer {
   ViewportTransform m_viewport;
   GuardBand m_guard_band{};
   PixelBounds m_bounds;
-  std::vector<int64_t> m_last_writer;
+  std::vector<int64_t> m_last_writer;  // empty unless recorded
+  // The current draw's shaded-vertex cache (render_draw) and its tags: the
+  // vertex index an entry holds, or -1.
+  std::vector<ShadedVertex> m_shaded;
+  std::vector<int64_t> m_shaded_tag;
   Stats m_stats;
   int64_t m_next_primitive_id = 0;  // every kind, in API order
   // Sample offsets from the pixel centre (subpixels), and their extremes.
@@ -1287,8 +1303,8 @@ nlohmann::json Stats::to_json() const {
           {"samples_written", samples_written}};
 }
 
-Result render(const Scene& scene) {
-  return Renderer(scene).run();
+Result render(const Scene& scene, const RenderOptions& options) {
+  return Renderer(scene, options).run();
 }
 
 }  // namespace gpusim::golden

@@ -243,8 +243,20 @@ struct Result {
   Stats stats;
 };
 
+struct RenderOptions {
+  // Keep Result::last_writer (8 bytes a render-target pixel). Only comparisons
+  // with the cycle model read it (`gpusim run --check`, the tests); `gpusim
+  // golden` and `gpusim replay` leave it empty. Frames and stats are the same
+  // either way.
+  bool record_last_writer = true;
+};
+
 // Render the scene: clear, then every draw and clear of the draw list in
-// order, then resolve.
-Result render(const Scene& scene);
+// order, then resolve. A draw's vertices are shaded when its primitives first
+// use them, through a direct-mapped cache of at most kShadedVertexCache
+// entries, not into an array per position: shade_vertex depends on the vertex
+// alone, so a vertex shaded again is the same bits.
+Result render(const Scene& scene, const RenderOptions& options = {});
+constexpr uint32_t kShadedVertexCache = 1u << 16;  // entries of 56 + 8 bytes
 
 }  // namespace gpusim::golden

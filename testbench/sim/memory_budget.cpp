@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "hw/framebuffer.h"
+#include "testbench/golden/golden_model.h"
 #include "testbench/sim/gpu_run.h"
 
 namespace gpusim {
@@ -60,16 +61,17 @@ uint64_t scene_array_bytes(const Scene& s) {
   return n;
 }
 
-// What golden::render holds for its largest draw: a shaded vertex (clip
-// position and colour, and the normal and eye position of Phong shading,
-// golden::ShadedVertex) per position and the assembled triangles (3 slots).
+// What golden::render holds for its largest draw: the shaded-vertex cache,
+// a golden::ShadedVertex and a tag per entry, as many entries as the next
+// power of two of the draw's positions, at most golden::kShadedVertexCache.
 uint64_t golden_draw_bytes(const Scene& s) {
   uint64_t most = 0;
   for (const Draw& d : s.draws) {
-    const uint64_t triangles = primitive_count(d.primitive, d.vertex_count());
-    most = std::max<uint64_t>(
-        most,
-        d.positions.size() * (2 * sizeof(glm::vec4) + 2 * sizeof(glm::vec3)) + triangles * 12);
+    uint64_t entries = 1;
+    while (entries < std::min<uint64_t>(d.positions.size(), golden::kShadedVertexCache)) {
+      entries *= 2;
+    }
+    most = std::max<uint64_t>(most, entries * (sizeof(golden::ShadedVertex) + sizeof(int64_t)));
   }
   return most;
 }
@@ -144,8 +146,7 @@ MemoryEstimate estimate_golden_memory(const Scene& scene) {
   MemoryEstimate e;
   e.parts.push_back({"scene arrays", scene_array_bytes(scene)});
   e.parts.push_back({"golden framebuffer " + size_text(scene), framebuffer_bytes(scene)});
-  e.parts.push_back({"per-pixel last writer", target_pixels(scene) * sizeof(int64_t)});
-  e.parts.push_back({"largest draw's shaded vertices and triangles", golden_draw_bytes(scene)});
+  e.parts.push_back({"largest draw's shaded-vertex cache", golden_draw_bytes(scene)});
   e.parts.push_back({"output images", output_bytes(scene)});
   return e;
 }
@@ -167,8 +168,7 @@ MemoryEstimate estimate_cycle_memory(const Scene& scene, const GpuConfig& config
     e.parts.push_back(
         {"per-pixel last writer (x2, --check)", 2 * target_pixels(scene) * sizeof(int64_t)});
     e.parts.push_back({"golden framebuffer (--check)", framebuffer_bytes(scene)});
-    e.parts.push_back(
-        {"largest draw's shaded vertices and triangles (--check)", golden_draw_bytes(scene)});
+    e.parts.push_back({"largest draw's shaded-vertex cache (--check)", golden_draw_bytes(scene)});
   }
   e.parts.push_back({"output images", output_bytes(scene)});
   return e;

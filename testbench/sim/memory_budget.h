@@ -27,9 +27,9 @@ struct MemoryEstimate {
   std::string describe() const;
 };
 
-// golden: golden::render and the output images. cycle: run_gpu (the GPU's
-// memory image, read back) and the output images; with `check`, also the
-// per-pixel last-writer map and a golden render to compare with.
+// golden: golden::render without the last-writer map, and the output images. cycle: run_gpu (the
+// GPU's memory image, read back) and the output images; with `check`, also the per-pixel
+// last-writer map and a golden render to compare with.
 MemoryEstimate estimate_golden_memory(const Scene& scene);
 MemoryEstimate estimate_cycle_memory(const Scene& scene, const GpuConfig& config, bool check);
 

@@ -342,5 +342,137 @@ TEST(GoldenCulling, ClippedPiecesAreCulledEachOnce) {
   EXPECT_EQ(r.stats.fragments_generated, 0u);
 }
 
+// ---------------------------------------------------------------------------
+// The shaded-vertex cache (golden::render): a draw of more than
+// kShadedVertexCache positions whose primitives use vertices v, v + 2^16 and
+// v + 2^17, which share a cache entry, renders what the same primitives give
+// from a compact copy of the draw (only the used vertices, in order of first
+// use), which the cache holds whole. Triangles, lines (the second end evicts
+// the first) and points, one triangle with a non-finite vertex between two
+// valid ones of its entry.
+
+struct CacheScenes {
+  Scene wide, compact;
+};
+
+CacheScenes cache_scenes() {
+  constexpr uint32_t kStep = golden::kShadedVertexCache;
+  constexpr int kN = 20;  // triangles in a 5 x 4 grid of 12-pixel cells
+  const uint32_t n = 2 * kStep + 8 * kN;
+  const auto color_of = [](uint32_t vi) {
+    return glm::vec4(static_cast<float>(vi * 37 % 256) / 255.0f,
+                     static_cast<float>(vi * 91 % 256) / 255.0f,
+                     static_cast<float>(vi * 13 % 256) / 255.0f, 1.0f);
+  };
+  // Window pixels -> clip (w = 1) in a 64 x 64 framebuffer.
+  const auto px = [](float x, float y) {
+    return glm::vec4(x / 32.0f - 1.0f, y / 32.0f - 1.0f, 0.0f, 1.0f);
+  };
+  Draw wide = draw_of(PrimitiveType::triangles, std::vector<glm::vec4>(n, px(1, 1)));
+  wide.colors.resize(n);
+  for (uint32_t vi = 0; vi < n; ++vi) wide.colors[vi] = color_of(vi);
+  std::vector<uint32_t> tris, lines, points;
+  for (uint32_t j = 0; j < kN; ++j) {
+    const uint32_t a = 7 * j + 1;
+    const float x = 12.0f * static_cast<float>(j % 5) + 2.0f;
+    const float y = 12.0f * static_cast<float>(j / 5) + 2.0f;
+    wide.positions[a] = px(x, y);
+    wide.positions[a + kStep] = px(x + 10.5f, y + 1.25f);
+    wide.positions[a + 2 * kStep] = px(x + 3.75f, y + 9.5f);
+    tris.insert(tris.end(), {a, a + kStep, a + 2 * kStep});
+    lines.insert(lines.end(), {a + kStep, a});
+    points.insert(points.end(), {a + 2 * kStep, a});
+  }
+  const uint32_t bad = 7 * kN + 3;  // an invalid triangle, then its valid vertices
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  wide.positions[bad] = px(50, 50);
+  wide.positions[bad + kStep] = glm::vec4(nan, 0.0f, 0.0f, 1.0f);
+  wide.positions[bad + 2 * kStep] = px(60, 58);
+  tris.insert(tris.end(), {bad, bad + kStep, bad + 2 * kStep});
+  lines.insert(lines.end(), {bad, bad + 2 * kStep});
+
+  CacheScenes s{make_scene(64, 64), make_scene(64, 64)};
+  std::vector<uint32_t> used;  // compact index -> wide index
+  std::vector<int64_t> compact_of(n, -1);
+  const auto compact_indices = [&](const std::vector<uint32_t>& wide_indices) {
+    std::vector<uint32_t> out;
+    for (const uint32_t vi : wide_indices) {
+      if (compact_of[vi] < 0) {
+        compact_of[vi] = static_cast<int64_t>(used.size());
+        used.push_back(vi);
+      }
+      out.push_back(static_cast<uint32_t>(compact_of[vi]));
+    }
+    return out;
+  };
+  const std::array<std::pair<PrimitiveType, std::vector<uint32_t>>, 3> draws = {
+      {{PrimitiveType::triangles, tris},
+       {PrimitiveType::lines, lines},
+       {PrimitiveType::points, points}}};
+  std::vector<std::vector<uint32_t>> compact_draw_indices;
+  for (const auto& [type, indices] : draws) {
+    Draw d = wide;
+    d.primitive = type;
+    d.indices = indices;
+    s.wide.draws.push_back(d);
+    compact_draw_indices.push_back(compact_indices(indices));
+  }
+  Draw compact = draw_of(PrimitiveType::triangles, {});
+  for (const uint32_t vi : used) {
+    compact.positions.push_back(wide.positions[vi]);
+    compact.colors.push_back(wide.colors[vi]);
+  }
+  for (size_t i = 0; i < draws.size(); ++i) {
+    Draw d = compact;
+    d.primitive = draws[i].first;
+    d.indices = compact_draw_indices[i];
+    s.compact.draws.push_back(d);
+  }
+  return s;
+}
+
+TEST(GoldenVertexCache, EvictedVerticesRenderAsTheirCompactCopy) {
+  const CacheScenes s = cache_scenes();
+  ASSERT_GT(s.wide.draws[0].positions.size(), 2u * golden::kShadedVertexCache);
+  ASSERT_LE(s.compact.draws[0].positions.size(), 3u * 21);
+  const golden::Result wide = golden::render(s.wide);
+  const golden::Result compact = golden::render(s.compact);
+  // Not vacuous: every primitive assembled, the NaN triangle alone invalid,
+  // every valid one drawn.
+  EXPECT_EQ(wide.stats.triangles_in, 21u);
+  EXPECT_EQ(wide.stats.triangles_invalid, 1u);
+  EXPECT_EQ(wide.stats.triangles_rasterized, 20u);
+  EXPECT_EQ(wide.stats.lines_in, 21u);
+  EXPECT_EQ(wide.stats.lines_rasterized, 21u);
+  EXPECT_EQ(wide.stats.points_rasterized, 40u);
+  EXPECT_GT(covered_pixels(wide), 20 * 30);
+  EXPECT_EQ(wide.stats.to_json(), compact.stats.to_json());
+  EXPECT_TRUE(wide.framebuffer.color == compact.framebuffer.color);
+  EXPECT_TRUE(wide.framebuffer.depth == compact.framebuffer.depth);
+  EXPECT_TRUE(wide.last_writer == compact.last_writer);
+}
+
+// `gpusim golden` renders without the per-pixel last writers: the same
+// frame and counters as with them, and no map. A colour clear in the draw
+// list resets the map it does not have.
+TEST(GoldenVertexCache, NoLastWritersSameFrameAndCounters) {
+  Scene scene = cache_scenes().wide;
+  ClearState clear;
+  clear.color = true;
+  clear.color_value = {0.25f, 0.5f, 0.75f, 1.0f};
+  clear.before_draw = 1;
+  scene.clears.push_back(clear);
+  const golden::Result with = golden::render(scene);
+  golden::RenderOptions options;
+  options.record_last_writer = false;
+  const golden::Result without = golden::render(scene, options);
+  ASSERT_EQ(with.last_writer.size(), 64u * 64u);
+  EXPECT_GT(covered_pixels(with), 20 * 10);  // the lines and points after the clear
+  EXPECT_TRUE(without.last_writer.empty());
+  EXPECT_EQ(with.stats.to_json(), without.stats.to_json());
+  EXPECT_TRUE(with.framebuffer.color == without.framebuffer.color);
+  EXPECT_TRUE(with.framebuffer.depth == without.framebuffer.depth);
+}
+
 }  // namespace
 }  // namespace gpusim
