@@ -81,8 +81,7 @@ void VertexShader::run() {
       if (lit) m_lit += batch.vertex_count;
       busy = uint64_t{m_cost.ii} * batch.vertex_count;
     }
-    work(busy);
-    emit(out, o);
+    work_then_emit(busy, out, o);
   }
 }
 
