@@ -78,12 +78,6 @@ class FifoOutIf : public virtual sc_core::sc_interface {
   // stale packet whose buffers a writer may clear and refill).
   virtual void write(T&& item) = 0;
   virtual void write(T&& item, const sc_core::sc_time& ready_at) = 0;
-  // As sc_core::wait(delay) then write(item, ready_at) (a stage's work, then
-  // its output), in fewer wake-ups when the FIFO is full; see Fifo.
-  virtual void write_after(const sc_core::sc_time& delay, const T& item,
-                           const sc_core::sc_time& ready_at) = 0;
-  virtual void write_after(const sc_core::sc_time& delay, T&& item,
-                           const sc_core::sc_time& ready_at) = 0;
   virtual bool nb_write(const T& item) = 0;
   virtual size_t num_free() const = 0;
   virtual size_t depth() const = 0;
@@ -207,8 +201,7 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
         m_ready(depth),
         m_data_written_event((std::string(name) + "_written").c_str()),
         m_data_read_event((std::string(name) + "_read").c_str()),
-        m_item_ready_event((std::string(name) + "_ready").c_str()),
-        m_writer_due_event((std::string(name) + "_due").c_str()) {
+        m_item_ready_event((std::string(name) + "_ready").c_str()) {
     if (depth == 0) throw std::invalid_argument(std::string("Fifo ") + name + ": depth 0");
   }
 
@@ -229,24 +222,6 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
     using std::swap;
     swap(m_buf[m_tail], item);
     push(ready);
-  }
-
-  // As wait(delay) then write(item, ready_at). A writer that finds the FIFO
-  // full sleeps on the read event from now on instead of on a timer: a slot
-  // freed after the delay wakes it once (not at the delay's end and again at
-  // the slot), a slot freed before wakes it to wait the rest. The item
-  // enters at the same instant and delta as through wait() and write(), and
-  // the writer's blocked time counts from the delay's end, as write()'s
-  // would (stats() adds it). With a trace probe or stall injection it is
-  // exactly wait() and write(), for the probe's blocked hooks and the
-  // stall draws.
-  void write_after(const sc_core::sc_time& delay, const T& item,
-                   const sc_core::sc_time& ready_at) override {
-    write(item, wait_before_write(delay, ready_at));
-  }
-  void write_after(const sc_core::sc_time& delay, T&& item,
-                   const sc_core::sc_time& ready_at) override {
-    write(std::move(item), wait_before_write(delay, ready_at));
   }
 
   // Blocking; SC_THREAD only. Waits while no item is readable.
@@ -362,9 +337,7 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
         now == 0 ? 0.0 : static_cast<double>(m_occupancy.area_at(now)) / static_cast<double>(now);
     s.full = sc_core::sc_time::from_value(m_full + (m_committed == depth() ? dt : 0));
     s.empty = sc_core::sc_time::from_value(m_empty + (m_committed == 0 ? dt : 0));
-    s.writer_blocked = sc_core::sc_time::from_value(
-        m_blocked_writers.area_at(now) + m_blocked_late +
-        (m_writer_due_set && now > m_writer_due ? now - m_writer_due : 0));
+    s.writer_blocked = sc_core::sc_time::from_value(m_blocked_writers.area_at(now));
     s.reader_blocked = sc_core::sc_time::from_value(m_blocked_readers.area_at(now));
     s.injected_stalls = m_injected_stalls;
     s.injected_stall = m_injected_stall;
@@ -413,35 +386,6 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
     // The latency runs from when the item enters the FIFO: a result waiting
     // for a free slot has not started down the output's register chain.
     return ready_at + (time_stamp() - called);
-  }
-
-  // write_after()'s wait; returns the ready time to write with, later than
-  // `ready_at` by any time the writer was blocked after the delay.
-  sc_core::sc_time wait_before_write(const sc_core::sc_time& delay,
-                                     const sc_core::sc_time& ready_at) {
-    const bool traced = kTraceHooks && m_probe != nullptr;
-    if (num_free() > 0 || delay == sc_core::SC_ZERO_TIME || traced || m_stall_probability > 0.0) {
-      if (delay != sc_core::SC_ZERO_TIME) sc_core::wait(delay);
-      return ready_at;
-    }
-    const uint64_t due = now() + delay.value();
-    m_writer_due = due;
-    m_writer_due_set = true;
-    // Nobody waits on it: it keeps the delay's end in the kernel's timeline,
-    // as the timed wait did, so a deadlock is seen at the same cycle.
-    m_writer_due_event.notify(delay);
-    do {
-      sc_core::wait(m_data_read_event);
-    } while (num_free() == 0);
-    m_writer_due_set = false;
-    const uint64_t woke = now();
-    if (woke < due) {
-      m_writer_due_event.cancel();
-      sc_core::wait(sc_core::sc_time::from_value(due - woke));
-      return ready_at;
-    }
-    m_blocked_late += woke - due;
-    return ready_at + sc_core::sc_time::from_value(woke - due);
   }
 
   // The blocking part of read(): waits until the oldest item is readable.
@@ -523,7 +467,7 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
     const bool observed = m_events_handed_out || m_watchers > 0;
     if (m_num_written && ((m_blocked_readers.level > 0 && !m_reader_asleep) || observed))
       m_data_written_event.notify(sc_core::SC_ZERO_TIME);
-    if (m_num_read && (m_blocked_writers.level > 0 || m_writer_due_set || observed))
+    if (m_num_read && (m_blocked_writers.level > 0 || observed))
       m_data_read_event.notify(sc_core::SC_ZERO_TIME);
     m_num_written = 0;
     m_num_read = 0;
@@ -571,12 +515,6 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
   uint64_t m_full = 0;  // sc_time values, closed at each update()
   uint64_t m_empty = 0;
   fifo_detail::Integral m_blocked_writers;
-  // A writer asleep in write_after() on a full FIFO: blocked from m_writer_due
-  // on, if still asleep then; m_blocked_late sums those intervals once over.
-  bool m_writer_due_set = false;
-  uint64_t m_writer_due = 0;
-  uint64_t m_blocked_late = 0;
-  sc_core::sc_event m_writer_due_event;
   fifo_detail::Integral m_blocked_readers;
 
   double m_stall_probability = 0.0;

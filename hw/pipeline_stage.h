@@ -6,9 +6,6 @@
 //   work(n)                    count n busy cycles and let them pass
 //   emit(out, item)            write it, readable latency cycles from now (tokens_out)
 //   emit_at(out, item, ready)  the same with a readiness the stage computed
-//   work_then_emit(n, out, item), work_then_emit_at(n, out, item, ready)
-//                              work(n) then the emit, in one wake-up when the
-//                              output is full throughout (Fifo::write_after)
 //   forward_control(out, k)    a control token: ii cycles, then emitted in order
 //   retire()                   a token consumed for good (the ROP)
 //
@@ -100,21 +97,6 @@ class PipelineStage : public sc_core::sc_module {
   template <typename T, typename P>
   void emit(FifoOutPort<T>& out, P&& item) {
     emit_at(out, std::forward<P>(item), sc_core::sc_time_stamp() + m_latency);
-  }
-
-  // work(cycles) then emit_at(out, item, ready); `ready` is what emit_at
-  // would be given after the work.
-  template <typename T, typename P>
-  void work_then_emit_at(uint64_t cycles, FifoOutPort<T>& out, P&& item,
-                         const sc_core::sc_time& ready) {
-    m_busy_cycles += cycles;
-    out->write_after(clock_cycles(cycles), std::forward<P>(item), ready);
-    ++m_tokens_out;
-  }
-  template <typename T, typename P>
-  void work_then_emit(uint64_t cycles, FifoOutPort<T>& out, P&& item) {
-    work_then_emit_at(cycles, out, std::forward<P>(item),
-                      sc_core::sc_time_stamp() + clock_cycles(cycles) + m_latency);
   }
 
   // Control tokens travel in band, behind the work before them.

@@ -79,12 +79,8 @@ void Clipper::run() {
       token.kind = batch.kind;
       m_out.push_back(token);
     }
-    if (m_out.empty()) {
-      work(busy);
-      continue;
-    }
-    work_then_emit(busy, out, m_out[0]);
-    for (size_t i = 1; i < m_out.size(); ++i) emit(out, m_out[i]);
+    work(busy);
+    for (const ClippedPrimitive& t : m_out) emit(out, t);
   }
 }
 

@@ -57,27 +57,19 @@ void TileDistributor::run() {
     }
     const uint64_t busy =
         uint64_t{m_cost.ii} * (kind == PacketKind::work ? std::max(1u, sends) : 1u);
-    const sc_core::sc_time ready = sc_core::sc_time_stamp() + clock_cycles(busy) + m_latency;
+    work(busy);
+    const sc_core::sc_time ready = sc_core::sc_time_stamp() + m_latency;
     // The last unit sent to takes the packet itself (a moving write leaves p
     // stale), the others a copy: one reference count update less.
-    unsigned first = units;
     unsigned last = 0;
     for (unsigned u = 0; u < units; ++u) {
-      if (!m_targets[u]) continue;
-      if (first == units) first = u;
-      last = u;
+      if (m_targets[u]) last = u;
     }
-    // The busy cycles end with the first write (Fifo::write_after).
-    if (first == units) work(busy);
     for (unsigned u = 0; u < units; ++u) {
       if (!m_targets[u]) continue;
       // Every copy is ready at the same time: a unit's full FIFO delays only
       // the copies after it, by the time it blocked (Fifo::write).
-      if (u == first && u == last) {
-        work_then_emit_at(busy, out[u], std::move(p), ready);
-      } else if (u == first) {
-        work_then_emit_at(busy, out[u], p, ready);
-      } else if (u == last) {
+      if (u == last) {
         emit_at(out[u], std::move(p), ready);
       } else {
         emit_at(out[u], p, ready);

@@ -461,25 +461,22 @@ void TriangleSetup::run() {
   }
   for (;;) {
     const ClippedPrimitive tri = receive(in);
-    // Computed at the start of the ii cycles rather than the end: setup()
-    // reads only the packet and the draw state.
+    work(m_cost.ii);
+
     SetupPacket p;
     p.kind = tri.kind;
     if (tri.kind == PacketKind::work) {
       std::shared_ptr<RasterPrimitive> t = setup(tri);
-      if (t && (t->x0 > t->x1 || t->y0 > t->y1)) {
+      if (!t) continue;
+      if (t->x0 > t->x1 || t->y0 > t->y1) {
         ++(t->primitive_kind == PrimitiveKind::triangle ? m_offscreen
            : t->primitive_kind == PrimitiveKind::line   ? m_lines_offscreen
                                                         : m_points_offscreen);
-        t.reset();
-      }
-      if (!t) {
-        work(m_cost.ii);
         continue;
       }
       p.triangle = std::move(t);
     }
-    work_then_emit(m_cost.ii, out, std::move(p));
+    emit(out, std::move(p));
   }
 }
 

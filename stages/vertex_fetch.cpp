@@ -65,7 +65,8 @@ void VertexFetch::fetch_draw(uint32_t draw_id) {
         sc_core::sc_time_stamp() + clock_cycles(std::max(busy, memory_cycles) + m_cost.latency);
     m_memory_cycles += memory_cycles;
     m_slots += batch.slot_count;
-    work_then_emit_at(busy, out, batch, ready);
+    work(busy);
+    emit_at(out, batch, ready);
     ++m_batches;
   }
 }

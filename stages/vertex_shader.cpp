@@ -81,7 +81,8 @@ void VertexShader::run() {
       if (lit) m_lit += batch.vertex_count;
       busy = uint64_t{m_cost.ii} * batch.vertex_count;
     }
-    work_then_emit(busy, out, o);
+    work(busy);
+    emit(out, o);
   }
 }
 

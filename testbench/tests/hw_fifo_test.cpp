@@ -243,65 +243,6 @@ TEST(Fifo, BlockedTimeCountsUpToNow) {
   EXPECT_EQ(f.stats().read, 1u);
 }
 
-// write_after(delay, item, ready) against wait(delay) then write(item, ready),
-// side by side on two depth-1 FIFOs. The writer fills the FIFO with item 0,
-// then writes items 1..3 each 4 cycles of work after the last write returned,
-// readable 2 cycles after it enters; the reader takes items at 2, 8, 15 and
-// as soon as readable. By hand:
-//   item 1: due 4, slot freed at 2 (before): written at 4, readable at 6
-//   item 2: due 8, slot freed at 8 (at the due time): written at 8, readable 10
-//   item 3: due 12, slot freed at 15 (after): written at 15, blocked 3 cycles,
-//           readable at 17 (the latency runs from when it enters)
-// Both writers must return and the reader see each item at these times, and
-// the blocked time must be 3 cycles, 2 of them when sampled at 14 (mid-block).
-TEST(Fifo, WriteAfterEqualsWaitThenWrite) {
-  Fifo<int> plain("plain", 1), combined("combined", 1);
-  struct Run {
-    std::vector<double> written, taken;
-    double blocked_at_14 = -1;
-  };
-  Run runs[2];
-  Fifo<int>* fifos[2] = {&plain, &combined};
-  for (int k = 0; k < 2; ++k) {
-    Fifo<int>& f = *fifos[k];
-    Run& r = runs[k];
-    spawn([&f, &r, k] {
-      f.write(0);
-      r.written.push_back(in_cycles(sc_core::sc_time_stamp()));
-      for (int i = 1; i <= 3; ++i) {
-        const sc_time ready = sc_core::sc_time_stamp() + cycles(4 + 2);
-        if (k == 0) {
-          wait(cycles(4));
-          f.write(i, ready);
-        } else {
-          f.write_after(cycles(4), i, ready);
-        }
-        r.written.push_back(in_cycles(sc_core::sc_time_stamp()));
-      }
-    });
-    spawn([&f, &r] {
-      for (int at : {2, 8, 15, -1}) {
-        if (at >= 0) wait(cycles(at) - sc_core::sc_time_stamp());
-        EXPECT_EQ(f.read(), static_cast<int>(r.taken.size()));
-        r.taken.push_back(in_cycles(sc_core::sc_time_stamp()));
-      }
-    });
-    spawn([&f, &r] {
-      wait(cycles(14));
-      r.blocked_at_14 = in_cycles(f.stats().writer_blocked);
-    });
-  }
-  sc_core::sc_start();
-  for (const Run& r : runs) {
-    EXPECT_EQ(r.written, (std::vector<double>{0, 4, 8, 15}));
-    EXPECT_EQ(r.taken, (std::vector<double>{2, 8, 15, 17}));
-    EXPECT_EQ(r.blocked_at_14, 2);
-  }
-  EXPECT_EQ(in_cycles(plain.stats().writer_blocked), 3);
-  EXPECT_EQ(in_cycles(combined.stats().writer_blocked), 3);
-  EXPECT_EQ(in_cycles(combined.stats().full), in_cycles(plain.stats().full));
-}
-
 // Non-blocking access and the delta-cycle visibility rule, step by step.
 TEST(Fifo, NonBlockingAccessAndDeltaVisibility) {
   Fifo<int> f("f", 2);
