@@ -153,8 +153,12 @@ class FifoChannel : public sc_core::sc_prim_channel {
   static nlohmann::json descriptions();
   virtual void inject_random_stalls(uint64_t seed, double probability, unsigned max_cycles,
                                     sc_core::sc_time cycle) = 0;
+  // The events for an observer outside the pipeline (the watchdog, the
+  // progress display), which waits on them only while nothing moves: they are
+  // notified only between its watch(true) and watch(false) calls.
   virtual const sc_core::sc_event& written_event() const = 0;
   virtual const sc_core::sc_event& read_event() const = 0;
+  void watch(bool on) { m_watchers += on ? 1 : -1; }
 
   // Test-only fault (docs/robustness.md, "Watchdog"): from now on the reader
   // never sees an item, as if its port were bound to a FIFO nobody writes.
@@ -163,6 +167,7 @@ class FifoChannel : public sc_core::sc_prim_channel {
 
  protected:
   bool m_withheld = false;
+  int m_watchers = 0;  // observers now waiting on written_event() / read_event()
 };
 
 inline nlohmann::json FifoChannel::descriptions() {
@@ -318,8 +323,8 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
   size_t capacity() const override { return m_buf.size(); }
   // As depth() - num_free(): a slot read in this delta is free only from the next.
   size_t occupancy() const override { return m_committed + m_num_written; }
-  const sc_core::sc_event& written_event() const override { return data_written_event(); }
-  const sc_core::sc_event& read_event() const override { return data_read_event(); }
+  const sc_core::sc_event& written_event() const override { return m_data_written_event; }
+  const sc_core::sc_event& read_event() const override { return m_data_read_event; }
 
   FifoStats stats() const override {
     const uint64_t now = this->now();
@@ -459,9 +464,10 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
       const sc_core::sc_time& now_t = time_stamp();
       m_item_ready_event.notify(ready > now_t ? ready - now_t : sc_core::SC_ZERO_TIME);
     }
-    if (m_num_written && ((m_blocked_readers.level > 0 && !m_reader_asleep) || m_events_handed_out))
+    const bool observed = m_events_handed_out || m_watchers > 0;
+    if (m_num_written && ((m_blocked_readers.level > 0 && !m_reader_asleep) || observed))
       m_data_written_event.notify(sc_core::SC_ZERO_TIME);
-    if (m_num_read && (m_blocked_writers.level > 0 || m_events_handed_out))
+    if (m_num_read && (m_blocked_writers.level > 0 || observed))
       m_data_read_event.notify(sc_core::SC_ZERO_TIME);
     m_num_written = 0;
     m_num_read = 0;

@@ -102,7 +102,7 @@ class Host : public sc_core::sc_module {
       // after it, and the final figures below would never be shown.
       if (!done && progress_count(m_gpu) == moved &&
           !transfers_in_flight(m_gpu, m_memory_latency)) {
-        sc_core::wait(activity);
+        wait_for_activity(m_gpu.topology(), activity);
       }
       moved = progress_count(m_gpu);
       if (!done) m_progress->update(state());

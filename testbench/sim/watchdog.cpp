@@ -38,6 +38,12 @@ sc_core::sc_event_or_list activity_events(const Topology& topology) {
   return events;
 }
 
+void wait_for_activity(const Topology& topology, const sc_core::sc_event_or_list& events) {
+  for (const Topology::FifoNode& f : topology.fifos()) f.channel->watch(true);
+  sc_core::wait(events);
+  for (const Topology::FifoNode& f : topology.fifos()) f.channel->watch(false);
+}
+
 NetlistSample sample(const Topology& topology) {
   NetlistSample s;
   for (const Topology::FifoNode& f : topology.fifos()) {
@@ -177,7 +183,7 @@ void Watchdog::run() {
       // Every stage waits on a FIFO: only an item moving could change that,
       // and nothing is left to move one. Stop counting so the kernel runs
       // out of events (run_gpu reports the deadlock); resume if one moves.
-      sc_core::wait(activity | m_gpu.unit_done_events());
+      wait_for_activity(topology, activity | m_gpu.unit_done_events());
       if (m_gpu.frame_done()) return;
       last = progress_count(m_gpu);
       last_progress = sc_core::sc_time_stamp();

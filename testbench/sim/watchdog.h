@@ -34,8 +34,12 @@ uint64_t progress_count(const Gpu& gpu);
 // transfer's latency not over. A tile cache's write-back of a whole frame is
 // issued at once and takes the bus for long after, with no item moving.
 bool transfers_in_flight(const Gpu& gpu, sc_core::sc_time memory_latency);
-// Notified whenever an item is written to or read from any FIFO.
+// Notified whenever an item is written to or read from any FIFO, while
+// someone waits on them through wait_for_activity.
 sc_core::sc_event_or_list activity_events(const Topology& topology);
+// Waits on `events` (activity_events, perhaps with more) with every FIFO
+// watched: a FIFO notifies its events only while watched (hw/fifo.h).
+void wait_for_activity(const Topology& topology, const sc_core::sc_event_or_list& events);
 
 // Every FIFO's blocked-time integrals at one instant; two samples tell
 // which stages were blocked in between.
