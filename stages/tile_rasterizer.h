@@ -110,7 +110,9 @@
 // clear passing the unit sets every block to the clear value. Per triangle,
 // its range P = hz_primitive_range() (hw/hierarchical_z.cpp: the vertices'
 // window z widened by a rounding margin and the polygon offset, encoded;
-// proved there to bound every value the depth test computes for it), and per
+// proved there to bound every value the depth test computes for it; the
+// full range for a vertex depth or offset that is not finite or |z| >= 2^62,
+// where that arithmetic can give NaN, stored as 0), and per
 // tile the coverage test keeps, one HZ test against the block B:
 //   less: cull if P.min >= B.max; lequal: P.min > B.max; greater:
 //   P.max <= B.min; gequal: P.max < B.min; equal: P outside B; never:

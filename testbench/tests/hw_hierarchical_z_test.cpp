@@ -5,6 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -58,6 +61,69 @@ TEST(HzPrimitiveRange, BoundsEveryDepthTheDepthTestComputes) {
     }
   }
   EXPECT_EQ(checked, 3u * 3000u * 40u);
+}
+
+// Issue #11: clipping can give a vertex a NaN depth, and depths far beyond
+// [0, 1] can overflow the depth test's products (inf - inf): either makes
+// z = NaN, which clamp01 stores as 0, outside the other vertices' range. A
+// NaN in any position, an infinity, a NaN or infinite offset and depths up
+// to 2^62 and beyond: every encoded depth at the corners and inside lies in
+// the range.
+TEST(HzPrimitiveRange, BoundsNonFiniteAndHugeDepths) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float inf = std::numeric_limits<float>::infinity();
+  std::vector<RasterPrimitive> cases;
+  const auto add = [&](std::array<float, 3> z, EdgeValue area2, float offset = 0.0f,
+                       bool has_offset = false) {
+    RasterPrimitive t;
+    t.z = z;
+    t.area2 = area2;
+    t.depth_offset = offset;
+    t.has_depth_offset = has_offset;
+    cases.push_back(t);
+  };
+  for (int k = 0; k < 3; ++k) {
+    std::array<float, 3> z = {0.5f, 0.5f, 0.5f};
+    z[k] = nan;
+    add(z, EdgeValue{1} << 33);  // ClipRoundingOnExtremeInputs's triangle, NaN moved around
+    z[k] = inf;
+    add(z, EdgeValue{1} << 20);
+    z[k] = -inf;
+    add(z, EdgeValue{1} << 20);
+  }
+  // Mid vertex first: f1 dz1 = -inf, f2 dz2 = +inf inside the triangle.
+  add({2e30f, 1e30f, 3e30f}, EdgeValue{1} << 40);
+  add({0x1p62f, 0x1p61f, 0x1.8p62f}, EdgeValue{1} << 62);
+  add({0x1.fffffep61f, 0x1p61f, 0x1.8p61f}, (EdgeValue{1} << 62) + 12345);  // just below 2^62
+  add({0.25f, 0.5f, 0.75f}, 1000, nan, true);
+  add({0.25f, 0.5f, 0.75f}, 1000, inf, true);
+  add({0.25f, 0.5f, 0.75f}, 1000, -inf, true);
+  add({1e18f, -1e18f, 0.5f}, 1000, 3e38f, true);
+  std::mt19937_64 rng(11);
+  uint64_t checked = 0, nan_depths = 0;
+  for (const DepthFormat f : {DepthFormat::unorm16, DepthFormat::unorm24, DepthFormat::float32}) {
+    for (size_t n = 0; n < cases.size(); ++n) {
+      const RasterPrimitive& t = cases[n];
+      const HzRange r = hz_primitive_range(t, f);
+      ASSERT_LE(r.min, r.max);
+      for (int k = 0; k < 200; ++k) {
+        EdgeValue e1 = static_cast<EdgeValue>(rng() % static_cast<uint64_t>(t.area2 + 1));
+        EdgeValue e2 = static_cast<EdgeValue>(rng() % static_cast<uint64_t>(t.area2 - e1 + 1));
+        if (k < 4) {  // the corners and the middle of the long edge
+          e1 = k == 1 ? t.area2 : k == 3 ? t.area2 / 2 : 0;
+          e2 = k == 2 ? t.area2 : k == 3 ? t.area2 / 2 : 0;
+        }
+        const float z = depth_at(t, e1, e2);
+        nan_depths += std::isnan(z) ? 1 : 0;
+        const DepthValue v = encode_depth(f, z);
+        ASSERT_GE(v, r.min) << n << " " << k << " z " << z;
+        ASSERT_LE(v, r.max) << n << " " << k << " z " << z;
+        ++checked;
+      }
+    }
+  }
+  EXPECT_EQ(checked, 3u * cases.size() * 200u);
+  EXPECT_GT(nan_depths, 0u);  // the cases do reach the NaN the old bound missed
 }
 
 TEST(HzPrimitiveRange, LinesAndPointsClaimNoBound) {

@@ -78,6 +78,14 @@ GpuConfig unusual_config() {
   return c;
 }
 
+// Hierarchical Z must not change a frame or a count (it may only cull tiles
+// whose every fragment fails the depth test), so every degenerate scene also
+// runs with it on.
+GpuConfig hz_config(GpuConfig c) {
+  c.hierarchical_z.enabled = true;
+  return c;
+}
+
 std::string first_difference(const Framebuffer& got, const Framebuffer& want) {
   for (int y = 0; y < got.height; ++y) {
     for (int x = 0; x < got.width; ++x) {
@@ -98,8 +106,10 @@ std::string first_difference(const Framebuffer& got, const Framebuffer& want) {
 // Runs both models under both configurations; returns the golden counters.
 nlohmann::json expect_models_agree(const Scene& scene) {
   const golden::Result want = golden::render(scene);
-  for (const GpuConfig& config : {GpuConfig{}, unusual_config()}) {
-    SCOPED_TRACE("units " + std::to_string(config.units));
+  for (const GpuConfig& config :
+       {GpuConfig{}, unusual_config(), hz_config(GpuConfig{}), hz_config(unusual_config())}) {
+    SCOPED_TRACE("units " + std::to_string(config.units) +
+                 (config.hierarchical_z.enabled ? ", hierarchical Z" : ""));
     GpuRunOptions options;
     options.record_last_writer = true;
     const GpuRunResult got = run_gpu(scene, config, options);
