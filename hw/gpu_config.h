@@ -77,7 +77,7 @@ struct CompressionConfig {
 // [min, max] of the stored depth per screen tile, tested by the rasterizer
 // before it walks a tile and kept exact by updates from the depth test.
 struct HierarchicalZConfig {
-  bool enabled = false;
+  bool enabled = true;
   unsigned access_latency = 5;  // cycles of latency the HZ test adds to a tile's batch (pipelined)
   unsigned update_latency = 4;  // cycles before a depth test update is visible to the rasterizer
 

@@ -55,7 +55,7 @@ TEST(GpuConfig, Defaults) {
   EXPECT_EQ(c.compression, (CompressionConfig{true, true, 8, 8}));
   EXPECT_EQ(c.vertex_cache_entries, 32u);
   EXPECT_EQ(c.tile_cache_entries, 16u);
-  EXPECT_EQ(c.hierarchical_z, (HierarchicalZConfig{false, 5, 4}));
+  EXPECT_EQ(c.hierarchical_z, (HierarchicalZConfig{true, 5, 4}));
   EXPECT_EQ(c.samples_per_pass, 4u);
   EXPECT_TRUE(c.tile_test_overlap);
   // The baseline: every mechanism of issue #11 off, the rest the defaults.
@@ -70,6 +70,7 @@ TEST(GpuConfig, Defaults) {
   b2.surfaces = c.surfaces;
   b2.compression = c.compression;
   b2.tile_test_overlap = true;
+  b2.hierarchical_z.enabled = true;
   EXPECT_EQ(b2, c);
   EXPECT_EQ(c.sample_passes(1), 1u);
   EXPECT_EQ(c.sample_passes(4), 1u);

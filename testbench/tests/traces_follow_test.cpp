@@ -76,24 +76,25 @@ TEST_F(TraceFollowTest, PrimitiveCyclesMatchTheCostModel) {
   //    unit: 94..95 (readable 97). With 4 units it still goes to unit 0 only
   //    (its one tile (0,0) is owned by unit (0 + 0) mod 4 = 0), and control
   //    tokens cost ii once, so the timing is the same on 1 or 4 units.
-  //  tile_rasterizer_0: clear 67..68 (readable 70); the job at 97: 16 stamps
+  //  tile_rasterizer_0: clear 67..68 (readable 70 + 5, the hierarchical-Z
+  //    test's access_latency on every token); the job at 97: 16 stamps
   //    evaluated (the tile is partial), the tile test overlapped with them
   //    (tile_test_overlap) = 16 cycles: 97..113, the batch of 10 stamps
-  //    readable at 115.
-  //  depth_test_0: clear 70..71 (readable 73); the batch at 115, ii x 10
+  //    readable at 113 + 2 + 5 = 120.
+  //  depth_test_0: clear 75..76 (readable 78); the batch at 120, ii x 10
   //    stamps, the tile filled from the fast clear without a memory read:
-  //    115..125 (readable 127).
-  //  interpolator_0: clear 73..74 (readable 80); the batch 127..137
-  //    (readable 143).
-  //  rop_0: clear 80..81; the batch at 143, ii x 10 stamps, again a clear
-  //    fill: 143..153.
+  //    120..130 (readable 132).
+  //  interpolator_0: clear 78..79 (readable 85); the batch 132..142
+  //    (readable 148).
+  //  rop_0: clear 85..86; the batch at 148, ii x 10 stamps, again a clear
+  //    fill: 148..158.
   const std::string scene = write_json("one_triangle.json", one_triangle_scene());
   const Expected expected[] = {
       {"command_processor", 1, 2, 1},     {"vertex_fetch", 4, 7, 1},
       {"vertex_shader", 28, 40, 3},       {"clipper", 64, 66, 3},
       {"triangle_setup", 74, 78, 1},      {"tile_distributor", 94, 95, 1},
-      {"tile_rasterizer_0", 97, 113, 10}, {"depth_test_0", 115, 125, 10},
-      {"interpolator_0", 127, 137, 10},   {"rop_0", 143, 153, 10},
+      {"tile_rasterizer_0", 97, 113, 10}, {"depth_test_0", 120, 130, 10},
+      {"interpolator_0", 132, 142, 10},   {"rop_0", 148, 158, 10},
   };
   for (const char* units : {"1", "4"}) {
     SCOPED_TRACE(std::string(units) + " units");
@@ -134,8 +135,8 @@ TEST_F(TraceFollowTest, PrimitiveCyclesMatchTheCostModel) {
   fields >> stage >> unit >> tile >> in >> out >> cycles >> count;
   EXPECT_EQ(unit, "0");
   EXPECT_EQ(tile, "(0,0)");
-  EXPECT_EQ(in, 143u);
-  EXPECT_EQ(out, 153u);
+  EXPECT_EQ(in, 148u);
+  EXPECT_EQ(out, 158u);
   EXPECT_EQ(cycles, 10u);
   EXPECT_EQ(count, 10u);
 }
