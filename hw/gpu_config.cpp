@@ -218,8 +218,7 @@ GpuConfig gpu_config_from_json(const nlohmann::json& j, const std::string& sourc
                {"clock_mhz", "units", "tile_size", "stamp", "fifo_depth", "fifo_depths", "stages",
                 "memory", "surfaces", "compression", "hierarchical_z", "vertex_cache_entries",
                 "tile_cache_entries", "samples_per_pass", "tile_test_overlap",
-                "lighting_cycles_per_pixel",
-                "lighting_cycles_per_light", "watchdog_cycles"});
+                "lighting_cycles_per_pixel", "lighting_cycles_per_light", "watchdog_cycles"});
 
   if (j.contains("clock_mhz")) {
     const auto& v = j["clock_mhz"];
@@ -343,7 +342,8 @@ GpuConfig gpu_config_from_json(const nlohmann::json& j, const std::string& sourc
   // (compression being on by default) tiled surfaces turned off.
   if ((c.compression.depth || c.compression.colour) && !c.surfaces.tiled) {
     const auto set_on = [&](const char* k) {
-      return j.contains("compression") && j["compression"].contains(k) && j["compression"][k] == true;
+      return j.contains("compression") && j["compression"].contains(k) &&
+             j["compression"][k] == true;
     };
     if (set_on("depth") || set_on("colour")) {
       r.fail(set_on("depth") ? "compression.depth" : "compression.colour",

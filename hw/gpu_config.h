@@ -33,9 +33,9 @@ struct StageCost {
 
 // The one memory shared by every client (see hw/memory.h for the model).
 struct MemoryConfig {
-  unsigned latency = 20;            // cycles from the end of the bus transfer to completion
-  unsigned bytes_per_cycle = 32;    // data bus width of one channel, shared by all clients
-  unsigned channels = 4;            // independent buses, addresses interleaved across them
+  unsigned latency = 20;             // cycles from the end of the bus transfer to completion
+  unsigned bytes_per_cycle = 32;     // data bus width of one channel, shared by all clients
+  unsigned channels = 4;             // independent buses, addresses interleaved across them
   unsigned interleave_bytes = 1024;  // bytes on one channel before the next (power of two, >= 32)
 
   bool operator==(const MemoryConfig& o) const {
@@ -48,9 +48,9 @@ struct MemoryConfig {
 // Framebuffer surfaces: layout and transfers of the colour and depth tiles
 // (hw/surface_layout.h, docs/architecture.md "Memory").
 struct SurfaceConfig {
-  bool tiled = true;                   // each screen tile one contiguous block
-  unsigned max_burst_bytes = 1024;     // a tiled tile transfer splits into bursts of at most this
-  bool skip_overwritten_fill = true;   // no read for a miss on a tile the batch overwrites
+  bool tiled = true;                  // each screen tile one contiguous block
+  unsigned max_burst_bytes = 1024;    // a tiled tile transfer splits into bursts of at most this
+  bool skip_overwritten_fill = true;  // no read for a miss on a tile the batch overwrites
 
   bool operator==(const SurfaceConfig& o) const {
     return tiled == o.tiled && max_burst_bytes == o.max_burst_bytes &&

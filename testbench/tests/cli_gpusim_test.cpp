@@ -658,15 +658,15 @@ std::vector<std::string> lines_of(const std::string& text) {
 TEST_F(Cli, ProgressOffATerminalNamesPhasesAndShowsTheSimulationMoving) {
   const std::string out = (dir_ / "out").string();
   CommandResult r;
-  const std::string err = run_split(
-      dir_,
-      // Without hierarchical Z the one-unit frame lasts over 100k cycles and
-      // its fragments keep rising after the last primitive is assembled.
-      "run " + kScenes +
-          "/default.json --units 1 --set hierarchical_z.enabled=false --progress "
-          "--progress-interval 0 --out " +
-          out,
-      r);
+  const std::string err =
+      run_split(dir_,
+                // Without hierarchical Z the one-unit frame lasts over 100k cycles and
+                // its fragments keep rising after the last primitive is assembled.
+                "run " + kScenes +
+                    "/default.json --units 1 --set hierarchical_z.enabled=false --progress "
+                    "--progress-interval 0 --out " +
+                    out,
+                r);
   ASSERT_EQ(r.status, 0) << r.out << err;
   const std::vector<std::string> lines = lines_of(err);
   std::vector<std::string> starts, ends;
@@ -815,7 +815,8 @@ TEST_F(Cli, RunSetErrorsNameTheOption) {
   expect_message("--set tile_sise=32",
                  "--set tile_sise=32: tile_sise: unknown key (allowed: clock_mhz, units, "
                  "tile_size, stamp, fifo_depth, fifo_depths, stages, memory, surfaces, "
-                 "compression, hierarchical_z, vertex_cache_entries, tile_cache_entries, samples_per_pass, tile_test_overlap, "
+                 "compression, hierarchical_z, vertex_cache_entries, tile_cache_entries, "
+                 "samples_per_pass, tile_test_overlap, "
                  "lighting_cycles_per_pixel, lighting_cycles_per_light, watchdog_cycles)");
   expect_message("--set units=four", "--set units=four: units: expected an integer, got string");
   expect_message("--set 'stamp=[8,3]'", "--set stamp=[8,3]: stamp[1]: 3 is not a power of two");

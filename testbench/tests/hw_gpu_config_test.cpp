@@ -192,7 +192,8 @@ TEST(GpuConfig, RoundTrip) {
 TEST(GpuConfig, UnknownKeysNameTheirPathAndTheAllowedKeys) {
   EXPECT_EQ(error_of(json{{"unitz", 4}}),
             "gpu.json: unitz: unknown key (allowed: clock_mhz, units, tile_size, stamp, "
-            "fifo_depth, fifo_depths, stages, memory, surfaces, compression, hierarchical_z, vertex_cache_entries, "
+            "fifo_depth, fifo_depths, stages, memory, surfaces, compression, hierarchical_z, "
+            "vertex_cache_entries, "
             "tile_cache_entries, samples_per_pass, tile_test_overlap, lighting_cycles_per_pixel, "
             "lighting_cycles_per_light, watchdog_cycles)");
   // The old name of the tile rasterizer is refused with the list of stages.
@@ -382,7 +383,9 @@ TEST(GpuConfig, SurfacesAndCompression) {
             "gpu.json: surfaces.tiled: false needs compression.depth and compression.colour false "
             "(compression needs tiled surfaces)");
   EXPECT_FALSE(gpu_config_from_json(json::parse(R"({"surfaces": {"tiled": false},
-      "compression": {"depth": false, "colour": false}})"), "gpu.json").surfaces.tiled);
+      "compression": {"depth": false, "colour": false}})"),
+                                    "gpu.json")
+                   .surfaces.tiled);
   EXPECT_EQ(error_of(json::parse(R"({"surfaces": {"tiled": false},
                                      "compression": {"colour": true}})")),
             "gpu.json: compression.colour: compression needs surfaces.tiled true");
@@ -453,7 +456,8 @@ TEST(GpuConfigOverrides, ErrorsNameTheOverride) {
             "--set units=eight: units: expected an integer, got string");
   EXPECT_EQ(override_error(json::object(), sets({"unitz=4"})),
             "--set unitz=4: unitz: unknown key (allowed: clock_mhz, units, tile_size, stamp, "
-            "fifo_depth, fifo_depths, stages, memory, surfaces, compression, hierarchical_z, vertex_cache_entries, "
+            "fifo_depth, fifo_depths, stages, memory, surfaces, compression, hierarchical_z, "
+            "vertex_cache_entries, "
             "tile_cache_entries, samples_per_pass, tile_test_overlap, lighting_cycles_per_pixel, "
             "lighting_cycles_per_light, watchdog_cycles)");
   // An unknown stage is reported at the stage, which the key leads through.

@@ -43,7 +43,7 @@ struct MatrixRow {
 };
 MatrixRow matrix_row(int row) {
   const int i = row / 3, j = row % 3;
-  return {kUnits[i],    kFifoDepths[j],  kTileSizes[(i + j) % 3], kStamps[(i + 2 * j) % 3],
+  return {kUnits[i],    kFifoDepths[j], kTileSizes[(i + j) % 3], kStamps[(i + 2 * j) % 3],
           kChannels[j], kInterleave[j], (i + j) % 2 == 1};
 }
 
