@@ -299,7 +299,8 @@ def check_gtkwave(tmp, trace):
 def expected_vcd_order(manifest):
     """signals.vcd's signals as docs/traces.md lays them out, derived from the
     manifest's tables: per group (front end, unit 0, ...), in stage order,
-    each FIFO a stage reads, then the stage's three wires."""
+    each FIFO a stage reads, then the stage's three wires; last the memory's
+    busy wire per channel (the configuration's memory.channels)."""
     order = []
     for s in manifest["stages"]:
         group = "front_end" if s["unit"] is None else f"unit_{s['unit']}"
@@ -308,6 +309,7 @@ def expected_vcd_order(manifest):
                 width = max(1, int(f["depth"]).bit_length())
                 order.append(f"gpu.{group}.{f['name']}[{width - 1}:0]")
         order += [f"gpu.{group}.{s['name']}.{s['name']}_{w}" for w in ("busy", "stalled", "starved")]
+    order += [f"gpu.memory.channel_{c}_busy" for c in range(manifest["config"]["memory"]["channels"])]
     return order
 
 
@@ -438,7 +440,7 @@ def check_gtkwave_view(tmp, gpusim, scene, artifacts):
           "gtkwave: FIFO occupancies shown in decimal, stage wires in binary")
     check(got["VALUE"] == [str(level)], f"gtkwave: {fifo_path} reads {got['VALUE']} at #{marker} "
                                         f"(decimal {level}, not hex {level:x})")
-    groups = ["front end"] + [f"unit {u}" for u in range(manifest["units"])]
+    groups = ["front end"] + [f"unit {u}" for u in range(manifest["units"])] + ["memory"]
     names = got["TRACE"]
     check([n for n in names if n in groups] == [g for g in groups for _ in (0, 1)],
           f"gtkwave: one group per unit, in order ({[n for n in names if n in groups][:4]}...)")
