@@ -10,30 +10,15 @@
 #include <vector>
 
 #include "hw/memory.h"
+#include "testbench/tests/memory_client.h"
 
 namespace gpusim {
 namespace {
 
 using sc_core::sc_time;
 
-const sc_time kCycle(1, sc_core::SC_NS);
 constexpr uint64_t kSize = 1 << 16;
 constexpr unsigned kLatency = 20, kWidth = 32, kInterleave = 256;
-double in_cycles(sc_time t) {
-  return t / kCycle;
-}
-
-struct Client : sc_core::sc_module {
-  MemoryPort port{"mem"};
-  std::function<void(Client&)> body;
-  SC_HAS_PROCESS(Client);
-  Client(sc_core::sc_module_name name, Memory& memory, std::function<void(Client&)> b)
-      : sc_core::sc_module(name), body(std::move(b)) {
-    port.bind(memory);
-    SC_THREAD(run);
-  }
-  void run() { body(*this); }
-};
 
 // Issues `n` 256-byte reads at `first`, `first` + stride, ... at time 0 and
 // waits for the group: returns its completion, in cycles.

@@ -12,30 +12,14 @@
 #include <vector>
 
 #include "hw/memory.h"
+#include "testbench/tests/memory_client.h"
 
 namespace gpusim {
 namespace {
 
 using sc_core::sc_time;
 
-const sc_time kCycle(1, sc_core::SC_NS);
 constexpr uint64_t kSize = 4096;
-double in_cycles(sc_time t) {
-  return t / kCycle;
-}
-
-// A client stage: one MemoryPort and one thread running `body`.
-struct Client : sc_core::sc_module {
-  MemoryPort port{"mem"};
-  std::function<void(Client&)> body;
-  SC_HAS_PROCESS(Client);
-  Client(sc_core::sc_module_name name, Memory& memory, std::function<void(Client&)> b)
-      : sc_core::sc_module(name), body(std::move(b)) {
-    port.bind(memory);
-    SC_THREAD(run);
-  }
-  void run() { body(*this); }
-};
 
 // The delay from now until the port's group completes, in cycles (what the
 // old call-order interface returned per request).

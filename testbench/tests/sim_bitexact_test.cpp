@@ -116,16 +116,17 @@ TEST(CoveringArray, CoversEveryValueAndEveryPair) {
   }
 }
 
-using Case = std::tuple<std::string, int>;
-
-class BitExact : public ::testing::TestWithParam<Case> {};
-
-TEST_P(BitExact, FrameAndCountersEqualGolden) {
-  const auto& [scene_name, row] = GetParam();
+// A test scene as the driver hands it to both models.
+Scene test_scene(const std::string& scene_name) {
   Scene scene =
       load_scene(std::string(GPUSIM_SOURCE_DIR) + "/testbench/scenes/" + scene_name + ".json");
   painter::apply_visibility(scene);  // the driver, before both models
-  const GpuConfig config = config_for(matrix_row(row));
+  return scene;
+}
+
+// Runs the cycle model recording last writers; its frame, counters and last
+// writers must be the golden model's.
+void expect_recorded_run_equals_golden(const Scene& scene, const GpuConfig& config) {
   GpuRunOptions options;
   options.record_last_writer = true;
   const GpuRunResult got = run_gpu(scene, config, options);
@@ -137,6 +138,15 @@ TEST_P(BitExact, FrameAndCountersEqualGolden) {
   EXPECT_EQ(got.counts, want.stats.to_json());
   // The same pixels are written by the same primitives.
   EXPECT_EQ(got.last_writer, want.last_writer);
+}
+
+using Case = std::tuple<std::string, int>;
+
+class BitExact : public ::testing::TestWithParam<Case> {};
+
+TEST_P(BitExact, FrameAndCountersEqualGolden) {
+  const auto& [scene_name, row] = GetParam();
+  expect_recorded_run_equals_golden(test_scene(scene_name), config_for(matrix_row(row)));
 }
 
 std::string case_name(const ::testing::TestParamInfo<Case>& info) {
@@ -181,9 +191,6 @@ class BitExactSurfaces : public ::testing::TestWithParam<SurfaceCase> {};
 
 TEST_P(BitExactSurfaces, FrameAndCountersEqualGolden) {
   const auto& [scene_name, row, mode] = GetParam();
-  Scene scene =
-      load_scene(std::string(GPUSIM_SOURCE_DIR) + "/testbench/scenes/" + scene_name + ".json");
-  painter::apply_visibility(scene);
   GpuConfig config = config_for(matrix_row(row));
   config.surfaces.tiled = mode != 2;
   config.surfaces.skip_overwritten_fill = mode != 0;
@@ -192,16 +199,7 @@ TEST_P(BitExactSurfaces, FrameAndCountersEqualGolden) {
     config.compression.depth = true;
     config.compression.colour = true;
   }
-  GpuRunOptions options;
-  options.record_last_writer = true;
-  const GpuRunResult got = run_gpu(scene, config, options);
-  ASSERT_TRUE(got.completed) << "stopped at cycle " << got.cycles;
-  const golden::Result want = golden::render(scene);
-  expect_same_frame(got.framebuffer, want.framebuffer,
-                    static_cast<int>(scene.framebuffer.supersample), got.last_writer,
-                    want.last_writer);
-  EXPECT_EQ(got.counts, want.stats.to_json());
-  EXPECT_EQ(got.last_writer, want.last_writer);
+  expect_recorded_run_equals_golden(test_scene(scene_name), config);
 }
 
 std::string surface_case_name(const ::testing::TestParamInfo<SurfaceCase>& info) {
@@ -253,9 +251,7 @@ class BitExactUnrecorded : public ::testing::TestWithParam<Case> {};
 
 TEST_P(BitExactUnrecorded, FrameAndCountersEqualGolden) {
   const auto& [scene_name, row] = GetParam();
-  Scene scene =
-      load_scene(std::string(GPUSIM_SOURCE_DIR) + "/testbench/scenes/" + scene_name + ".json");
-  painter::apply_visibility(scene);
+  const Scene scene = test_scene(scene_name);
   const GpuRunResult got = run_gpu(scene, config_for(matrix_row(row)), GpuRunOptions{});
   ASSERT_TRUE(got.completed) << "stopped at cycle " << got.cycles;
   ASSERT_TRUE(got.last_writer.empty());
