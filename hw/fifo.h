@@ -32,6 +32,21 @@
 // Tracing: set_probe() attaches a FifoProbe (hw/fifo_probe.h) that sees every
 // read, write, blocked interval and occupancy change; without one, each hook
 // is a single branch on a null pointer.
+//
+// Stamped mode (temporal decoupling, docs/architecture.md): a FIFO joining a
+// stage that runs ahead of the kernel's time (PipelineStage::set_decoupled)
+// is switched before the simulation starts to take reads and writes at
+// superdense times (SuperdenseTime: a time and a delta cycle within it). Every
+// operation is given the time at which the semantics above would perform
+// it, computed from the one operation of the other side it depends on: the
+// write of the item a read takes (readable from the delta after it, and not
+// before its ready time), or the read that freed the slot a write fills
+// (writable from the delta after it). A decoupled stage adopts that time as
+// its own; a stage in the kernel's time waits until it. A side sleeps in the
+// kernel only while that other operation has not happened at all. The
+// statistics integrate the logged operations in time order once neither
+// side can still log an earlier one, delta by delta as update() does, so
+// every figure equals the one the kernel-timed FIFO gives.
 #pragma once
 
 #include <algorithm>
@@ -50,6 +65,28 @@
 
 namespace gpusim {
 
+// Superdense simulated time: an sc_time value and the delta cycle within it
+// (sc_delta_count_at_current_time(): 0 for processes woken by time, k + 1
+// for those woken by a delta notification in delta k). Ordered
+// lexicographically.
+struct SuperdenseTime {
+  uint64_t t = 0;
+  uint64_t d = 0;
+
+  SuperdenseTime next_delta() const { return {t, d + 1}; }
+  friend bool operator<(const SuperdenseTime& a, const SuperdenseTime& b) {
+    return a.t < b.t || (a.t == b.t && a.d < b.d);
+  }
+  friend bool operator==(const SuperdenseTime& a, const SuperdenseTime& b) {
+    return a.t == b.t && a.d == b.d;
+  }
+  friend bool operator!=(const SuperdenseTime& a, const SuperdenseTime& b) { return !(a == b); }
+};
+
+inline const SuperdenseTime& later(const SuperdenseTime& a, const SuperdenseTime& b) {
+  return a < b ? b : a;
+}
+
 // The reader's side, for stages that reach their input through an sc_port.
 template <typename T>
 class FifoInIf : public virtual sc_core::sc_interface {
@@ -63,6 +100,12 @@ class FifoInIf : public virtual sc_core::sc_interface {
   virtual size_t size() const = 0;
   virtual const T& front() const = 0;
   virtual const sc_core::sc_event& data_written_event() const = 0;
+  // Stamped mode only: the read a decoupled reader makes at its own time
+  // `call` (which may be ahead of the kernel's); returns the read's time.
+  virtual SuperdenseTime read_at(T& item, const SuperdenseTime& call) = 0;
+  // The same, moving the item out of its slot (no swap: cheaper for packets
+  // of fixed-size arrays); the read's time goes to `at`.
+  virtual T read_at(const SuperdenseTime& call, SuperdenseTime& at) = 0;
 };
 
 // The writer's side.
@@ -82,6 +125,11 @@ class FifoOutIf : public virtual sc_core::sc_interface {
   virtual size_t num_free() const = 0;
   virtual size_t depth() const = 0;
   virtual const sc_core::sc_event& data_read_event() const = 0;
+  // Stamped mode only: the write a decoupled writer makes at its own time
+  // `call`; returns the write's time. `ready_at` (an sc_time value) moves
+  // later by the wait.
+  virtual SuperdenseTime write_at(const T& item, uint64_t ready_at, const SuperdenseTime& call) = 0;
+  virtual SuperdenseTime write_at(T&& item, uint64_t ready_at, const SuperdenseTime& call) = 0;
 };
 
 template <typename T>
@@ -165,8 +213,17 @@ class FifoChannel : public sc_core::sc_prim_channel {
   void withhold_from_reader() { m_withheld = true; }
   bool withheld() const { return m_withheld; }
 
+  // Stamped mode (above), before the simulation starts. A clock is the local
+  // time of a decoupled stage on that side (PipelineStage::local_clock()),
+  // which no later operation of it precedes; null: a side in the kernel's
+  // time.
+  virtual void set_stamped(const SuperdenseTime* writer_clock,
+                           const SuperdenseTime* reader_clock) = 0;
+  bool stamped() const { return m_stamped; }
+
  protected:
   bool m_withheld = false;
+  bool m_stamped = false;
   int m_watchers = 0;  // observers now waiting on written_event() / read_event()
 };
 
@@ -212,20 +269,57 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
   void write(T&& item) override { write(std::move(item), sc_core::SC_ZERO_TIME); }
 
   void write(const T& item, const sc_core::sc_time& ready_at) override {
+    if (m_stamped) {
+      const SuperdenseTime called = kernel_stamp();
+      const SuperdenseTime s = stamped_write_wait(stall_at(m_write_rng, called, true), true);
+      m_buf[m_tail] = item;
+      stamped_push(s, ready_at.value() + (s.t - called.t));
+      return;
+    }
     const sc_core::sc_time ready = wait_for_slot(ready_at);
     m_buf[m_tail] = item;
     push(ready);
   }
 
   void write(T&& item, const sc_core::sc_time& ready_at) override {
-    const sc_core::sc_time ready = wait_for_slot(ready_at);
     using std::swap;
+    if (m_stamped) {
+      const SuperdenseTime called = kernel_stamp();
+      const SuperdenseTime s = stamped_write_wait(stall_at(m_write_rng, called, true), true);
+      swap(m_buf[m_tail], item);
+      stamped_push(s, ready_at.value() + (s.t - called.t));
+      return;
+    }
+    const sc_core::sc_time ready = wait_for_slot(ready_at);
     swap(m_buf[m_tail], item);
     push(ready);
   }
 
+  SuperdenseTime write_at(const T& item, uint64_t ready_at, const SuperdenseTime& call) override {
+    require_stamped();
+    const SuperdenseTime s = stamped_write_wait(stall_at(m_write_rng, call, false), false);
+    m_buf[m_tail] = item;
+    stamped_push(s, ready_at + (s.t - call.t));
+    return s;
+  }
+
+  SuperdenseTime write_at(T&& item, uint64_t ready_at, const SuperdenseTime& call) override {
+    require_stamped();
+    const SuperdenseTime s = stamped_write_wait(stall_at(m_write_rng, call, false), false);
+    using std::swap;
+    swap(m_buf[m_tail], item);
+    stamped_push(s, ready_at + (s.t - call.t));
+    return s;
+  }
+
   // Blocking; SC_THREAD only. Waits while no item is readable.
   T read() override {
+    if (m_stamped) {
+      stamped_read_wait(stall_at(m_read_rng, kernel_stamp(), true), true);
+      T item = std::move(m_buf[m_head]);
+      stamped_pop(kernel_stamp());
+      return item;
+    }
     if constexpr (kTraceHooks) {
       if (m_probe) m_probe->read_called(now());
     }
@@ -239,11 +333,17 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
   }
 
   void read(T& item) override {
+    using std::swap;
+    if (m_stamped) {
+      stamped_read_wait(stall_at(m_read_rng, kernel_stamp(), true), true);
+      swap(m_buf[m_head], item);
+      stamped_pop(kernel_stamp());
+      return;
+    }
     if constexpr (kTraceHooks) {
       if (m_probe) m_probe->read_called(now());
     }
     wait_for_item();
-    using std::swap;
     swap(m_buf[m_head], item);
     pop();
     if constexpr (kTraceHooks) {
@@ -251,7 +351,25 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
     }
   }
 
+  SuperdenseTime read_at(T& item, const SuperdenseTime& call) override {
+    require_stamped();
+    const SuperdenseTime s = stamped_read_wait(stall_at(m_read_rng, call, false), false);
+    using std::swap;
+    swap(m_buf[m_head], item);
+    stamped_pop(s);
+    return s;
+  }
+
+  T read_at(const SuperdenseTime& call, SuperdenseTime& at) override {
+    require_stamped();
+    at = stamped_read_wait(stall_at(m_read_rng, call, false), false);
+    T item = std::move(m_buf[m_head]);
+    stamped_pop(at);
+    return item;
+  }
+
   bool nb_write(const T& item) override {
+    if (m_stamped) throw std::logic_error(std::string(name()) + ": nb_write in stamped mode");
     if (num_free() == 0) return false;
     m_buf[m_tail] = item;
     push(sc_core::SC_ZERO_TIME);
@@ -259,6 +377,7 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
   }
 
   bool nb_read(T& item) override {
+    if (m_stamped) throw std::logic_error(std::string(name()) + ": nb_read in stamped mode");
     if (size() == 0 || m_ready[m_head] > time_stamp()) return false;
     using std::swap;
     swap(m_buf[m_head], item);
@@ -275,13 +394,47 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
   // Trace hooks (hw/fifo_probe.h); nullptr detaches. The probe must outlive
   // the simulation. A no-op in a build without trace hooks.
   void set_probe(FifoProbe<T>* probe) {
+    if (m_stamped && probe != nullptr)
+      throw std::logic_error(std::string(name()) + ": a stamped FIFO takes no trace probe");
     if constexpr (kTraceHooks) m_probe = probe;
   }
 
+  void set_stamped(const SuperdenseTime* writer_clock,
+                   const SuperdenseTime* reader_clock) override {
+    if (m_probe != nullptr)
+      throw std::logic_error(std::string(name()) + ": a traced FIFO cannot be stamped");
+    if (m_total_written > 0 || m_total_read > 0)
+      throw std::logic_error(std::string(name()) + ": stamped mode is set before any item moves");
+    m_stamped = true;
+    m_writer_clock = writer_clock;
+    m_reader_clock = reader_clock;
+    m_readable_from.assign(m_buf.size(), SuperdenseTime{});
+    m_free_from.assign(m_buf.size(), SuperdenseTime{});
+    m_write_log.reset(m_buf.size());
+    m_read_log.reset(m_buf.size());
+  }
+
   // Items the reader can take now (written before this delta, not yet read).
-  size_t size() const override { return m_withheld ? 0 : m_committed - m_num_read; }
+  size_t size() const override {
+    if (m_withheld) return 0;
+    if (!m_stamped) return m_committed - m_num_read;
+    const SuperdenseTime k = kernel_stamp();
+    size_t n = 0;
+    for (uint64_t i = m_total_read; i < m_total_written; ++i, ++n) {
+      if (k < m_readable_from[i % m_buf.size()]) break;
+    }
+    return n;
+  }
   // Slots a writer can fill now (slots freed in this delta count from the next).
-  size_t num_free() const override { return m_buf.size() - m_committed - m_num_written; }
+  size_t num_free() const override {
+    if (!m_stamped) return m_buf.size() - m_committed - m_num_written;
+    const SuperdenseTime k = kernel_stamp();
+    size_t n = 0;
+    for (uint64_t i = m_total_written; i < m_total_read + m_buf.size(); ++i, ++n) {
+      if (k < m_free_from[i % m_buf.size()]) break;
+    }
+    return n;
+  }
   size_t depth() const override { return m_buf.size(); }
   // The oldest readable item; requires size() > 0.
   const T& front() const override {
@@ -327,7 +480,12 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
   const sc_core::sc_event& read_event() const override { return m_data_read_event; }
 
   FifoStats stats() const override {
-    const uint64_t now = this->now();
+    // Stamped: the operations before the horizon, or all of them up to now
+    // once the simulation has stopped; mid-run, decoupled sides may have
+    // logged operations beyond now (their figures are then approximate).
+    if (m_stamped) const_cast<Fifo*>(this)->settle_for_stats();
+    const uint64_t now = std::max(
+        {this->now(), m_occupancy.since, m_blocked_writers.since, m_blocked_readers.since});
     const uint64_t dt = now - m_occupancy.since;
     FifoStats s;
     s.written = m_total_written;
@@ -341,7 +499,7 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
     s.reader_blocked = sc_core::sc_time::from_value(m_blocked_readers.area_at(now));
     s.injected_stalls = m_injected_stalls;
     s.injected_stall = m_injected_stall;
-    s.observed = sc_core::sc_time_stamp();
+    s.observed = time_stamp();
     return s;
   }
 
@@ -370,6 +528,198 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
   // inline rather than through the library call.
   const sc_core::sc_time& time_stamp() const { return simcontext()->time_stamp(); }
   uint64_t now() const { return time_stamp().value(); }
+  SuperdenseTime kernel_stamp() const {
+    return {now(), simcontext()->delta_count_at_current_time()};
+  }
+
+  // ---- Stamped mode (see the top of the file) ----
+
+  // Operations logged in order of their stamps, not yet integrated into the
+  // statistics. Neither side's log outgrows depth + 1 entries between two
+  // settlements (an operation is settled once both sides have passed it),
+  // but the ring grows if it must.
+  class StampLog {
+   public:
+    void reset(size_t depth) {
+      size_t n = 4;
+      while (n < 2 * depth + 4) n *= 2;
+      m_ring.assign(n, SuperdenseTime{});
+      m_head = m_tail = 0;
+    }
+    bool empty() const { return m_head == m_tail; }
+    size_t size() const { return m_tail - m_head; }
+    const SuperdenseTime& front() const { return m_ring[m_head & (m_ring.size() - 1)]; }
+    void pop() { ++m_head; }
+    void push(const SuperdenseTime& s) {
+      if (m_tail - m_head == m_ring.size()) grow();
+      m_ring[m_tail++ & (m_ring.size() - 1)] = s;
+    }
+
+   private:
+    void grow() {
+      std::vector<SuperdenseTime> bigger(2 * m_ring.size());
+      for (uint64_t i = m_head; i != m_tail; ++i)
+        bigger[i - m_head] = m_ring[i & (m_ring.size() - 1)];
+      m_tail -= m_head;
+      m_head = 0;
+      m_ring.swap(bigger);
+    }
+    std::vector<SuperdenseTime> m_ring;
+    uint64_t m_head = 0, m_tail = 0;
+  };
+
+  void require_stamped() const {
+    if (!m_stamped) {
+      throw std::logic_error(std::string(name()) +
+                             ": read_at/write_at need a stamped FIFO (set_stamped)");
+    }
+  }
+
+  // Random stall injection at a stamp: the same draws as maybe_stall(), the
+  // delay added to the operation's time (a process in the kernel's time
+  // waits it, as maybe_stall() does).
+  SuperdenseTime stall_at(fifo_detail::SplitMix64& rng, const SuperdenseTime& call, bool kernel) {
+    if (m_stall_probability <= 0.0 || rng.uniform() >= m_stall_probability) return call;
+    const uint64_t n = 1 + rng.next() % m_stall_max_cycles;
+    const sc_core::sc_time t = sc_core::sc_time::from_value(m_stall_cycle.value() * n);
+    ++m_injected_stalls;
+    m_injected_stall += t;
+    const SuperdenseTime stalled{call.t + t.value(), 0};
+    if (kernel) wait_until(stalled);
+    return stalled;
+  }
+
+  // A process in the kernel's time: until the kernel reaches `s` (a timed
+  // wait lands in delta 0, each zero-time wait one delta on).
+  // Reaching it late would move the process's later actions: the model
+  // error below means a decoupled stage logged an operation after the kernel
+  // had passed its time.
+  void wait_until(const SuperdenseTime& s) {
+    const uint64_t t = now();
+    if (s.t > t) sc_core::wait(sc_core::sc_time::from_value(s.t - t));
+    while (kernel_stamp() < s) sc_core::wait(sc_core::SC_ZERO_TIME);
+    if (kernel_stamp() != s) late("an operation of a process in the kernel's time");
+  }
+
+  [[noreturn]] void late(const char* what) const {
+    SC_REPORT_ERROR("gpusim/fifo", (std::string(name()) + ": " + what +
+                                    " is behind the kernel's time (temporal decoupling)")
+                                       .c_str());
+    std::abort();  // not reached: SC_REPORT_ERROR throws
+  }
+
+  // Wakes the other side sleeping on `event`: a decoupled stage in the next
+  // delta (it computes its own time), a process in the kernel's time at the
+  // time of the operation it waits to make, `at`.
+  void wake(sc_core::sc_event& event, const SuperdenseTime* sleeper_clock,
+            const SuperdenseTime& at) {
+    const uint64_t t = now();
+    if (sleeper_clock != nullptr || at.t <= t) {
+      event.notify(sc_core::SC_ZERO_TIME);
+    } else {
+      event.notify(sc_core::sc_time::from_value(at.t - t));
+    }
+  }
+
+  // The time at or after `call` at which the next write can be made: sleeps
+  // while no slot is empty, then takes the delta after the read that emptied
+  // the slot. A process in the kernel's time (`kernel`) waits until then.
+  SuperdenseTime stamped_write_wait(const SuperdenseTime& call, bool kernel) {
+    m_blocked_writers.set(1, call.t);
+    while (m_total_written - m_total_read == m_buf.size()) {
+      m_writer_asleep = true;
+      sc_core::wait(m_writer_wake);
+      m_writer_asleep = false;
+    }
+    const SuperdenseTime s = later(call, m_free_from[m_tail]);
+    if (kernel) wait_until(s);
+    m_blocked_writers.set(0, s.t);
+    return s;
+  }
+
+  // The item is in m_buf[m_tail], written at `s`, ready at `ready`.
+  void stamped_push(const SuperdenseTime& s, uint64_t ready) {
+    m_readable_from[m_tail] = later(s.next_delta(), SuperdenseTime{ready, 0});
+    m_tail = m_tail + 1 == m_buf.size() ? 0 : m_tail + 1;
+    ++m_total_written;
+    m_write_log.push(s);
+    if (m_reader_asleep) wake(m_reader_wake, m_reader_clock, m_readable_from[m_head]);
+    if (m_events_handed_out || m_watchers > 0) m_data_written_event.notify(sc_core::SC_ZERO_TIME);
+    settle_if_long();
+  }
+
+  // The time at or after `call` at which the oldest item can be read: sleeps
+  // while none has been written (or the reader is withheld).
+  SuperdenseTime stamped_read_wait(const SuperdenseTime& call, bool kernel) {
+    m_blocked_readers.set(1, call.t);
+    while (m_total_written == m_total_read || m_withheld) {
+      m_reader_asleep = true;
+      sc_core::wait(m_reader_wake);
+      m_reader_asleep = false;
+    }
+    const SuperdenseTime s = later(call, m_readable_from[m_head]);
+    if (kernel) wait_until(s);
+    m_blocked_readers.set(0, s.t);
+    return s;
+  }
+
+  // The item has been taken from m_buf[m_head] at `s`.
+  void stamped_pop(const SuperdenseTime& s) {
+    m_free_from[m_head] = s.next_delta();
+    const size_t freed = m_head;
+    m_head = m_head + 1 == m_buf.size() ? 0 : m_head + 1;
+    ++m_total_read;
+    m_read_log.push(s);
+    if (m_writer_asleep) wake(m_writer_wake, m_writer_clock, m_free_from[freed]);
+    if (m_events_handed_out || m_watchers > 0) m_data_read_event.notify(sc_core::SC_ZERO_TIME);
+    settle_if_long();
+  }
+
+  // Settling costs a comparison per logged operation, so it waits until a
+  // log holds more than the FIFO's depth (stats() settles what is left).
+  void settle_if_long() {
+    if (m_write_log.size() > m_buf.size() || m_read_log.size() > m_buf.size()) settle(horizon());
+  }
+
+  // No operation earlier than this can still be logged: a decoupled side's
+  // later operations are at or after its clock, the kernel's at or after now.
+  SuperdenseTime horizon() const {
+    const SuperdenseTime k = kernel_stamp();
+    const SuperdenseTime& w = m_writer_clock ? *m_writer_clock : k;
+    const SuperdenseTime& r = m_reader_clock ? *m_reader_clock : k;
+    return r < w ? r : w;
+  }
+
+  // Integrates the logged operations before `limit`, a delta at a time, as
+  // update() does for the kernel-timed FIFO.
+  void settle(const SuperdenseTime& limit) {
+    for (;;) {
+      const bool w = !m_write_log.empty() && m_write_log.front() < limit;
+      const bool r = !m_read_log.empty() && m_read_log.front() < limit;
+      if (!w && !r) return;
+      const SuperdenseTime at = !r || (w && m_write_log.front() < m_read_log.front())
+                                    ? m_write_log.front()
+                                    : m_read_log.front();
+      if (at.t < m_occupancy.since) late("a logged operation");
+      size_t written = 0, read = 0;
+      for (; !m_write_log.empty() && m_write_log.front() == at; m_write_log.pop()) ++written;
+      for (; !m_read_log.empty() && m_read_log.front() == at; m_read_log.pop()) ++read;
+      const uint64_t dt = at.t - m_occupancy.since;
+      if (m_committed == m_buf.size()) m_full += dt;
+      if (m_committed == 0) m_empty += dt;
+      m_committed = m_committed - read + written;
+      m_occupancy.set(m_committed, at.t);
+      m_max_occupancy = std::max(m_max_occupancy, m_committed);
+    }
+  }
+
+  void settle_for_stats() {
+    if (sc_core::sc_get_status() == sc_core::SC_RUNNING) {
+      settle(horizon());
+    } else {
+      settle(SuperdenseTime{now(), ~uint64_t{0}});
+    }
+  }
 
   // The blocking part of write(): waits until a slot is free and returns the
   // item's ready time (`ready_at`, later by the wait).
@@ -525,6 +875,16 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
   uint64_t m_injected_stalls = 0;
   sc_core::sc_time m_injected_stall;
   FifoProbe<T>* m_probe = nullptr;  // trace hooks; unused without them
+
+  // Stamped mode: per slot, when its item may be read and when it may be
+  // written again; the decoupled sides' clocks; the sleeping sides.
+  std::vector<SuperdenseTime> m_readable_from;
+  std::vector<SuperdenseTime> m_free_from;
+  const SuperdenseTime* m_writer_clock = nullptr;
+  const SuperdenseTime* m_reader_clock = nullptr;
+  StampLog m_write_log, m_read_log;
+  sc_core::sc_event m_writer_wake, m_reader_wake;
+  bool m_writer_asleep = false;
 };
 
 }  // namespace gpusim

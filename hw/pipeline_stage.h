@@ -17,6 +17,18 @@
 //
 // Stalled and starved cycles are not counted here: the FIFOs measure them
 // and the netlist (stages/topology.h) adds them to the group as formulas.
+//
+// Temporal decoupling: a stage that touches nothing but its FIFOs (no
+// memory, no link read at the kernel's time) says so with decouplable(), and
+// the netlist may then set it decoupled before the simulation starts. It
+// then keeps its own superdense time, local_clock(): work(n) moves it on
+// instead of waiting, and receive() and emit() take their items from and
+// into stamped FIFOs (hw/fifo.h) at that time and adopt the time each
+// operation is given. The stage wakes in the kernel only when an item it
+// needs has not been written, or a slot it needs not been read, at all; its
+// operations keep the times they would have had, so cycles and statistics
+// are the same bits. local_time() is the time a stage computes readiness
+// from, decoupled or not.
 #pragma once
 
 #include <cstdint>
@@ -49,6 +61,16 @@ class PipelineStage : public sc_core::sc_module {
   uint64_t tokens_in() const { return m_tokens_in; }
   uint64_t tokens_out() const { return m_tokens_out; }
 
+  // Whether the stage may run decoupled (above): false unless the stage
+  // declares it.
+  virtual bool decouplable() const { return false; }
+  // Before the simulation starts, on a decouplable() stage whose FIFOs are
+  // then put in stamped mode (Topology::decouple).
+  void set_decoupled() { m_decoupled = true; }
+  bool decoupled() const { return m_decoupled; }
+  // A decoupled stage's time: none of its later operations precedes it.
+  const SuperdenseTime& local_clock() const { return m_local; }
+
  protected:
   // `tokens_in` and `tokens_out` describe what the stage reads and writes
   // ("setup packets read"). The cost is config.stage(kind).
@@ -71,31 +93,55 @@ class PipelineStage : public sc_core::sc_module {
     return sc_core::sc_time::from_value(m_cycle * n);
   }
 
+  // Now: the stage's own time if decoupled, else the kernel's.
+  sc_core::sc_time local_time() const {
+    return m_decoupled ? sc_core::sc_time::from_value(m_local.t) : sc_core::sc_time_stamp();
+  }
+
   void work(uint64_t cycles) {
     m_busy_cycles += cycles;
-    if (cycles > 0) sc_core::wait(clock_cycles(cycles));
+    if (cycles == 0) return;
+    if (m_decoupled) {
+      // A timed wake-up lands in the first delta of its time.
+      m_local = SuperdenseTime{m_local.t + m_cycle * cycles, 0};
+    } else {
+      sc_core::wait(clock_cycles(cycles));
+    }
   }
 
   template <typename T>
   T receive(FifoInPort<T>& in) {
-    T item = in->read();
+    T item = m_decoupled ? in->read_at(m_local, m_local) : in->read();
     ++m_tokens_in;
     return item;
   }
   // Into `item`, whose buffers go back to the FIFO for its writer to reuse.
   template <typename T>
   void receive(FifoInPort<T>& in, T& item) {
-    in->read(item);
+    if (m_decoupled) {
+      m_local = in->read_at(item, m_local);
+    } else {
+      in->read(item);
+    }
     ++m_tokens_in;
   }
 
   template <typename T, typename P>
   void emit_at(FifoOutPort<T>& out, P&& item, const sc_core::sc_time& ready) {
-    out->write(std::forward<P>(item), ready);
+    if (m_decoupled) {
+      m_local = out->write_at(std::forward<P>(item), ready.value(), m_local);
+    } else {
+      out->write(std::forward<P>(item), ready);
+    }
     ++m_tokens_out;
   }
   template <typename T, typename P>
   void emit(FifoOutPort<T>& out, P&& item) {
+    if (m_decoupled) {
+      m_local = out->write_at(std::forward<P>(item), m_local.t + m_latency.value(), m_local);
+      ++m_tokens_out;
+      return;
+    }
     emit_at(out, std::forward<P>(item), sc_core::sc_time_stamp() + m_latency);
   }
 
@@ -136,6 +182,8 @@ class PipelineStage : public sc_core::sc_module {
 
  private:
   const std::string m_kind;
+  bool m_decoupled = false;
+  SuperdenseTime m_local;  // decoupled only
 
  protected:
   StatGroup m_stats;

@@ -97,6 +97,8 @@ class Clipper : public PipelineStage {
   FifoOutPort<ClippedPrimitive> out;
 
   Clipper(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame);
+  // Its only inputs and outputs are its FIFOs (PipelineStage: temporal decoupling).
+  bool decouplable() const override { return true; }
 
   // Primitives of every kind assembled so far.
   uint64_t primitives_in() const { return m_in + m_lines_in + m_points_in; }

@@ -56,6 +56,7 @@ class Gpu : public sc_core::sc_module {
   Memory& memory() { return m_memory; }
   const Memory& memory() const { return m_memory; }
   const Topology& topology() const { return m_topology; }
+  Topology& topology() { return m_topology; }
 
   // Every unit has flushed its tiles after end_of_frame (and the resolve
   // has written the output image, when there is one).

@@ -61,6 +61,8 @@ class Interpolator : public PipelineStage {
 
   Interpolator(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame,
                unsigned unit);
+  // Its only inputs and outputs are its FIFOs (PipelineStage: temporal decoupling).
+  bool decouplable() const override { return true; }
 
  private:
   void run();

@@ -58,7 +58,7 @@ void TileDistributor::run() {
     const uint64_t busy =
         uint64_t{m_cost.ii} * (kind == PacketKind::work ? std::max(1u, sends) : 1u);
     work(busy);
-    const sc_core::sc_time ready = sc_core::sc_time_stamp() + m_latency;
+    const sc_core::sc_time ready = local_time() + m_latency;
     // The last unit sent to takes the packet itself (a moving write leaves p
     // stale), the others a copy: one reference count update less.
     unsigned last = 0;

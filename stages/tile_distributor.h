@@ -35,6 +35,8 @@ class TileDistributor : public PipelineStage {
   sc_core::sc_vector<FifoOutPort<SetupPacket>> out;  // one per unit
 
   TileDistributor(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame);
+  // Its only inputs and outputs are its FIFOs (PipelineStage: temporal decoupling).
+  bool decouplable() const override { return true; }
 
  private:
   void run();

@@ -207,6 +207,26 @@ void Topology::attach_trace(TraceProbes& probes) const {
   for (size_t i = 0; i < m_fifos.size(); ++i) m_fifos[i].attach_probe(probes, i);
 }
 
+size_t Topology::decouple() {
+  size_t n = 0;
+  for (StageNode& s : m_stages) {
+    if (s.stage->decouplable()) {
+      s.stage->set_decoupled();
+      ++n;
+    }
+  }
+  const auto clock = [&](int stage) -> const SuperdenseTime* {
+    if (stage < 0 || !m_stages[static_cast<size_t>(stage)].stage->decoupled()) return nullptr;
+    return &m_stages[static_cast<size_t>(stage)].stage->local_clock();
+  };
+  for (FifoNode& f : m_fifos) {
+    const SuperdenseTime* writer = clock(f.writer);
+    const SuperdenseTime* reader = clock(f.reader);
+    if (writer != nullptr || reader != nullptr) f.channel->set_stamped(writer, reader);
+  }
+  return n;
+}
+
 uint64_t Topology::items_moved() const {
   uint64_t n = 0;
   for (const FifoNode& f : m_fifos) {

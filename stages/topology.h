@@ -98,6 +98,14 @@ class Topology {
   NetlistTables trace_tables() const;
   void attach_trace(TraceProbes& probes) const;
 
+  // Temporal decoupling (hw/pipeline_stage.h): sets every decouplable()
+  // stage decoupled and puts each FIFO one of them touches in stamped mode
+  // (hw/fifo.h) with the clocks of its decoupled sides. Before the
+  // simulation starts, on a netlist with no trace probe attached; the
+  // frames and statistics are the same bits either way. Returns the number
+  // of stages decoupled.
+  size_t decouple();
+
   // Items written and read so far over every FIFO.
   uint64_t items_moved() const;
 

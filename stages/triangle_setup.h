@@ -69,6 +69,8 @@ class TriangleSetup : public PipelineStage {
   FifoOutPort<SetupPacket> out;
 
   TriangleSetup(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame);
+  // Its only inputs and outputs are its FIFOs (PipelineStage: temporal decoupling).
+  bool decouplable() const override { return true; }
 
   // The golden model's setup counters (docs/pipeline-spec.md, section 13).
   nlohmann::json pipeline_counts() const {

@@ -32,6 +32,8 @@ class VertexShader : public PipelineStage {
   FifoOutPort<ShadedBatch> out;
 
   VertexShader(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame);
+  // Its only inputs and outputs are its FIFOs (PipelineStage: temporal decoupling).
+  bool decouplable() const override { return true; }
 
  private:
   void run();

@@ -351,6 +351,10 @@ GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOp
                                                options.trace_scene);
     gpu.attach_trace(*recorder);
   }
+  const bool faults = options.fault_withhold_end_of_frame ||
+                      !options.fault_disconnected_fifo.empty() ||
+                      !options.fault_stalled_fifo.empty();
+  if (options.temporal_decoupling && !tracing && !faults) gpu.topology().decouple();
   Host host("host", gpu, config, loaded.frame, primitives,
             progress && progress->shown() ? progress : nullptr,
             options.fault_withhold_end_of_frame);

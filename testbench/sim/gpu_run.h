@@ -61,6 +61,11 @@ struct GpuRunOptions {
   std::function<void()> scene_arrays_copied;
   // Elaboration order of the raster units; no result may depend on it.
   Gpu::UnitOrder unit_order = Gpu::UnitOrder::ascending;
+  // Stages whose only inputs and outputs are FIFOs run ahead of the kernel's
+  // time (temporal decoupling, hw/pipeline_stage.h): the same frames and
+  // statistics, fewer context switches. Not with tracing (the probes see
+  // operations in the kernel's order) nor with the fault injection below.
+  bool temporal_decoupling = true;
   // Random stalls at every FIFO boundary when stall_probability > 0.
   double stall_probability = 0.0;
   unsigned stall_max_cycles = 8;
