@@ -342,6 +342,7 @@ struct RunArgs {
   bool units_given = false;  // --units N: --set units=N after every --set
   std::string out_dir = "out";
   bool check = false;
+  bool lockstep = false;    // --lockstep: no temporal decoupling
   uint64_t memory_mib = 0;  // 0: the machine's
   // --trace DIR and its filters (docs/traces.md); empty: not traced.
   std::string trace_dir, trace_stages, trace_window, trace_prims;
@@ -433,6 +434,7 @@ int run_cycle_model(const RunArgs& args, const ProgressArgs& progress_args) {
   GpuRunOptions options;
   options.record_last_writer = args.check;
   options.progress = &progress;
+  options.temporal_decoupling = !args.lockstep;
   // Without --check nothing reads the vertex arrays after the GPU's memory
   // holds them (the warnings read names, lighting and materials): free them
   // before simulating, so that a large mesh is held once.
@@ -1128,6 +1130,9 @@ int main_with_errors(int argc, char** argv) {
   run_cmd->add_flag(
       "--check", run.check,
       "Also render with the golden model and compare bit for bit (exit 1 on a difference)");
+  run_cmd->add_flag("--lockstep", run.lockstep,
+                    "Run every stage in the kernel's time, without temporal decoupling "
+                    "(docs/architecture.md): slower, the same frame and stats.json");
   run_cmd->add_option("--memory-limit", run.memory_mib, memory_help);
   add_progress_options(run_cmd, progress_args);
   CLI::Option* trace_option =

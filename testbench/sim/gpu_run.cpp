@@ -354,7 +354,9 @@ GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOp
   const bool faults = options.fault_withhold_end_of_frame ||
                       !options.fault_disconnected_fifo.empty() ||
                       !options.fault_stalled_fifo.empty();
-  if (options.temporal_decoupling && !tracing && !faults) gpu.topology().decouple();
+  if (options.temporal_decoupling && !tracing && !faults) {
+    result.decoupled_stages = gpu.topology().decouple();
+  }
   Host host("host", gpu, config, loaded.frame, primitives,
             progress && progress->shown() ? progress : nullptr,
             options.fault_withhold_end_of_frame);

@@ -118,6 +118,7 @@ struct GpuRunResult {
   nlohmann::json counts;             // pipeline counters, named as the golden model's
   nlohmann::json timing;             // Gpu::stats_json
   NetlistTables netlist;             // the GPU's stages and FIFOs (Topology::trace_tables)
+  size_t decoupled_stages = 0;       // run ahead of the kernel's time (temporal_decoupling)
 };
 
 // Throws SimulationError when the frame does not complete cleanly.
