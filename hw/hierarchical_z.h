@@ -69,6 +69,7 @@ class HzUpdateLink {
       : m_latency(sc_core::sc_time::from_value(cycle.value() * latency_cycles)) {}
 
   void send(const HzUpdate& u) { m_queue.push_back(u); }
+  const sc_core::sc_time& latency() const { return m_latency; }
 
   // Calls f(update) for every update visible at `now`, oldest first.
   template <typename F>

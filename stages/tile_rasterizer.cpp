@@ -80,7 +80,7 @@ void TileRasterizer::run() {
       work(m_cost.ii);
       StampBatch token{};
       token.kind = p.kind;
-      emit_at(out, std::move(token), sc_core::sc_time_stamp() + m_latency + m_hz_delay);
+      emit_at(out, std::move(token), local_time() + m_latency + m_hz_delay);
       continue;
     }
     rasterize(p.triangle);
@@ -109,7 +109,7 @@ void TileRasterizer::emit_batch(const std::shared_ptr<const RasterPrimitive>& tr
     hz_widen(tile);
     m_batch.hz_seq = ++m_hz_seq[static_cast<size_t>(tile)];
   }
-  emit_at(out, std::move(m_batch), sc_core::sc_time_stamp() + m_latency + m_hz_delay);
+  emit_at(out, std::move(m_batch), local_time() + m_latency + m_hz_delay);
 }
 
 void TileRasterizer::hz_control(PacketKind kind) {
@@ -147,7 +147,17 @@ void TileRasterizer::hz_widen(int tile) {
 
 bool TileRasterizer::hz_culls(int tile) {
   if (m_hz_link != nullptr) {
-    m_hz_link->take_visible(sc_core::sc_time_stamp(), [&](const HzUpdate& u) {
+    const sc_core::sc_time now = local_time();
+    if (decoupled()) {
+      // Every update visible at `now` was sent before now - latency by the
+      // depth test, which runs at the kernel's time: when the stage is that
+      // far ahead, it waits for the kernel to get there (then the sends
+      // before it have all been made, and one made at it is not visible).
+      const sc_core::sc_time& kernel = sc_core::sc_time_stamp();
+      const sc_core::sc_time& latency = m_hz_link->latency();
+      if (now > kernel + latency) sc_core::wait(now - latency - kernel);
+    }
+    m_hz_link->take_visible(now, [&](const HzUpdate& u) {
       // Exact only if it describes the last depth-writing batch emitted to
       // the block in this epoch: every earlier one has then been tested too.
       if (u.epoch == m_hz_epoch && u.seq == m_hz_seq[u.tile]) {

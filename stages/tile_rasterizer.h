@@ -171,6 +171,11 @@ class TileRasterizer : public PipelineStage {
   // connects it when config.hierarchical_z.enabled; must outlive the unit).
   void set_hz_link(HzUpdateLink* link) { m_hz_link = link; }
 
+  // Its inputs and outputs are its FIFOs and the update link, whose reads it
+  // makes no earlier than the link's rule allows (hz_culls; temporal
+  // decoupling, hw/pipeline_stage.h).
+  bool decouplable() const override { return true; }
+
   uint64_t tiles_visited() const { return m_tiles_visited; }
   uint64_t stamps_emitted() const { return m_stamps_emitted; }
   uint64_t fragments() const { return m_fragments; }
