@@ -608,13 +608,16 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
     std::abort();  // not reached: SC_REPORT_ERROR throws
   }
 
-  // Wakes the other side sleeping on `event`: a decoupled stage in the next
-  // delta (it computes its own time), a process in the kernel's time at the
-  // time of the operation it waits to make, `at`.
+  // Wakes the other side sleeping on `event`: a decoupled stage at once, in
+  // this evaluation phase (it computes its own time, which is then at or
+  // after the kernel's), a process in the kernel's time at the time of the
+  // operation it waits to make, `at`.
   void wake(sc_core::sc_event& event, const SuperdenseTime* sleeper_clock,
             const SuperdenseTime& at) {
     const uint64_t t = now();
-    if (sleeper_clock != nullptr || at.t <= t) {
+    if (sleeper_clock != nullptr) {
+      event.notify();  // runs in this evaluation phase: no delta cycle
+    } else if (at.t <= t) {
       event.notify(sc_core::SC_ZERO_TIME);
     } else {
       event.notify(sc_core::sc_time::from_value(at.t - t));
