@@ -61,10 +61,10 @@ bool assimp_close(const float* a, const float* b) {
   return !(dx * dx + dy * dy + dz * dz > kSquareEpsilon);
 }
 
-// Two vertices of `v` (six floats each: position, normal) that
-// JoinIdenticalVertices joins; `positions` holds the first one's position.
-bool joinable(const std::vector<float>& v, const float* position, uint32_t a, uint32_t b) {
-  return assimp_close(position, &v[6 * size_t{b}]) &&
+// Whether JoinIdenticalVertices joins vertices a and b of `v` (six floats
+// each: position, normal).
+bool joinable(const std::vector<float>& v, uint32_t a, uint32_t b) {
+  return assimp_close(&v[6 * size_t{a}], &v[6 * size_t{b}]) &&
          assimp_close(&v[6 * size_t{a} + 3], &v[6 * size_t{b} + 3]);
 }
 
@@ -100,7 +100,7 @@ bool has_joinable_vertices_1d(const std::vector<float>& v, size_t count) {
             [](const Key& a, const Key& b) { return a.projection < b.projection; });
   for (size_t i = 0; i < count; ++i) {
     for (size_t j = i + 1; j < count && keys[j].projection - keys[i].projection <= w; ++j) {
-      if (joinable(v, &v[6 * size_t{keys[i].vertex}], keys[i].vertex, keys[j].vertex)) return true;
+      if (joinable(v, keys[i].vertex, keys[j].vertex)) return true;
     }
   }
   return false;
