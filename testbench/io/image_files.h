@@ -1,7 +1,10 @@
 // Frame dumps: OpenEXR (R, G, B, A as half, Z as float) and an 8-bit PNG
 // preview, both stored top row first so pictures are upright. Writers write to
 // a temporary name in the target directory and rename, so a failed write never
-// leaves a half-written file or destroys an existing one.
+// leaves a half-written file or destroys an existing one. Both are
+// compressed losslessly and favour speed (a 4K frame is written in under a
+// second): the EXR's ZIP at zlib level 2, the PNG at level 4 with the Up
+// filter; the files' bytes depend on these settings, their pixels do not.
 #pragma once
 
 #include <cstdint>

@@ -10,9 +10,11 @@
 #include <ImfTiledOutputFile.h>
 #include <gtest/gtest.h>
 #include <png.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -415,6 +417,38 @@ TEST_F(ImageFilesTest, WritersRejectMissingDirectoryAndEmptyImage) {
                                path("empty.exr")),
                InputError);
   EXPECT_TRUE(listing().empty());
+}
+
+// libpng's own error mid-file (its write callback's short write, here past
+// a file size limit): one line naming the file, no file left behind, and the
+// writer usable again (the error returns through libpng's longjmp).
+TEST_F(ImageFilesTest, PngWriteErrorInLibpngIsOneLineAndLeavesNothing) {
+  std::vector<uint8_t> noise(256 * 256 * 4);
+  uint32_t state = 17;
+  for (uint8_t& b : noise) {
+    state = state * 1664525u + 1013904223u;
+    b = static_cast<uint8_t>(state >> 24);
+  }
+  rlimit saved{};
+  ASSERT_EQ(getrlimit(RLIMIT_FSIZE, &saved), 0);
+  const auto old_handler = std::signal(SIGXFSZ, SIG_IGN);
+  rlimit limit = saved;
+  limit.rlim_cur = 4096;  // the noise deflates to about 256 KB
+  ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &limit), 0);
+  const std::string p = path("noise.png");
+  std::string message;
+  try {
+    write_png_rgba8(p, 256, 256, noise);
+  } catch (const InputError& e) {
+    message = e.what();
+  }
+  setrlimit(RLIMIT_FSIZE, &saved);
+  std::signal(SIGXFSZ, old_handler);
+  EXPECT_EQ(message.rfind(p + ": cannot write PNG file: ", 0), 0u) << message;
+  EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+  EXPECT_TRUE(listing().empty());
+  write_png_rgba8(p, 256, 256, noise);
+  EXPECT_EQ(listing(), std::set<std::string>{"noise.png"});
 }
 
 // Read a PNG with libpng, requiring 8-bit RGBA in the file itself.

@@ -8,6 +8,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -163,6 +164,67 @@ TEST_F(BinaryPlyTest, JoinableVerticesGoToAssimp) {
   p.vertices[5] = p.vertices[4];
   p.vertices[5][0] += 2e-5f;
   check(p, true);
+  // One position, normals 2e-5 apart: not joined, so the direct path applies
+  // (the normals are compared only once the positions match).
+  p.vertices[5] = p.vertices[4];
+  p.vertices[5][3] += 2e-5f;
+  check(p, true);
+  // One position, normals 4e-6 apart: joinable, left to assimp.
+  p.vertices[5] = p.vertices[4];
+  p.vertices[5][4] += 4e-6f;
+  check(p, false);
+}
+
+// Whether assimp's JoinIdenticalVertices test (areVerticesEqual, float
+// arithmetic) holds for some two vertices, by comparing every pair.
+bool some_pair_joinable(const Ply& p) {
+  const float eps = 1e-5f * 1e-5f;
+  const auto close = [&](const std::vector<float>& a, const std::vector<float>& b, int k) {
+    const float dx = a[k] - b[k], dy = a[k + 1] - b[k + 1], dz = a[k + 2] - b[k + 2];
+    return !(dx * dx + dy * dy + dz * dz > eps);
+  };
+  for (size_t i = 0; i < p.vertices.size(); ++i) {
+    for (size_t j = i + 1; j < p.vertices.size(); ++j) {
+      if (close(p.vertices[i], p.vertices[j], 0) && close(p.vertices[i], p.vertices[j], 3)) {
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
+// The reader's search for joinable pairs (sorted projections, slabs) against
+// every pair: in each trial one vertex moved next to another, within 6e-6
+// (mostly joinable) or 1.5e-5 (mostly not) on each coordinate of position
+// and normal in random directions, so that about a quarter of the pairs
+// straddle a boundary of the search's slabs; also far from the origin,
+// where the reader searches in one dimension.
+TEST_F(BinaryPlyTest, JoinableSearchMatchesEveryPair) {
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+  std::uniform_int_distribution<int> pick(0, 10 * 10 - 1);
+  int joinable = 0, direct = 0;
+  for (int trial = 0; trial < 240; ++trial) {
+    Ply p = Ply::grid(10);
+    const float scale = trial % 8 == 7 ? 1e8f : 1.0f;  // past the slabs' 1e7 bound
+    for (auto& v : p.vertices) {
+      for (int k = 0; k < 3; ++k) v[k] *= scale;
+    }
+    const int a = pick(rng), b = (a + 1 + pick(rng) % 99) % 100;
+    const float reach = trial % 2 ? 6e-6f : 1.5e-5f;
+    p.vertices[b] = p.vertices[a];
+    for (int k = 0; k < 6; ++k) {
+      if (scale == 1.0f || k >= 3) p.vertices[b][k] += reach * unit(rng);
+    }
+    const bool expected = some_pair_joinable(p);
+    joinable += expected;
+    direct += !expected;
+    SCOPED_TRACE("trial " + std::to_string(trial));
+    check(p, !expected);
+  }
+  // Both outcomes are exercised.
+  EXPECT_GT(joinable, 60);
+  EXPECT_GT(direct, 60);
 }
 
 TEST_F(BinaryPlyTest, OtherLayoutsGoToAssimp) {
