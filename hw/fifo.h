@@ -83,7 +83,7 @@ struct SuperdenseTime {
   friend bool operator!=(const SuperdenseTime& a, const SuperdenseTime& b) { return !(a == b); }
 };
 
-inline const SuperdenseTime& later(const SuperdenseTime& a, const SuperdenseTime& b) {
+inline SuperdenseTime later(const SuperdenseTime& a, const SuperdenseTime& b) {
   return a < b ? b : a;
 }
 

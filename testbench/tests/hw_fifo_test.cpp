@@ -123,6 +123,79 @@ TEST(Fifo, BackpressureDepth1Vs2Vs16) {
   EXPECT_EQ(f2.stats_json(cycles(2))["full_cycles"], 12.5);
 }
 
+// Stamped mode (temporal decoupling): the backpressure schedule above with
+// one side running ahead of the kernel on its own superdense clock, through
+// write_at/read_at, and the other waiting in the kernel. Each decoupled side
+// gets the times the kernel-timed FIFO gives (done at 25, 20, 0; reads every
+// 5 cycles) and the statistics are the same numbers. A kernel timer runs to
+// 30 so that every run observes the same window.
+TEST(Fifo, StampedModeGivesTheKernelTimedSchedule) {
+  Fifo<int> w1("w1", 1), w2("w2", 2), w16("w16", 16);  // decoupled writer
+  Fifo<int> r1("r1", 1), r2("r2", 2), r16("r16", 16);  // decoupled reader
+  SuperdenseTime wclock[3], rclock[3];
+  Fifo<int>* writers[3] = {&w1, &w2, &w16};
+  Fifo<int>* readers[3] = {&r1, &r2, &r16};
+  double done[3] = {-1, -1, -1};
+  sc_time producer_done[3];
+  std::vector<int> wv[3], rv[3];
+  std::vector<double> wt[3], rt[3];
+  for (int k = 0; k < 3; ++k) {
+    writers[k]->set_stamped(&wclock[k], nullptr);
+    readers[k]->set_stamped(nullptr, &rclock[k]);
+    Fifo<int>& w = *writers[k];
+    SuperdenseTime& wc = wclock[k];
+    double* d = &done[k];
+    spawn([&w, &wc, d] {
+      for (int i = 0; i < 6; ++i) wc = w.write_at(i, 0, wc);
+      *d = static_cast<double>(wc.t) / static_cast<double>(kCycle.value());
+    });
+    slow_consumer(w, 6, cycles(5), &wv[k], &wt[k]);
+    greedy_producer(*readers[k], 6, &producer_done[k]);
+    Fifo<int>& r = *readers[k];
+    SuperdenseTime& rc = rclock[k];
+    std::vector<int>* values = &rv[k];
+    std::vector<double>* times = &rt[k];
+    spawn([&r, &rc, values, times] {
+      for (int i = 0; i < 6; ++i) {
+        rc = SuperdenseTime{rc.t + cycles(5).value(), 0};
+        int item = -1;
+        rc = r.read_at(item, rc);
+        values->push_back(item);
+        times->push_back(static_cast<double>(rc.t) / static_cast<double>(kCycle.value()));
+      }
+    });
+  }
+  spawn([] { wait(cycles(30)); });
+  sc_core::sc_start();
+
+  const std::vector<int> items{0, 1, 2, 3, 4, 5};
+  const std::vector<double> read_times{5, 10, 15, 20, 25, 30};
+  const double done_at[3] = {25, 20, 0};
+  const double mean[3] = {1.0, 55.0 / 30.0, 105.0 / 30.0};
+  const size_t max[3] = {1, 2, 6};
+  const double full[3] = {30, 25, 0};
+  const double blocked[3] = {25, 20, 0};
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_EQ(wv[k], items) << k;
+    EXPECT_EQ(wt[k], read_times) << k;
+    EXPECT_EQ(done[k], done_at[k]) << k;
+    EXPECT_EQ(rv[k], items) << k;
+    EXPECT_EQ(rt[k], read_times) << k;
+    for (Fifo<int>* f : {writers[k], readers[k]}) {
+      const FifoStats s = f->stats();
+      EXPECT_EQ(s.written, 6u) << f->name();
+      EXPECT_EQ(s.read, 6u) << f->name();
+      EXPECT_EQ(s.max_occupancy, max[k]) << f->name();
+      EXPECT_DOUBLE_EQ(s.mean_occupancy, mean[k]) << f->name();
+      EXPECT_EQ(in_cycles(s.full), full[k]) << f->name();
+      EXPECT_EQ(in_cycles(s.empty), 0) << f->name();
+      EXPECT_EQ(in_cycles(s.writer_blocked), blocked[k]) << f->name();
+      EXPECT_EQ(in_cycles(s.reader_blocked), 0) << f->name();
+      EXPECT_EQ(in_cycles(s.observed), 30) << f->name();
+    }
+  }
+}
+
 // Producer writes one item every 2 cycles (t=0,2,4,6, then waits until 8);
 // the consumer reads greedily. Each item is read in the instant it is written,
 // so occupancy is 1 only for zero time: max 1, mean 0, empty all 8 cycles. The
