@@ -624,20 +624,39 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
     }
   }
 
-  // The time at or after `call` at which the next write can be made: sleeps
-  // while no slot is empty, then takes the delta after the read that emptied
-  // the slot. A process in the kernel's time (`kernel`) waits until then.
-  SuperdenseTime stamped_write_wait(const SuperdenseTime& call, bool kernel) {
-    m_blocked_writers.set(1, call.t);
-    while (m_total_written - m_total_read == m_buf.size()) {
-      m_writer_asleep = true;
-      sc_core::wait(m_writer_wake);
-      m_writer_asleep = false;
+  // The time at or after `call` at which one side's next operation can be
+  // made: sleeps while `waits` (the other side has not made the operation it
+  // depends on), then takes `from`, that operation's delta after (a slot's
+  // entry, read once the wait is over). A process in the kernel's time
+  // (`kernel`) waits until then.
+  SuperdenseTime stamped_wait(fifo_detail::Integral& blocked, bool& asleep, sc_core::sc_event& wake,
+                              bool (Fifo::*waits)() const, const SuperdenseTime& from,
+                              const SuperdenseTime& call, bool kernel) {
+    blocked.set(1, call.t);
+    while ((this->*waits)()) {
+      asleep = true;
+      sc_core::wait(wake);
+      asleep = false;
     }
-    const SuperdenseTime s = later(call, m_free_from[m_tail]);
+    const SuperdenseTime s = later(call, from);
     if (kernel) wait_until(s);
-    m_blocked_writers.set(0, s.t);
+    blocked.set(0, s.t);
     return s;
+  }
+  bool no_slot_read() const { return m_total_written - m_total_read == m_buf.size(); }
+  bool no_item_written() const { return m_total_written == m_total_read || m_withheld; }
+
+  // The next write: after the read that emptied its slot.
+  SuperdenseTime stamped_write_wait(const SuperdenseTime& call, bool kernel) {
+    return stamped_wait(m_blocked_writers, m_writer_asleep, m_writer_wake, &Fifo::no_slot_read,
+                        m_free_from[m_tail], call, kernel);
+  }
+
+  // The next read: after the oldest item's write and its ready time (the
+  // reader sleeps too while withheld).
+  SuperdenseTime stamped_read_wait(const SuperdenseTime& call, bool kernel) {
+    return stamped_wait(m_blocked_readers, m_reader_asleep, m_reader_wake, &Fifo::no_item_written,
+                        m_readable_from[m_head], call, kernel);
   }
 
   // The item is in m_buf[m_tail], written at `s`, ready at `ready`.
@@ -649,21 +668,6 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
     if (m_reader_asleep) wake(m_reader_wake, m_reader_clock, m_readable_from[m_head]);
     if (m_events_handed_out || m_watchers > 0) m_data_written_event.notify(sc_core::SC_ZERO_TIME);
     settle_if_long();
-  }
-
-  // The time at or after `call` at which the oldest item can be read: sleeps
-  // while none has been written (or the reader is withheld).
-  SuperdenseTime stamped_read_wait(const SuperdenseTime& call, bool kernel) {
-    m_blocked_readers.set(1, call.t);
-    while (m_total_written == m_total_read || m_withheld) {
-      m_reader_asleep = true;
-      sc_core::wait(m_reader_wake);
-      m_reader_asleep = false;
-    }
-    const SuperdenseTime s = later(call, m_readable_from[m_head]);
-    if (kernel) wait_until(s);
-    m_blocked_readers.set(0, s.t);
-    return s;
   }
 
   // The item has been taken from m_buf[m_head] at `s`.
