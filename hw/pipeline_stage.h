@@ -18,9 +18,10 @@
 // Stalled and starved cycles are not counted here: the FIFOs measure them
 // and the netlist (stages/topology.h) adds them to the group as formulas.
 //
-// Temporal decoupling: a stage that touches nothing but its FIFOs (no
-// memory, no link read at the kernel's time) says so with decouplable(), and
-// the netlist may then set it decoupled before the simulation starts. It
+// Temporal decoupling: a stage that touches no memory, and reads nothing
+// else at the kernel's time except as it arranges itself (the rasterizer's
+// hierarchical-Z link), says so with decouplable(), and the netlist may then
+// set it decoupled before the simulation starts. It
 // then keeps its own superdense time, local_clock(): work(n) moves it on
 // instead of waiting, and receive() and emit() take their items from and
 // into stamped FIFOs (hw/fifo.h) at that time and adopt the time each
