@@ -116,11 +116,13 @@ class FifoOutIf : public virtual sc_core::sc_interface {
   // Write, but the reader sees the item only from `ready_at` on: a stage's
   // pipeline latency. The item holds its slot from when it enters; if the
   // write had to wait for a slot, `ready_at` moves later by that wait.
-  virtual void write(const T& item, const sc_core::sc_time& ready_at) = 0;
+  // By value: a caller's sc_time_stamp() is a reference to the kernel's
+  // time, which the wait would move too (counting the wait twice).
+  virtual void write(const T& item, sc_core::sc_time ready_at) = 0;
   // Moving writes: `item` is left holding the slot's previous contents (a
   // stale packet whose buffers a writer may clear and refill).
   virtual void write(T&& item) = 0;
-  virtual void write(T&& item, const sc_core::sc_time& ready_at) = 0;
+  virtual void write(T&& item, sc_core::sc_time ready_at) = 0;
   virtual bool nb_write(const T& item) = 0;
   virtual size_t num_free() const = 0;
   virtual size_t depth() const = 0;
@@ -268,7 +270,7 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
   void write(const T& item) override { write(item, sc_core::SC_ZERO_TIME); }
   void write(T&& item) override { write(std::move(item), sc_core::SC_ZERO_TIME); }
 
-  void write(const T& item, const sc_core::sc_time& ready_at) override {
+  void write(const T& item, sc_core::sc_time ready_at) override {
     if (m_stamped) {
       const SuperdenseTime called = kernel_stamp();
       const SuperdenseTime s = stamped_write_wait(stall_at(m_write_rng, called, true), true);
@@ -281,7 +283,7 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
     push(ready);
   }
 
-  void write(T&& item, const sc_core::sc_time& ready_at) override {
+  void write(T&& item, sc_core::sc_time ready_at) override {
     using std::swap;
     if (m_stamped) {
       const SuperdenseTime called = kernel_stamp();

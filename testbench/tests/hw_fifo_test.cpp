@@ -291,7 +291,9 @@ TEST(Fifo, StarvedReaderWakesAtTheReadyTimeTracedOrNot) {
   // The traced reader's starve time is split where the item arrived: items 0
   // and 1 give two intervals each (waiting for a write, then for its
   // latency), item 3 one: 5 intervals, 10 begin/end calls.
-  if constexpr (kTraceHooks) EXPECT_EQ(probe.intervals, 10);
+  if constexpr (kTraceHooks) {
+    EXPECT_EQ(probe.intervals, 10);
+  }
 }
 
 // A reader blocked when the simulation ends is counted up to "now": the
@@ -314,6 +316,29 @@ TEST(Fifo, BlockedTimeCountsUpToNow) {
   EXPECT_EQ(in_cycles(f.stats().reader_blocked), 25);
   EXPECT_EQ(in_cycles(f.stats().empty), 25);
   EXPECT_EQ(f.stats().read, 1u);
+}
+
+// A ready time given as sc_time_stamp() (a reference to the kernel's time)
+// is the time of the call: a writer blocked from 0 to 10 on a full FIFO of
+// depth 1 writes an item ready 0 cycles after the call plus its 10 cycles of
+// waiting, readable at 10, not 20 (the wait counted twice when the reference
+// was read after it).
+TEST(Fifo, ReadyTimeGivenAsTheKernelsTimeIsTakenAtTheCall) {
+  Fifo<int> f("f", 1);
+  spawn([&f] {
+    f.write(1);
+    f.write(2, sc_core::sc_time_stamp());
+  });
+  std::vector<double> times;
+  spawn([&f, &times] {
+    wait(cycles(10));
+    EXPECT_EQ(f.read(), 1);
+    EXPECT_EQ(f.read(), 2);
+    times.push_back(in_cycles(sc_core::sc_time_stamp()));
+  });
+  sc_core::sc_start();
+  EXPECT_EQ(times, std::vector<double>{10});
+  EXPECT_EQ(in_cycles(f.stats().writer_blocked), 10);
 }
 
 // Non-blocking access and the delta-cycle visibility rule, step by step.
