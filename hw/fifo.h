@@ -62,30 +62,9 @@
 
 #include "hw/fifo_probe.h"
 #include "hw/stats.h"
+#include "hw/superdense_time.h"
 
 namespace gpusim {
-
-// Superdense simulated time: an sc_time value and the delta cycle within it
-// (sc_delta_count_at_current_time(): 0 for processes woken by time, k + 1
-// for those woken by a delta notification in delta k). Ordered
-// lexicographically.
-struct SuperdenseTime {
-  uint64_t t = 0;
-  uint64_t d = 0;
-
-  SuperdenseTime next_delta() const { return {t, d + 1}; }
-  friend bool operator<(const SuperdenseTime& a, const SuperdenseTime& b) {
-    return a.t < b.t || (a.t == b.t && a.d < b.d);
-  }
-  friend bool operator==(const SuperdenseTime& a, const SuperdenseTime& b) {
-    return a.t == b.t && a.d == b.d;
-  }
-  friend bool operator!=(const SuperdenseTime& a, const SuperdenseTime& b) { return !(a == b); }
-};
-
-inline SuperdenseTime later(const SuperdenseTime& a, const SuperdenseTime& b) {
-  return a < b ? b : a;
-}
 
 // The reader's side, for stages that reach their input through an sc_port.
 template <typename T>
@@ -530,9 +509,7 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
   // inline rather than through the library call.
   const sc_core::sc_time& time_stamp() const { return simcontext()->time_stamp(); }
   uint64_t now() const { return time_stamp().value(); }
-  SuperdenseTime kernel_stamp() const {
-    return {now(), simcontext()->delta_count_at_current_time()};
-  }
+  SuperdenseTime kernel_stamp() const { return gpusim::kernel_stamp(*simcontext()); }
 
   // ---- Stamped mode (see the top of the file) ----
 
@@ -587,20 +564,31 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
     ++m_injected_stalls;
     m_injected_stall += t;
     const SuperdenseTime stalled{call.t + t.value(), 0};
-    if (kernel) wait_until(stalled);
+    if (kernel) {
+      wait_until(stalled);
+    } else {
+      keep_stall_end(stalled.t);
+    }
     return stalled;
   }
 
-  // A process in the kernel's time: until the kernel reaches `s` (a timed
-  // wait lands in delta 0, each zero-time wait one delta on).
-  // Reaching it late would move the process's later actions: the model
-  // error below means a decoupled stage logged an operation after the kernel
-  // had passed its time.
+  // A decoupled side does not wait its stall in the kernel, but the
+  // kernel-timed model does, and the kernel's last time is the "now" every
+  // statistic is observed up to: a stall drawn before a read that never
+  // comes (the ROP's after its end of frame) ends the simulation. An event
+  // at the latest stall end keeps that time.
+  void keep_stall_end(uint64_t t) {
+    if (t <= m_stall_end) return;
+    m_stall_end = t;
+    m_stall_end_event.cancel();  // an earlier pending time would keep this one out
+    m_stall_end_event.notify(sc_core::sc_time::from_value(t - now()));
+  }
+
+  // A process in the kernel's time: until the kernel reaches `s`. Reaching
+  // it late would move the process's later actions: the model error means a
+  // decoupled stage logged an operation after the kernel had passed its time.
   void wait_until(const SuperdenseTime& s) {
-    const uint64_t t = now();
-    if (s.t > t) sc_core::wait(sc_core::sc_time::from_value(s.t - t));
-    while (kernel_stamp() < s) sc_core::wait(sc_core::SC_ZERO_TIME);
-    if (kernel_stamp() != s) late("an operation of a process in the kernel's time");
+    if (!gpusim::wait_until(s)) late("an operation of a process in the kernel's time");
   }
 
   [[noreturn]] void late(const char* what) const {
@@ -894,6 +882,8 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
   StampLog m_write_log, m_read_log;
   sc_core::sc_event m_writer_wake, m_reader_wake;
   bool m_writer_asleep = false;
+  uint64_t m_stall_end = 0;  // the latest stall end of a decoupled side
+  sc_core::sc_event m_stall_end_event;
 };
 
 }  // namespace gpusim

@@ -57,11 +57,12 @@ std::ostream& operator<<(std::ostream& os, const HzUpdate& u);
 
 // A unit's update channel: a plain C++ queue (no SystemC channel, no event:
 // the rasterizer polls it when it tests a tile). Visibility makes it
-// independent of process order: an update sent at t_u is taken only when
-// t_u + latency < now, now being the reader's sc_time_stamp(). The writer
-// sends at its sc_time_stamp() S <= t_u, so every update with t_u + latency
-// < now was sent in an activation at S < now, which has run before any
-// activation at now, whatever the order of processes within a time.
+// independent of process order: an update stamped t_u (the depth test's
+// local_time()) is taken only when t_u + latency < now, now being the
+// reader's time. The writer sends in an activation at kernel time S <= t_u,
+// and the reader waits for the kernel to pass now - latency before it
+// looks (TileRasterizer::hz_culls), so every update with t_u + latency < now
+// has been sent, whatever the order of processes within a time.
 // The one writer sends in time order, so the queue is in stamp order.
 class HzUpdateLink {
  public:

@@ -79,6 +79,8 @@
 #include <tlm>
 #include <vector>
 
+#include "hw/superdense_time.h"
+
 namespace gpusim {
 
 // When a group of requests completes (absolute simulated times).
@@ -310,6 +312,20 @@ class MemoryPort : public sc_core::sc_object {
   void bind(Memory& memory);
   const std::string& client_name() const { return m_client_name; }
 
+  // A client that runs ahead of the kernel's time (temporal decoupling,
+  // hw/pipeline_stage.h) gives its clock: a request must join the
+  // arbitration round of the client's own superdense time, so the first
+  // request of a group waits until the kernel reaches the clock, and a
+  // wait_round() that waits moves the clock on to the kernel's time. The
+  // requests' arrival times, rounds and order are then those of a client in
+  // the kernel's time, whatever the client did ahead of the kernel between
+  // its groups. Before the simulation starts; null: the kernel's time.
+  void set_clock(SuperdenseTime* clock) { m_clock = clock; }
+  // The client's time: its clock's, or else the kernel's.
+  sc_core::sc_time now() const {
+    return m_clock ? sc_core::sc_time::from_value(m_clock->t) : sc_core::sc_time_stamp();
+  }
+
   // Issue a request at local time offset `offset` from now: the data moves
   // at once, the timing is decided at the end of this delta (see Memory).
   // An address outside the memory is a model bug and raises
@@ -341,7 +357,10 @@ class MemoryPort : public sc_core::sc_object {
   // already (posted writes from an earlier delta) returns at once; no
   // request at all gives zero times. Threads only, when it waits.
   MemoryCompletion wait_round() {
-    if (m_sink.pending) sc_core::wait(sc_core::SC_ZERO_TIME);
+    if (m_sink.pending) {
+      sc_core::wait(sc_core::SC_ZERO_TIME);
+      if (m_clock) *m_clock = kernel_stamp();
+    }
     const MemoryCompletion done = m_sink.done;
     m_sink.done = MemoryCompletion{};
     return done;
@@ -349,15 +368,18 @@ class MemoryPort : public sc_core::sc_object {
 
  private:
   void issue(bool write, uint64_t addr, void* data, uint64_t len, sc_core::sc_time offset) {
+    if (m_clock && !wait_until(*m_clock)) late();
     if (!m_memory || !m_memory->issue(m_client, write, addr, data, len, offset, m_sink))
       fail(write, addr, len);
   }
   void fail(bool write, uint64_t addr, uint64_t len) const;
+  [[noreturn]] void late() const;
 
   Memory* m_memory = nullptr;
   unsigned m_client = 0;
   std::string m_client_name;
   MemoryArbiter::Sink m_sink;
+  SuperdenseTime* m_clock = nullptr;
 };
 
 }  // namespace gpusim

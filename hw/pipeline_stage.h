@@ -18,18 +18,22 @@
 // Stalled and starved cycles are not counted here: the FIFOs measure them
 // and the netlist (stages/topology.h) adds them to the group as formulas.
 //
-// Temporal decoupling: a stage that touches no memory, and reads nothing
-// else at the kernel's time except as it arranges itself (the rasterizer's
-// hierarchical-Z link), says so with decouplable(), and the netlist may then
-// set it decoupled before the simulation starts. It
-// then keeps its own superdense time, local_clock(): work(n) moves it on
-// instead of waiting, and receive() and emit() take their items from and
-// into stamped FIFOs (hw/fifo.h) at that time and adopt the time each
-// operation is given. The stage wakes in the kernel only when an item it
-// needs has not been written, or a slot it needs not been read, at all; its
-// operations keep the times they would have had, so cycles and statistics
-// are the same bits. local_time() is the time a stage computes readiness
-// from, decoupled or not.
+// Temporal decoupling: a stage that reads nothing at the kernel's time
+// except as it arranges itself says so with decouplable(), and the netlist
+// may then set it decoupled before the simulation starts. It then keeps its
+// own superdense time, local_clock(): work(n) moves it on instead of
+// waiting, and receive() and emit() take their items from and into stamped
+// FIFOs (hw/fifo.h) at that time and adopt the time each operation is
+// given. The stage wakes in the kernel only when an item it needs has not
+// been written, or a slot it needs not been read, at all; its operations
+// keep the times they would have had, so cycles and statistics are the same
+// bits. What a decoupled stage shares with processes in the kernel's time it
+// does at the kernel's time: a memory client's requests wait for the kernel
+// to reach the stage's clock (attach_clock(), MemoryPort::set_clock), any
+// other action calls sync_with_kernel() first, and the rasterizer's
+// hierarchical-Z link is read by stamps (hw/hierarchical_z.h).
+// local_time() is the time a stage computes readiness from, decoupled or
+// not.
 #pragma once
 
 #include <cstdint>
@@ -40,6 +44,7 @@
 #include "hw/draw_state.h"
 #include "hw/fifo.h"
 #include "hw/gpu_config.h"
+#include "hw/memory.h"
 #include "hw/packets.h"
 #include "hw/stats.h"
 
@@ -127,8 +132,9 @@ class PipelineStage : public sc_core::sc_module {
     ++m_tokens_in;
   }
 
-  template <typename T, typename P>
-  void emit_at(FifoOutPort<T>& out, P&& item, const sc_core::sc_time& ready) {
+  template <typename T, int N, sc_core::sc_port_policy Policy, typename P>
+  void emit_at(sc_core::sc_port<FifoOutIf<T>, N, Policy>& out, P&& item,
+               const sc_core::sc_time& ready) {
     if (m_decoupled) {
       m_local = out->write_at(std::forward<P>(item), ready.value(), m_local);
     } else {
@@ -156,6 +162,19 @@ class PipelineStage : public sc_core::sc_module {
   }
 
   void retire() { ++m_tokens_out; }
+
+  // A memory client's requests are made at the stage's time: from the
+  // stage's thread, before its first request.
+  void attach_clock(MemoryPort& port) { port.set_clock(m_decoupled ? &m_local : nullptr); }
+  // The kernel brought to the stage's time, for an action other processes
+  // see at the kernel's time; no wait when not decoupled.
+  void sync_with_kernel() {
+    if (m_decoupled && !wait_until(m_local)) {
+      SC_REPORT_ERROR(
+          "gpusim/stage",
+          (std::string(name()) + ": behind the kernel's time (temporal decoupling)").c_str());
+    }
+  }
 
   // The frame's clear token n (counted from 0 at the frame's start), as
   // FrameState::clear gives it; more tokens than the frame has clears is a

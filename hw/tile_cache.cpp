@@ -103,7 +103,7 @@ unsigned TileCache::lookup(int tx, int ty, sc_core::sc_time& t, bool overwrite) 
     // The data is in the entry already; the round says when it arrived.
     const MemoryCompletion done = m_mem.wait_round();
     m_writes_done = std::max(m_writes_done, done.writes);
-    t = done.reads + decode - sc_core::sc_time_stamp();
+    t = done.reads + decode - m_mem.now();
     e.dirty = false;
     ++m_misses;
   }
@@ -172,7 +172,7 @@ void TileCache::flush(sc_core::sc_time& t) {
   // One round for the whole flush; it also returns any write-back posted
   // earlier and not yet collected.
   m_writes_done = std::max(m_writes_done, m_mem.wait_round().writes);
-  const sc_core::sc_time now = sc_core::sc_time_stamp();
+  const sc_core::sc_time now = m_mem.now();
   t = std::max(issue, m_writes_done > now ? m_writes_done - now : sc_core::SC_ZERO_TIME);
 }
 

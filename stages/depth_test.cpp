@@ -158,6 +158,7 @@ void DepthTest::run() {
   layout.set_surfaces(m_config, m_config.compression.depth);
   layout.codec_channel_bytes = depth_bytes_per_pixel(fb.depth_format);
   m_cache.configure(layout);
+  attach_clock(mem);
   // Byte offset of stamp pixel p from the stamp origin's inside a tile (rows
   // of a tile are tile_size pixels apart, TileCache::pixel()).
   const unsigned stamp_w = m_config.stamp[0];
@@ -232,11 +233,11 @@ void DepthTest::run() {
     if (hz_seq != 0) {
       // The tile's exact range leaves when the batch is done; the reduction
       // over the stamp ranges is off the batch's path (no cycles).
-      m_hz_link->send(HzUpdate{sc_core::sc_time_stamp(), static_cast<uint32_t>(hz_tile), hz_seq,
-                               m_hz_epoch, hz_tile_range(hz_tile, m_hz_entry)});
+      m_hz_link->send(HzUpdate{local_time(), static_cast<uint32_t>(hz_tile), hz_seq, m_hz_epoch,
+                               hz_tile_range(hz_tile, m_hz_entry)});
       ++m_hz_updates_sent;
     }
-    if (forward) emit_at(out, std::move(batch), sc_core::sc_time_stamp() + ready_after);
+    if (forward) emit_at(out, std::move(batch), local_time() + ready_after);
   }
 }
 

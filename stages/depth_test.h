@@ -84,6 +84,9 @@ class DepthTest : public PipelineStage {
 
   DepthTest(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame,
             unsigned unit);
+  // Its memory requests wait for the kernel and its hierarchical-Z updates
+  // carry their stamps (PipelineStage: temporal decoupling).
+  bool decouplable() const override { return true; }
 
   // Tracing: every tested fragment is reported to `probe` (nullptr: none).
   void set_fragment_probe(FragmentProbe* probe) {

@@ -184,6 +184,7 @@ void Rop::run() {
   layout.codec_channels = 4;
   layout.codec_channel_bytes = color_bytes_per_pixel(fb.color_format) / 4;
   m_cache.configure(layout);
+  attach_clock(mem);
 
   const unsigned bytes = color_bytes_per_pixel(fb.color_format);  // per sample
   // A stamp of N samples per pixel takes ceil(N / samples_per_pass) passes.
@@ -232,10 +233,10 @@ void Rop::run() {
       retire();
     } else if (batch.kind != PacketKind::work) {
       // To the resolve, readable once this token's writes are done.
-      done->write(ControlToken{batch.kind}, sc_core::sc_time_stamp());
-      ++m_tokens_out;
+      emit_at(done, ControlToken{batch.kind}, local_time());
     }
     if (batch.kind == PacketKind::end_of_frame) {
+      sync_with_kernel();  // the frame's end is seen at the kernel's time
       ++m_frames;
       m_frame_done = true;
       m_frame_done_event.notify(sc_core::SC_ZERO_TIME);

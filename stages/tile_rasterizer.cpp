@@ -149,10 +149,11 @@ bool TileRasterizer::hz_culls(int tile) {
   if (m_hz_link != nullptr) {
     const sc_core::sc_time now = local_time();
     if (decoupled()) {
-      // Every update visible at `now` was sent before now - latency by the
-      // depth test, which runs at the kernel's time: when the stage is that
-      // far ahead, it waits for the kernel to get there (then the sends
-      // before it have all been made, and one made at it is not visible).
+      // Every update visible at `now` was stamped before now - latency by
+      // the depth test, whose later operations are at or after the kernel's
+      // time (decoupled or not): when the stage is that far ahead, it waits
+      // for the kernel to get there (then the sends stamped before it have
+      // all been made, and one stamped at it is not visible).
       const sc_core::sc_time& kernel = sc_core::sc_time_stamp();
       const sc_core::sc_time& latency = m_hz_link->latency();
       if (now > kernel + latency) sc_core::wait(now - latency - kernel);

@@ -111,8 +111,8 @@ TEST(HierarchicalZ, StatsDoNotDependOnProcessOrderUnderRandomStalls) {
 
 // Temporal decoupling (hw/pipeline_stage.h, hw/fifo.h's stamped mode) must
 // not move a cycle: every scene, under configurations that stress its
-// timing (one unit and seven, FIFOs of one and two slots that keep every
-// decoupled stage blocked on a stage in the kernel's time, zero latencies
+// timing (one unit and seven, FIFOs of one and two slots that keep the
+// decoupled stages blocked on each other and on vertex fetch, zero latencies
 // where an item is readable in the delta after its write, ii of 1 and 3,
 // the baseline's single bus, random stalls at every FIFO), gives the same
 // statistics byte for byte and the same frame as the lockstep run, in which
@@ -161,10 +161,10 @@ TEST_P(TemporalDecoupling, SameStatsAndFrameAsLockstep) {
     const GpuRunResult decoupled = run_gpu(s, c.config, options);
     options.temporal_decoupling = false;
     const GpuRunResult lockstep = run_gpu(s, c.config, options);
-    // The stages that touch no memory ran decoupled (the shader, clipper,
-    // setup and distributor, and each unit's rasterizer and interpolator),
-    // or none.
-    EXPECT_EQ(decoupled.decoupled_stages, 4u + 2u * c.config.units) << c.name;
+    // Every stage but vertex fetch and the resolve ran decoupled (the
+    // shader, clipper, setup and distributor, and each unit's rasterizer,
+    // depth test, interpolator and ROP), or none.
+    EXPECT_EQ(decoupled.decoupled_stages, 4u + 4u * c.config.units) << c.name;
     EXPECT_EQ(lockstep.decoupled_stages, 0u) << c.name;
     EXPECT_EQ(decoupled.cycles, lockstep.cycles) << c.name;
     const nlohmann::json a = {{"timing", decoupled.timing}, {"counts", decoupled.counts}};
@@ -177,7 +177,7 @@ TEST_P(TemporalDecoupling, SameStatsAndFrameAsLockstep) {
 INSTANTIATE_TEST_SUITE_P(Scenes, TemporalDecoupling,
                          ::testing::Values("default", "spider", "lines_points", "clears",
                                            "clipping", "states", "tiny_triangles", "phong",
-                                           "aa_samples2", "viewport_scissor"));
+                                           "aa_samples2", "viewport_scissor", "clears_samples4"));
 
 }  // namespace
 }  // namespace gpusim
