@@ -24,6 +24,7 @@
 
 #include "hw/packets.h"
 #include "hw/pixel_formats.h"
+#include "hw/superdense_time.h"
 
 namespace gpusim {
 
@@ -60,10 +61,12 @@ std::ostream& operator<<(std::ostream& os, const HzUpdate& u);
 // independent of process order: an update stamped t_u (the depth test's
 // local_time()) is taken only when t_u + latency < now, now being the
 // reader's time. The writer sends in an activation at kernel time S <= t_u,
-// and the reader waits for the kernel to pass now - latency before it
-// looks (TileRasterizer::hz_culls), so every update with t_u + latency < now
-// has been sent, whatever the order of processes within a time.
-// The one writer sends in time order, so the queue is in stamp order.
+// so every update stamped before the kernel's time has been sent; so has
+// every one stamped before a decoupled writer's clock, which its later
+// sends cannot precede. A decoupled reader looks only once either has
+// passed now - latency (TileRasterizer::hz_culls), whatever the order of
+// processes within a time. The one writer sends in time order, so the
+// queue is in stamp order.
 class HzUpdateLink {
  public:
   explicit HzUpdateLink(uint64_t latency_cycles, sc_core::sc_time cycle)
@@ -71,6 +74,14 @@ class HzUpdateLink {
 
   void send(const HzUpdate& u) { m_queue.push_back(u); }
   const sc_core::sc_time& latency() const { return m_latency; }
+
+  // A decoupled writer's clock (before the simulation starts; null: the
+  // writer is in the kernel's time).
+  void set_writer_clock(const SuperdenseTime* clock) { m_writer_clock = clock; }
+  // Whether every update stamped before `t` has been sent.
+  bool sent_before(const sc_core::sc_time& t) const {
+    return sc_core::sc_time_stamp() >= t || (m_writer_clock && m_writer_clock->t >= t.value());
+  }
 
   // Calls f(update) for every update visible at `now`, oldest first.
   template <typename F>
@@ -84,6 +95,7 @@ class HzUpdateLink {
  private:
   sc_core::sc_time m_latency;
   std::deque<HzUpdate> m_queue;
+  const SuperdenseTime* m_writer_clock = nullptr;
 };
 
 }  // namespace gpusim

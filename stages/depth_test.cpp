@@ -169,6 +169,7 @@ void DepthTest::run() {
   }
 
   if (m_hz_link != nullptr) {
+    if (decoupled()) m_hz_link->set_writer_clock(&local_clock());
     m_tiles_x = (fb.width + static_cast<int>(m_config.tile_size) - 1) >> m_tile_shift;
     const int tiles_y = (fb.height + static_cast<int>(m_config.tile_size) - 1) >> m_tile_shift;
     m_stamps_x = static_cast<int>(m_config.tile_size / m_config.stamp[0]);

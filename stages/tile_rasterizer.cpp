@@ -149,14 +149,14 @@ bool TileRasterizer::hz_culls(int tile) {
   if (m_hz_link != nullptr) {
     const sc_core::sc_time now = local_time();
     if (decoupled()) {
-      // Every update visible at `now` was stamped before now - latency by
-      // the depth test, whose later operations are at or after the kernel's
-      // time (decoupled or not): when the stage is that far ahead, it waits
-      // for the kernel to get there (then the sends stamped before it have
-      // all been made, and one stamped at it is not visible).
-      const sc_core::sc_time& kernel = sc_core::sc_time_stamp();
+      // Every update visible at `now` was stamped before now - latency.
+      // Unless the link says they have all been sent, the stage waits for
+      // the kernel to get there (then they have, and one stamped at it is
+      // not visible).
       const sc_core::sc_time& latency = m_hz_link->latency();
-      if (now > kernel + latency) sc_core::wait(now - latency - kernel);
+      if (now > latency && !m_hz_link->sent_before(now - latency)) {
+        sc_core::wait(now - latency - sc_core::sc_time_stamp());
+      }
     }
     m_hz_link->take_visible(now, [&](const HzUpdate& u) {
       // Exact only if it describes the last depth-writing batch emitted to
