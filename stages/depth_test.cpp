@@ -1,6 +1,7 @@
 #include "stages/depth_test.h"
 
 #include <algorithm>
+#include <cstring>
 #include <limits>
 #include <string>
 
@@ -605,15 +606,26 @@ HzRange DepthTest::hz_tile_range(int tile, unsigned entry) {
   const int sw = static_cast<int>(m_config.stamp[0]), sh = static_cast<int>(m_config.stamp[1]);
   const int ox = (tile % m_tiles_x) * ts, oy = (tile / m_tiles_x) * ts;
   HzRange* const stamps = &m_hz_stamp[static_cast<size_t>(tile) * m_stamps_per_tile];
-  // One stamp's range: its pixels inside the framebuffer, every sample.
+  // One stamp's range: its pixels inside the framebuffer, every sample. A
+  // row's samples are contiguous in the tile (TileCache::pixel), so each row
+  // is one run of values.
   const auto scan = [&](int k) {
     const int sx = ox + (k % m_stamps_x) * sw, sy = oy + (k / m_stamps_x) * sh;
+    const int w = std::min(sx + sw, fb.width) - sx;  // none: a stamp right of the frame
+    const size_t run = w > 0 ? static_cast<size_t>(w) * fb.samples : 0;
     HzRange r{~DepthValue{0}, 0};
-    for (int y = sy; y < std::min(sy + sh, fb.height); ++y) {
-      for (int x = sx; x < std::min(sx + sw, fb.width); ++x) {
-        const uint8_t* p = m_cache.pixel(entry, x, y);
-        for (unsigned s = 0; s < fb.samples; ++s) {
-          const DepthValue v = load_depth(p + s * bytes, bytes);
+    for (int y = sy; run != 0 && y < std::min(sy + sh, fb.height); ++y) {
+      const uint8_t* p = m_cache.pixel(entry, sx, y);
+      if (bytes == 4 && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__) {
+        for (size_t i = 0; i < run; ++i) {
+          uint32_t v;  // the host's order is the stored one: load_depth's value
+          std::memcpy(&v, p + 4 * i, 4);
+          r.min = std::min(r.min, v);
+          r.max = std::max(r.max, v);
+        }
+      } else {
+        for (size_t i = 0; i < run; ++i) {
+          const DepthValue v = load_depth(p + i * bytes, bytes);
           r.min = std::min(r.min, v);
           r.max = std::max(r.max, v);
         }
