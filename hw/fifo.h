@@ -523,27 +523,38 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
       size_t n = 4;
       while (n < 2 * depth + 4) n *= 2;
       m_ring.assign(n, SuperdenseTime{});
+      m_mask = n - 1;
       m_head = m_tail = 0;
     }
-    bool empty() const { return m_head == m_tail; }
     size_t size() const { return m_tail - m_head; }
-    const SuperdenseTime& front() const { return m_ring[m_head & (m_ring.size() - 1)]; }
-    void pop() { ++m_head; }
+    // The oldest entry if it precedes `limit`, else null.
+    const SuperdenseTime* oldest_before(const SuperdenseTime& limit) const {
+      if (m_head == m_tail) return nullptr;
+      const SuperdenseTime& s = m_ring[m_head & m_mask];
+      return s < limit ? &s : nullptr;
+    }
+    // Removes the oldest entries while they are at `at`; how many.
+    size_t take(const SuperdenseTime& at) {
+      size_t n = 0;
+      for (; m_head != m_tail && m_ring[m_head & m_mask] == at; ++m_head) ++n;
+      return n;
+    }
     void push(const SuperdenseTime& s) {
       if (m_tail - m_head == m_ring.size()) grow();
-      m_ring[m_tail++ & (m_ring.size() - 1)] = s;
+      m_ring[m_tail++ & m_mask] = s;
     }
 
    private:
     void grow() {
       std::vector<SuperdenseTime> bigger(2 * m_ring.size());
-      for (uint64_t i = m_head; i != m_tail; ++i)
-        bigger[i - m_head] = m_ring[i & (m_ring.size() - 1)];
+      for (uint64_t i = m_head; i != m_tail; ++i) bigger[i - m_head] = m_ring[i & m_mask];
       m_tail -= m_head;
       m_head = 0;
       m_ring.swap(bigger);
+      m_mask = m_ring.size() - 1;
     }
     std::vector<SuperdenseTime> m_ring;
+    uint64_t m_mask = 0;  // ring size - 1 (a power of two)
     uint64_t m_head = 0, m_tail = 0;
   };
 
@@ -691,16 +702,12 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
   // update() does for the kernel-timed FIFO.
   void settle(const SuperdenseTime& limit) {
     for (;;) {
-      const bool w = !m_write_log.empty() && m_write_log.front() < limit;
-      const bool r = !m_read_log.empty() && m_read_log.front() < limit;
+      const SuperdenseTime* w = m_write_log.oldest_before(limit);
+      const SuperdenseTime* r = m_read_log.oldest_before(limit);
       if (!w && !r) return;
-      const SuperdenseTime at = !r || (w && m_write_log.front() < m_read_log.front())
-                                    ? m_write_log.front()
-                                    : m_read_log.front();
+      const SuperdenseTime at = !r || (w && *w < *r) ? *w : *r;
       if (at.t < m_occupancy.since) late("a logged operation");
-      size_t written = 0, read = 0;
-      for (; !m_write_log.empty() && m_write_log.front() == at; m_write_log.pop()) ++written;
-      for (; !m_read_log.empty() && m_read_log.front() == at; m_read_log.pop()) ++read;
+      const size_t written = m_write_log.take(at), read = m_read_log.take(at);
       const uint64_t dt = at.t - m_occupancy.since;
       if (m_committed == m_buf.size()) m_full += dt;
       if (m_committed == 0) m_empty += dt;
