@@ -67,9 +67,9 @@ class Rop : public PipelineStage {
 
   Rop(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame,
       unsigned unit);
-  // Its memory requests wait for the kernel, and so do its control tokens
-  // to the resolve and its end of frame (PipelineStage: temporal
-  // decoupling).
+  // Its memory requests and its end of frame wait for the kernel; its
+  // control tokens to the resolve go through a stamped FIFO (PipelineStage:
+  // temporal decoupling).
   bool decouplable() const override { return true; }
 
   // True once an end_of_frame has been flushed to memory, until the next
