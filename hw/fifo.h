@@ -57,6 +57,7 @@
 #include <stdexcept>
 #include <string>
 #include <systemc>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -251,10 +252,7 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
 
   void write(const T& item, sc_core::sc_time ready_at) override {
     if (m_stamped) {
-      const SuperdenseTime called = kernel_stamp();
-      const SuperdenseTime s = stamped_write_wait(stall_at(m_write_rng, called, true), true);
-      m_buf[m_tail] = item;
-      stamped_push(s, ready_at.value() + (s.t - called.t));
+      stamped_write(item, ready_at.value(), kernel_stamp(), true);
       return;
     }
     const sc_core::sc_time ready = wait_for_slot(ready_at);
@@ -263,43 +261,31 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
   }
 
   void write(T&& item, sc_core::sc_time ready_at) override {
-    using std::swap;
     if (m_stamped) {
-      const SuperdenseTime called = kernel_stamp();
-      const SuperdenseTime s = stamped_write_wait(stall_at(m_write_rng, called, true), true);
-      swap(m_buf[m_tail], item);
-      stamped_push(s, ready_at.value() + (s.t - called.t));
+      stamped_write(std::move(item), ready_at.value(), kernel_stamp(), true);
       return;
     }
     const sc_core::sc_time ready = wait_for_slot(ready_at);
+    using std::swap;
     swap(m_buf[m_tail], item);
     push(ready);
   }
 
   SuperdenseTime write_at(const T& item, uint64_t ready_at, const SuperdenseTime& call) override {
     require_stamped();
-    const SuperdenseTime s = stamped_write_wait(stall_at(m_write_rng, call, false), false);
-    m_buf[m_tail] = item;
-    stamped_push(s, ready_at + (s.t - call.t));
-    return s;
+    return stamped_write(item, ready_at, call, false);
   }
 
   SuperdenseTime write_at(T&& item, uint64_t ready_at, const SuperdenseTime& call) override {
     require_stamped();
-    const SuperdenseTime s = stamped_write_wait(stall_at(m_write_rng, call, false), false);
-    using std::swap;
-    swap(m_buf[m_tail], item);
-    stamped_push(s, ready_at + (s.t - call.t));
-    return s;
+    return stamped_write(std::move(item), ready_at, call, false);
   }
 
   // Blocking; SC_THREAD only. Waits while no item is readable.
   T read() override {
     if (m_stamped) {
-      stamped_read_wait(stall_at(m_read_rng, kernel_stamp(), true), true);
-      T item = std::move(m_buf[m_head]);
-      stamped_pop(kernel_stamp());
-      return item;
+      SuperdenseTime at;
+      return stamped_read(kernel_stamp(), true, at);
     }
     if constexpr (kTraceHooks) {
       if (m_probe) m_probe->read_called(now());
@@ -314,17 +300,15 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
   }
 
   void read(T& item) override {
-    using std::swap;
     if (m_stamped) {
-      stamped_read_wait(stall_at(m_read_rng, kernel_stamp(), true), true);
-      swap(m_buf[m_head], item);
-      stamped_pop(kernel_stamp());
+      stamped_read(item, kernel_stamp(), true);
       return;
     }
     if constexpr (kTraceHooks) {
       if (m_probe) m_probe->read_called(now());
     }
     wait_for_item();
+    using std::swap;
     swap(m_buf[m_head], item);
     pop();
     if constexpr (kTraceHooks) {
@@ -334,19 +318,12 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
 
   SuperdenseTime read_at(T& item, const SuperdenseTime& call) override {
     require_stamped();
-    const SuperdenseTime s = stamped_read_wait(stall_at(m_read_rng, call, false), false);
-    using std::swap;
-    swap(m_buf[m_head], item);
-    stamped_pop(s);
-    return s;
+    return stamped_read(item, call, false);
   }
 
   T read_at(const SuperdenseTime& call, SuperdenseTime& at) override {
     require_stamped();
-    at = stamped_read_wait(stall_at(m_read_rng, call, false), false);
-    T item = std::move(m_buf[m_head]);
-    stamped_pop(at);
-    return item;
+    return stamped_read(call, false, at);
   }
 
   bool nb_write(const T& item) override {
@@ -602,12 +579,7 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
     if (!gpusim::wait_until(s)) late("an operation of a process in the kernel's time");
   }
 
-  [[noreturn]] void late(const char* what) const {
-    SC_REPORT_ERROR("gpusim/fifo", (std::string(name()) + ": " + what +
-                                    " is behind the kernel's time (temporal decoupling)")
-                                       .c_str());
-    std::abort();  // not reached: SC_REPORT_ERROR throws
-  }
+  [[noreturn]] void late(const char* what) const { report_behind_kernel(name(), what); }
 
   // Wakes the other side sleeping on `event`: a decoupled stage at once, in
   // this evaluation phase (it computes its own time, which is then at or
@@ -658,6 +630,39 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
   SuperdenseTime stamped_read_wait(const SuperdenseTime& call, bool kernel) {
     return stamped_wait(m_blocked_readers, m_reader_asleep, m_reader_wake, &Fifo::no_item_written,
                         m_readable_from[m_head], call, kernel);
+  }
+
+  // A stamped write made at `call` (a side in the kernel's time waits until
+  // the time it is given): a moved item is swapped with the slot's old
+  // contents, for the reader to reuse.
+  template <typename P>
+  SuperdenseTime stamped_write(P&& item, uint64_t ready_at, const SuperdenseTime& call,
+                               bool kernel) {
+    const SuperdenseTime s = stamped_write_wait(stall_at(m_write_rng, call, kernel), kernel);
+    if constexpr (std::is_rvalue_reference_v<P&&>) {
+      using std::swap;
+      swap(m_buf[m_tail], item);
+    } else {
+      m_buf[m_tail] = item;
+    }
+    stamped_push(s, ready_at + (s.t - call.t));
+    return s;
+  }
+
+  // A stamped read made at `call`: into `item` (swapped with the slot), or
+  // returned with its time in `at`.
+  SuperdenseTime stamped_read(T& item, const SuperdenseTime& call, bool kernel) {
+    const SuperdenseTime s = stamped_read_wait(stall_at(m_read_rng, call, kernel), kernel);
+    using std::swap;
+    swap(m_buf[m_head], item);
+    stamped_pop(s);
+    return s;
+  }
+  T stamped_read(const SuperdenseTime& call, bool kernel, SuperdenseTime& at) {
+    at = stamped_read_wait(stall_at(m_read_rng, call, kernel), kernel);
+    T item = std::move(m_buf[m_head]);
+    stamped_pop(at);
+    return item;
   }
 
   // The item is in m_buf[m_tail], written at `s`, ready at `ready`.

@@ -1,7 +1,6 @@
 #include "hw/memory.h"
 
 #include <algorithm>
-#include <cstdlib>
 #include <cstring>
 #include <stdexcept>
 
@@ -406,13 +405,6 @@ void MemoryPort::fail(bool write, uint64_t addr, uint64_t len) const {
                   (std::string(name()) + ": " + (write ? "write" : "read") + " of " +
                    std::to_string(len) + " bytes at " + std::to_string(addr) + ": " + what)
                       .c_str());
-}
-
-void MemoryPort::late() const {
-  SC_REPORT_ERROR("gpusim/memory", (std::string(name()) +
-                                    ": a request is behind the kernel's time (temporal decoupling)")
-                                       .c_str());
-  std::abort();  // not reached: SC_REPORT_ERROR throws
 }
 
 }  // namespace gpusim

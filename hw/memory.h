@@ -368,12 +368,11 @@ class MemoryPort : public sc_core::sc_object {
 
  private:
   void issue(bool write, uint64_t addr, void* data, uint64_t len, sc_core::sc_time offset) {
-    if (m_clock && !wait_until(*m_clock)) late();
+    if (m_clock && !wait_until(*m_clock)) report_behind_kernel(name(), "a request");
     if (!m_memory || !m_memory->issue(m_client, write, addr, data, len, offset, m_sink))
       fail(write, addr, len);
   }
   void fail(bool write, uint64_t addr, uint64_t len) const;
-  [[noreturn]] void late() const;
 
   Memory* m_memory = nullptr;
   unsigned m_client = 0;

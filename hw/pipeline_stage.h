@@ -144,12 +144,7 @@ class PipelineStage : public sc_core::sc_module {
   }
   template <typename T, typename P>
   void emit(FifoOutPort<T>& out, P&& item) {
-    if (m_decoupled) {
-      m_local = out->write_at(std::forward<P>(item), m_local.t + m_latency.value(), m_local);
-      ++m_tokens_out;
-      return;
-    }
-    emit_at(out, std::forward<P>(item), sc_core::sc_time_stamp() + m_latency);
+    emit_at(out, std::forward<P>(item), local_time() + m_latency);
   }
 
   // Control tokens travel in band, behind the work before them.
@@ -169,11 +164,7 @@ class PipelineStage : public sc_core::sc_module {
   // The kernel brought to the stage's time, for an action other processes
   // see at the kernel's time; no wait when not decoupled.
   void sync_with_kernel() {
-    if (m_decoupled && !wait_until(m_local)) {
-      SC_REPORT_ERROR(
-          "gpusim/stage",
-          (std::string(name()) + ": behind the kernel's time (temporal decoupling)").c_str());
-    }
+    if (m_decoupled && !wait_until(m_local)) report_behind_kernel(name(), "the stage's clock");
   }
 
   // The frame's clear token n (counted from 0 at the frame's start), as

@@ -5,6 +5,8 @@
 #pragma once
 
 #include <cstdint>
+#include <cstdlib>
+#include <string>
 #include <systemc>
 
 namespace gpusim {
@@ -49,6 +51,15 @@ inline bool wait_until(const SuperdenseTime& s) {
   if (s.t > t) sc_core::wait(sc_core::sc_time::from_value(s.t - t));
   while (kernel_stamp(c) < s) sc_core::wait(sc_core::SC_ZERO_TIME);
   return kernel_stamp(c) == s;
+}
+
+// The model error of an action taken after the kernel had passed the time
+// it was stamped with: `who`'s `what` (SC_REPORT_ERROR, which throws).
+[[noreturn]] inline void report_behind_kernel(const std::string& who, const std::string& what) {
+  SC_REPORT_ERROR(
+      "gpusim/decoupling",
+      (who + ": " + what + " is behind the kernel's time (temporal decoupling)").c_str());
+  std::abort();  // not reached
 }
 
 }  // namespace gpusim
