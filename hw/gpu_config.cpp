@@ -7,6 +7,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "hw/stage_spec.h"
+
 namespace gpusim {
 namespace {
 
@@ -100,60 +102,22 @@ class Reader {
 
 }  // namespace
 
-const std::vector<std::string>& GpuConfig::stage_names() {
-  // The stages are the ones with a default cost; pipeline order.
-  static const std::vector<std::string> names = [] {
-    std::vector<std::string> n;
-    for (const auto& [name, cost] : default_stage_cost_list()) n.push_back(name);
-    return n;
-  }();
+// The stage and FIFO kinds are the registered stages' (hw/stage_spec.h): the
+// stages linked into the program declare them, each in its own files.
+std::vector<std::string> GpuConfig::stage_names() {
+  std::vector<std::string> names;
+  for (const StageSpec* s : StageRegistry::all()) names.push_back(s->kind);
   return names;
 }
 
-// The FIFOs of the netlist (stages/gpu.cpp), each a key of fifo_depths;
-// pipeline order. A test checks this against the elaborated topology.
-const std::vector<std::string>& GpuConfig::fifo_names() {
-  static const std::vector<std::string> names{"commands",
-                                              "command_to_fetch",
-                                              "fetch_to_shader",
-                                              "shader_to_clipper",
-                                              "clipper_to_setup",
-                                              "setup_to_distributor",
-                                              "distributor_to_rasterizer",
-                                              "rasterizer_to_depth",
-                                              "depth_to_interpolator",
-                                              "interpolator_to_rop",
-                                              "rop_to_resolve"};
-  return names;
-}
-
-const std::vector<std::string>& GpuConfig::optional_kinds() {
-  static const std::vector<std::string> kinds{"resolve", "rop_to_resolve"};
-  return kinds;
-}
-
-// Defaults model a fully pipelined fixed-function part at 1 GHz; the
-// reasoning for each value is in docs/gpu-config.md. Pipeline order.
-const std::vector<std::pair<std::string, StageCost>>& GpuConfig::default_stage_cost_list() {
-  static const std::vector<std::pair<std::string, StageCost>> list{
-      {"command_processor", {1, 2}},  // decode one command
-      {"vertex_fetch", {1, 2}},       // per vertex, plus the memory's own delay
-      {"vertex_shader", {4, 24}},     // per vertex: 4 shared multiply-add ranks, T&L
-      {"clipper", {2, 8}},            // per triangle: assembly, clip test, divide, viewport
-      {"triangle_setup", {4, 16}},    // per triangle: edge and attribute plane equations
-      {"tile_distributor", {1, 2}},   // per triangle-tile pair
-      {"tile_rasterizer", {1, 2}},    // per stamp
-      {"depth_test", {1, 2}},         // per stamp, plus the memory's own delay
-      {"interpolator", {1, 6}},       // per stamp: perspective-correct reciprocal and products
-      {"rop", {1, 4}},                // per stamp: blend and mask, plus the memory's delay
-      {"resolve", {1, 4}},            // per output stamp and sample pass, plus the memory's
-  };
-  return list;
+std::vector<std::string> GpuConfig::fifo_names() {
+  return StageRegistry::fifo_kinds();
 }
 
 std::map<std::string, StageCost, std::less<>> GpuConfig::default_stage_costs() {
-  const auto& list = default_stage_cost_list();
-  return {list.begin(), list.end()};
+  std::map<std::string, StageCost, std::less<>> costs;
+  for (const StageSpec* s : StageRegistry::all()) costs[s->kind] = s->cost;
+  return costs;
 }
 
 const StageCost& GpuConfig::stage(std::string_view name) const {
@@ -522,17 +486,21 @@ GpuConfig gpu_config_with_overrides(nlohmann::json base,
   }
 }
 
-nlohmann::json to_json(const GpuConfig& c) {
-  nlohmann::json j;
+namespace {
+
+// Keys in the order of the file format (docs/gpu-config.md).
+template <typename Json>
+Json config_json(const GpuConfig& c) {
+  Json j;
   j["clock_mhz"] = c.clock_mhz;
   j["units"] = c.units;
   j["tile_size"] = c.tile_size;
   j["stamp"] = {c.stamp[0], c.stamp[1]};
   j["fifo_depth"] = c.fifo_depth;
-  nlohmann::json depths = nlohmann::json::object();
+  Json depths = Json::object();
   for (const auto& n : GpuConfig::fifo_names()) depths[n] = c.fifo_depth_of(n);
   j["fifo_depths"] = depths;
-  nlohmann::json stages = nlohmann::json::object();
+  Json stages = Json::object();
   for (const auto& n : GpuConfig::stage_names()) {
     const StageCost& s = c.stage(n);
     stages[n] = {{"ii", s.ii}, {"latency", s.latency}};
@@ -560,6 +528,16 @@ nlohmann::json to_json(const GpuConfig& c) {
   j["lighting_cycles_per_light"] = c.lighting_cycles_per_light;
   j["watchdog_cycles"] = c.watchdog_cycles;
   return j;
+}
+
+}  // namespace
+
+nlohmann::json to_json(const GpuConfig& c) {
+  return config_json<nlohmann::json>(c);
+}
+
+nlohmann::ordered_json to_ordered_json(const GpuConfig& c) {
+  return config_json<nlohmann::ordered_json>(c);
 }
 
 }  // namespace gpusim

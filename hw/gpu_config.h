@@ -98,7 +98,7 @@ struct GpuConfig {
   // overrides are stored; fifo_depth_of() resolves.
   std::map<std::string, unsigned, std::less<>> fifo_depths;
   // Cost of every stage of stage_names(); a default-constructed config holds
-  // every stage at its documented default.
+  // every registered stage at the default its spec declares.
   std::map<std::string, StageCost, std::less<>> stages = default_stage_costs();
   MemoryConfig memory;
   SurfaceConfig surfaces;
@@ -124,17 +124,12 @@ struct GpuConfig {
   unsigned lighting_cycles_per_light = 2;
   uint64_t watchdog_cycles = 1000000;  // no stage progress for this long stops the run
 
-  // The configurable stages and FIFOs, in pipeline order: the kinds of the
-  // netlist (stages/topology.h), which checks them when the GPU is
-  // elaborated; the stages are those of default_stage_cost_list(). The
-  // resolve stage and its FIFOs exist only in frames that need them
-  // (optional_kinds()).
-  static const std::vector<std::string>& stage_names();
-  static const std::vector<std::string>& fifo_names();
-  static const std::vector<std::pair<std::string, StageCost>>& default_stage_cost_list();
+  // The configurable stages and FIFOs: the kinds the registered stages
+  // declare (hw/stage_spec.h), sorted; the netlist (stages/topology.h)
+  // checks them when the GPU is elaborated, and gives their pipeline order.
+  static std::vector<std::string> stage_names();
+  static std::vector<std::string> fifo_names();
   static std::map<std::string, StageCost, std::less<>> default_stage_costs();
-  // Stage and FIFO kinds elaborated only when the frame needs them.
-  static const std::vector<std::string>& optional_kinds();
   // Passes over a stamp of n samples per pixel: ceil(n / samples_per_pass).
   unsigned sample_passes(unsigned n) const { return (n + samples_per_pass - 1) / samples_per_pass; }
 
@@ -203,5 +198,8 @@ GpuConfig gpu_config_with_overrides(nlohmann::json base,
 
 // Every value resolved: all stages and the depth of every FIFO.
 nlohmann::json to_json(const GpuConfig& c);
+// The same with the keys in the file format's order (clock_mhz first), for
+// files people read.
+nlohmann::ordered_json to_ordered_json(const GpuConfig& c);
 
 }  // namespace gpusim

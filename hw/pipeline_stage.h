@@ -46,6 +46,7 @@
 #include "hw/gpu_config.h"
 #include "hw/memory.h"
 #include "hw/packets.h"
+#include "hw/stage_spec.h"
 #include "hw/stats.h"
 
 namespace gpusim {
@@ -55,7 +56,10 @@ class PipelineStage : public sc_core::sc_module {
   // The stage's configuration name ("tile_rasterizer"), the same in
   // stats.json, the traces and the docs; instances are named
   // instance_name(kind, unit).
-  const std::string& stage_kind() const { return m_kind; }
+  const std::string& stage_kind() const { return m_spec.kind; }
+  const StageSpec& spec() const { return m_spec; }
+  // Its cost in this configuration.
+  const StageCost& cost() const { return m_cost; }
   // The raster unit the stage belongs to; -1 for the front end.
   int unit() const { return m_unit; }
   static std::string instance_name(const std::string& kind, int unit) {
@@ -78,22 +82,23 @@ class PipelineStage : public sc_core::sc_module {
   const SuperdenseTime& local_clock() const { return m_local; }
 
  protected:
-  // `tokens_in` and `tokens_out` describe what the stage reads and writes
-  // ("setup packets read"). The cost is config.stage(kind).
-  PipelineStage(sc_core::sc_module_name name, std::string kind, int unit, const GpuConfig& config,
-                const FrameState& frame, const char* tokens_in, const char* tokens_out)
+  // The stage's spec (hw/stage_spec.h) names its kind and describes its
+  // token counters; its cost is the configuration's for that kind (the
+  // spec's default unless overridden).
+  PipelineStage(sc_core::sc_module_name name, const StageSpec& spec, int unit,
+                const GpuConfig& config, const FrameState& frame)
       : sc_core::sc_module(name),
         m_config(config),
         m_frame(frame),
-        m_cost(config.stage(kind)),
+        m_cost(config.stage(spec.kind)),
         m_cycle(config.cycle().value()),
         m_latency(clock_cycles(m_cost.latency)),
         m_unit(unit),
-        m_kind(std::move(kind)),
+        m_spec(spec),
         m_stats(basename()),
         m_busy_cycles(m_stats.counter("busy_cycles", "cycles", "cycles spent working")),
-        m_tokens_in(m_stats.counter("tokens_in", "tokens", tokens_in)),
-        m_tokens_out(m_stats.counter("tokens_out", "tokens", tokens_out)) {}
+        m_tokens_in(m_stats.counter("tokens_in", "tokens", spec.tokens_in)),
+        m_tokens_out(m_stats.counter("tokens_out", "tokens", spec.tokens_out)) {}
 
   sc_core::sc_time clock_cycles(uint64_t n) const {
     return sc_core::sc_time::from_value(m_cycle * n);
@@ -192,7 +197,7 @@ class PipelineStage : public sc_core::sc_module {
   const int m_unit;  // -1: front end
 
  private:
-  const std::string m_kind;
+  const StageSpec& m_spec;
   bool m_decoupled = false;
   SuperdenseTime m_local;  // decoupled only
 

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "hw/fifo_probe.h"
+#include "hw/netlist_tables.h"
 #include "hw/packets.h"
 #include "hw/vertex_packets.h"
 
@@ -53,29 +54,6 @@ class FragmentProbe {
   virtual ~FragmentProbe() = default;
   virtual void depth_tested(unsigned unit, const DepthFragment& f) = 0;
   virtual void rop_wrote(unsigned unit, const RopFragment& f) = 0;
-};
-
-// The GPU's netlist (stages/topology.h) as the trace files number it:
-// stats.json's names, in pipeline order (the front end, then each unit's
-// stages).
-struct NetlistTables {
-  static constexpr int kHost = -1;  // the writer of "commands"
-  struct Stage {
-    std::string name;                  // "triangle_setup", "depth_test_2"
-    std::string kind;                  // the name without the unit suffix
-    int unit = -1;                     // -1: front end
-    std::vector<int> inputs, outputs;  // indices into fifos
-  };
-  struct Fifo {
-    std::string name;
-    std::string kind;  // the name without the unit suffix
-    size_t depth = 0;
-    int writer = kHost;  // index into stages, or kHost
-    int reader = -1;
-    int unit = -1;
-  };
-  std::vector<Stage> stages;
-  std::vector<Fifo> fifos;
 };
 
 // Calls f(x, y) for every covered pixel of `stamps`, in stamp order, then

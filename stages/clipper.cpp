@@ -30,9 +30,24 @@ ClippedPrimitive work_primitive(PrimitiveKind kind, uint32_t draw_id, int64_t pr
 
 }  // namespace
 
+const StageSpec& Clipper::spec() {
+  static const StageSpec s{"clipper",
+                           StagePlacement::front_end,
+                           /*optional=*/false,
+                           {/*ii=*/2, /*latency=*/8},
+                           "primitive",
+                           "primitive assembly, clip-code test, perspective divide and viewport "
+                           "transform; a triangle that needs clipping pays per output triangle, "
+                           "one in polygon mode per line or point it becomes",
+                           "batches and control tokens read",
+                           "primitives and control tokens written",
+                           {"shader_to_clipper"}};
+  return s;
+}
+GPUSIM_REGISTER_STAGE(Clipper);
+
 Clipper::Clipper(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame)
-    : PipelineStage(name, "clipper", -1, config, frame, "batches and control tokens read",
-                    "primitives and control tokens written"),
+    : PipelineStage(name, spec(), -1, config, frame),
       in("in"),
       out("out"),
       m_cache(config.vertex_cache_entries) {

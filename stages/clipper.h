@@ -93,6 +93,9 @@ namespace gpusim {
 
 class Clipper : public PipelineStage {
  public:
+  // Its kind, cost and FIFOs (hw/stage_spec.h).
+  static const StageSpec& spec();
+
   FifoInPort<ShadedBatch> in;
   FifoOutPort<ClippedPrimitive> out;
 

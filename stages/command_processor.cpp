@@ -4,12 +4,19 @@
 
 namespace gpusim {
 
+const StageSpec& CommandProcessor::spec() {
+  static const StageSpec s{"command_processor", StagePlacement::front_end,
+                           /*optional=*/false,  {/*ii=*/1, /*latency=*/2},
+                           "command",           "decode one command word",
+                           "commands read",     "commands forwarded to vertex fetch",
+                           {"commands"}};
+  return s;
+}
+GPUSIM_REGISTER_STAGE(CommandProcessor);
+
 CommandProcessor::CommandProcessor(sc_core::sc_module_name name, const GpuConfig& config,
                                    const FrameState& frame)
-    : PipelineStage(name, "command_processor", -1, config, frame, "commands read",
-                    "commands forwarded to vertex fetch"),
-      in("in"),
-      out("out") {
+    : PipelineStage(name, spec(), -1, config, frame), in("in"), out("out") {
   SC_HAS_PROCESS(CommandProcessor);
   SC_THREAD(run);
 }

@@ -21,6 +21,9 @@ namespace gpusim {
 
 class CommandProcessor : public PipelineStage {
  public:
+  // Its kind, cost and FIFOs (hw/stage_spec.h).
+  static const StageSpec& spec();
+
   FifoInPort<Command> in;
   FifoOutPort<Command> out;
 

@@ -126,11 +126,23 @@ __m128i depth_compare4(__m128i fragment, __m128i stored) {
 
 }  // namespace
 
+const StageSpec& DepthTest::spec() {
+  static const StageSpec s{"depth_test",
+                           StagePlacement::per_unit,
+                           /*optional=*/false,
+                           {/*ii=*/1, /*latency=*/2},
+                           "stamp",
+                           "compare and merge; reading and writing depth go through the memory",
+                           "stamp batches and control tokens read",
+                           "stamp batches and control tokens forwarded",
+                           {"rasterizer_to_depth"}};
+  return s;
+}
+GPUSIM_REGISTER_STAGE(DepthTest);
+
 DepthTest::DepthTest(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame,
                      unsigned unit)
-    : PipelineStage(name, "depth_test", static_cast<int>(unit), config, frame,
-                    "stamp batches and control tokens read",
-                    "stamp batches and control tokens forwarded"),
+    : PipelineStage(name, spec(), static_cast<int>(unit), config, frame),
       in("in"),
       out("out"),
       mem("mem"),

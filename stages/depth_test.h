@@ -78,6 +78,9 @@ namespace gpusim {
 
 class DepthTest : public PipelineStage {
  public:
+  // Its kind, cost and FIFOs (hw/stage_spec.h).
+  static const StageSpec& spec();
+
   FifoInPort<StampBatch> in;
   FifoOutPort<StampBatch> out;
   MemoryPort mem;

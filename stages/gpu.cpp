@@ -5,12 +5,12 @@
 namespace gpusim {
 
 Gpu::Gpu(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame,
-         uint64_t memory_bytes, UnitOrder order)
+         uint64_t memory_bytes, UnitOrder order, const Interposers* interposers)
     : sc_core::sc_module(name),
       m_config(config),
       m_memory("memory", memory_bytes, config.memory.latency, config.memory.bytes_per_cycle,
                config.cycle(), config.memory.channels, config.memory.interleave_bytes),
-      m_topology(config),
+      m_topology(config, frame, interposers),
       m_command_processor("command_processor", config, frame),
       m_fetch("vertex_fetch", config, frame),
       m_shader("vertex_shader", config, frame),
@@ -152,10 +152,10 @@ nlohmann::json Gpu::stats_json(uint64_t cycles) const {
   const double stamp_pixels = static_cast<double>(m_config.stamp[0]) * m_config.stamp[1];
   const nlohmann::json rates = {
       {"setup_triangles_per_clock", static_cast<double>(m_setup.tokens_in()) / c},
-      {"setup_triangles_per_clock_peak", 1.0 / m_config.stage("triangle_setup").ii},
+      {"setup_triangles_per_clock_peak", 1.0 / m_setup.cost().ii},
       {"raster_pixels_per_clock", static_cast<double>(fragments) / c},
       {"raster_pixels_per_clock_peak",
-       m_config.units * stamp_pixels / m_config.stage("tile_rasterizer").ii},
+       m_config.units * stamp_pixels / m_units.front().rasterizer->cost().ii},
   };
 
   nlohmann::json descriptions = m_topology.descriptions();
@@ -166,6 +166,7 @@ nlohmann::json Gpu::stats_json(uint64_t cycles) const {
           {"stages", j["stages"]},
           {"fifos", j["fifos"]},
           {"units", units},
+          {"netlist", nlohmann::json::parse(to_json(m_topology.trace_tables()).dump())},
           {"memory", m_memory.stats_json()},
           {"descriptions", descriptions}};
 }

@@ -48,8 +48,10 @@ class Gpu : public sc_core::sc_module {
   enum class UnitOrder { ascending, descending };
 
   // frame and config must outlive the GPU; memory_bytes sizes the memory.
+  // `interposers` (optional) puts stages in the place of FIFOs (Topology).
   Gpu(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame,
-      uint64_t memory_bytes, UnitOrder order = UnitOrder::ascending);
+      uint64_t memory_bytes, UnitOrder order = UnitOrder::ascending,
+      const Interposers* interposers = nullptr);
 
   // The host writes commands here.
   Fifo<Command>& command_queue() { return *m_commands; }

@@ -14,11 +14,24 @@
 
 namespace gpusim {
 
+const StageSpec& Interpolator::spec() {
+  static const StageSpec s{
+      "interpolator",
+      StagePlacement::per_unit,
+      /*optional=*/false,
+      {/*ii=*/1, /*latency=*/6},
+      "stamp",
+      "perspective-correct interpolation: a reciprocal of 1/w then the attribute products",
+      "stamp batches and control tokens read",
+      "shaded batches and control tokens written",
+      {"depth_to_interpolator"}};
+  return s;
+}
+GPUSIM_REGISTER_STAGE(Interpolator);
+
 Interpolator::Interpolator(sc_core::sc_module_name name, const GpuConfig& config,
                            const FrameState& frame, unsigned unit)
-    : PipelineStage(name, "interpolator", static_cast<int>(unit), config, frame,
-                    "stamp batches and control tokens read",
-                    "shaded batches and control tokens written"),
+    : PipelineStage(name, spec(), static_cast<int>(unit), config, frame),
       in("in"),
       out("out"),
       m_stamp_shift(log2_side(config.stamp[0])),

@@ -56,6 +56,9 @@ struct EdgeOffsets;
 
 class Interpolator : public PipelineStage {
  public:
+  // Its kind, cost and FIFOs (hw/stage_spec.h).
+  static const StageSpec& spec();
+
   FifoInPort<StampBatch> in;
   FifoOutPort<ShadedStampBatch> out;
 

@@ -8,11 +8,24 @@
 
 namespace gpusim {
 
+const StageSpec& Resolve::spec() {
+  static const StageSpec s{"resolve",
+                           StagePlacement::shared,
+                           /*optional=*/true,
+                           {/*ii=*/1, /*latency=*/4},
+                           "output stamp",
+                           "multisampled or supersampled frames only: the box filter at the end of "
+                           "the frame, one output stamp per pass of `samples_per_pass` samples; "
+                           "reading the samples and writing the image go through the memory",
+                           "control tokens read (one per unit and token)",
+                           "tokens forwarded (none)",
+                           {"rop_to_resolve"}};
+  return s;
+}
+GPUSIM_REGISTER_STAGE(Resolve);
+
 Resolve::Resolve(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame)
-    : PipelineStage(name, "resolve", -1, config, frame,
-                    "control tokens read (one per unit and token)", "tokens forwarded (none)"),
-      in("in", config.units),
-      mem("mem") {
+    : PipelineStage(name, spec(), -1, config, frame), in("in", config.units), mem("mem") {
   SC_HAS_PROCESS(Resolve);
   SC_THREAD(run);
 }

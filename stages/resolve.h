@@ -46,6 +46,9 @@ namespace gpusim {
 
 class Resolve : public PipelineStage {
  public:
+  // Its kind, cost and FIFOs (hw/stage_spec.h).
+  static const StageSpec& spec();
+
   sc_core::sc_vector<FifoInPort<ControlToken>> in;  // one per unit
   MemoryPort mem;
 

@@ -154,11 +154,24 @@ void blend_rgba8_alpha(const glm::vec4& src, uint8_t* stored) {
 
 }  // namespace
 
+const StageSpec& Rop::spec() {
+  static const StageSpec s{
+      "rop",
+      StagePlacement::per_unit,
+      /*optional=*/false,
+      {/*ii=*/1, /*latency=*/4},
+      "stamp",
+      "blend and colour mask; reading and writing colour go through the memory",
+      "shaded batches and control tokens read",
+      "tokens retired (their writes done or posted)",
+      {"interpolator_to_rop"}};
+  return s;
+}
+GPUSIM_REGISTER_STAGE(Rop);
+
 Rop::Rop(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame,
          unsigned unit)
-    : PipelineStage(name, "rop", static_cast<int>(unit), config, frame,
-                    "shaded batches and control tokens read",
-                    "tokens retired (their writes done or posted)"),
+    : PipelineStage(name, spec(), static_cast<int>(unit), config, frame),
       in("in"),
       done("done"),
       mem("mem"),

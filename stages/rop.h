@@ -59,6 +59,9 @@ namespace gpusim {
 
 class Rop : public PipelineStage {
  public:
+  // Its kind, cost and FIFOs (hw/stage_spec.h).
+  static const StageSpec& spec();
+
   FifoInPort<ShadedStampBatch> in;
   // Bound only when a resolve follows (a multisampled or supersampled
   // frame): the control tokens, passed on once retired.

@@ -5,10 +5,23 @@
 
 namespace gpusim {
 
+const StageSpec& TileDistributor::spec() {
+  static const StageSpec s{"tile_distributor",
+                           StagePlacement::front_end,
+                           /*optional=*/false,
+                           {/*ii=*/1, /*latency=*/2},
+                           "primitive sent to a unit",
+                           "one unit's FIFO written per cycle; a control token is broadcast in one",
+                           "setup packets read",
+                           "packets written, summed over units",
+                           {"setup_to_distributor"}};
+  return s;
+}
+GPUSIM_REGISTER_STAGE(TileDistributor);
+
 TileDistributor::TileDistributor(sc_core::sc_module_name name, const GpuConfig& config,
                                  const FrameState& frame)
-    : PipelineStage(name, "tile_distributor", -1, config, frame, "setup packets read",
-                    "packets written, summed over units"),
+    : PipelineStage(name, spec(), -1, config, frame),
       in("in"),
       out("out", config.units),
       m_tile_shift(log2_side(config.tile_size)),

@@ -31,6 +31,9 @@ namespace gpusim {
 
 class TileDistributor : public PipelineStage {
  public:
+  // Its kind, cost and FIFOs (hw/stage_spec.h).
+  static const StageSpec& spec();
+
   FifoInPort<SetupPacket> in;
   sc_core::sc_vector<FifoOutPort<SetupPacket>> out;  // one per unit
 

@@ -25,10 +25,24 @@ int stamp_pixels(const GpuConfig& c) {
 
 }  // namespace
 
+const StageSpec& TileRasterizer::spec() {
+  static const StageSpec s{"tile_rasterizer",
+                           StagePlacement::per_unit,
+                           /*optional=*/false,
+                           {/*ii=*/1, /*latency=*/2},
+                           "stamp",
+                           "one stamp of edge functions per cycle per unit (a Bresenham line: one "
+                           "step per cycle, docs/architecture.md)",
+                           "setup packets read",
+                           "stamp batches and control tokens written",
+                           {"distributor_to_rasterizer"}};
+  return s;
+}
+GPUSIM_REGISTER_STAGE(TileRasterizer);
+
 TileRasterizer::TileRasterizer(sc_core::sc_module_name name, const GpuConfig& config,
                                const FrameState& frame, unsigned unit)
-    : PipelineStage(name, "tile_rasterizer", static_cast<int>(unit), config, frame,
-                    "setup packets read", "stamp batches and control tokens written"),
+    : PipelineStage(name, spec(), static_cast<int>(unit), config, frame),
       in("in"),
       out("out"),
       m_tile(static_cast<int>(config.tile_size)),

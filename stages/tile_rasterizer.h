@@ -158,6 +158,9 @@ namespace gpusim {
 
 class TileRasterizer : public PipelineStage {
  public:
+  // Its kind, cost and FIFOs (hw/stage_spec.h).
+  static const StageSpec& spec();
+
   FifoInPort<SetupPacket> in;
   FifoOutPort<StampBatch> out;
 

@@ -18,6 +18,12 @@ int Topology::stage_index(PipelineStage& stage) {
 void Topology::add_fifo(FifoNode node, std::shared_ptr<FifoChannel> fifo, PipelineStage* writer,
                         PipelineStage& reader) {
   if (m_finished) throw std::logic_error("Topology: connect() after finish()");
+  // A FIFO belongs to its reader: its kind is one the reader's spec declares.
+  const std::vector<std::string>& inputs = reader.spec().inputs;
+  if (std::find(inputs.begin(), inputs.end(), node.kind) == inputs.end()) {
+    throw std::logic_error("Topology: FIFO '" + node.kind + "' is not an input of '" +
+                           reader.stage_kind() + "' (hw/stage_spec.h)");
+  }
   if (find_fifo(node.name) != nullptr) {
     throw std::logic_error("Topology: FIFO '" + node.name + "' connected twice");
   }
@@ -101,10 +107,10 @@ void Topology::finish() {
   m_fifos = std::move(fifos);
   m_owned = std::move(owned);
 
-  // The configuration and the netlist name the same stages and FIFOs, but
-  // for the optional kinds a frame may leave out.
+  // The configuration (the registered stages) and the netlist name the same
+  // stages and FIFOs, but for the optional kinds a frame may leave out.
   const auto same = [](std::vector<std::string> a, std::vector<std::string> b) {
-    const auto& optional = GpuConfig::optional_kinds();
+    const std::vector<std::string> optional = StageRegistry::optional_kinds();
     for (const std::string& k : optional) {
       if (std::find(a.begin(), a.end(), k) == a.end()) {
         b.erase(std::remove(b.begin(), b.end(), k), b.end());

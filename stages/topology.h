@@ -19,9 +19,13 @@
 
 #include <cstddef>
 #include <functional>
+#include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <stdexcept>
 #include <string>
+#include <typeindex>
+#include <typeinfo>
 #include <vector>
 
 #include "hw/fifo.h"
@@ -30,6 +34,51 @@
 #include "hw/trace_probe.h"
 
 namespace gpusim {
+
+// Stages put in the place of FIFOs when the GPU is elaborated: the FIFO's
+// writer writes the new stage instead, and the new stage writes the FIFO
+// (its own input is the FIFO kind its spec names). For tests and
+// experiments (a pass-through, a delay line, a checker) that change the
+// pipeline without editing stages/gpu.cpp.
+class Interposers {
+ public:
+  template <typename T>
+  struct Made {
+    std::unique_ptr<PipelineStage> stage;
+    FifoInPort<T>* in = nullptr;
+    FifoOutPort<T>* out = nullptr;
+  };
+  // Makes the stage of one unit (-1: front end) for the GPU's configuration
+  // and frame.
+  template <typename T>
+  using Factory = std::function<Made<T>(int unit, const GpuConfig&, const FrameState&)>;
+
+  // Puts the stage `make` makes in the place of every FIFO of kind `fifo_kind`.
+  template <typename T>
+  void add(const std::string& fifo_kind, Factory<T> make) {
+    m_factories.insert_or_assign(fifo_kind,
+                                 Entry{typeid(T), std::make_shared<Factory<T>>(std::move(make))});
+  }
+  // The factory for `fifo_kind`, or nullptr; one whose items are not T is a
+  // programming error (std::logic_error).
+  template <typename T>
+  const Factory<T>* find(const std::string& fifo_kind) const {
+    const auto it = m_factories.find(fifo_kind);
+    if (it == m_factories.end()) return nullptr;
+    if (it->second.type != std::type_index(typeid(T))) {
+      throw std::logic_error("Interposers: the stage for FIFO '" + fifo_kind +
+                             "' carries another packet type");
+    }
+    return static_cast<const Factory<T>*>(it->second.factory.get());
+  }
+
+ private:
+  struct Entry {
+    std::type_index type;
+    std::shared_ptr<void> factory;
+  };
+  std::map<std::string, Entry> m_factories;
+};
 
 class Topology {
  public:
@@ -50,33 +99,37 @@ class Topology {
     std::function<void(TraceProbes&, size_t)> attach_probe;  // the probe for its packet type
   };
 
-  explicit Topology(const GpuConfig& config) : m_config(config) {}
+  // `interposers` (optional) must outlive the elaboration.
+  Topology(const GpuConfig& config, const FrameState& frame,
+           const Interposers* interposers = nullptr)
+      : m_config(config), m_frame(frame), m_interposers(interposers) {}
   Topology(const Topology&) = delete;
   Topology& operator=(const Topology&) = delete;
 
   // Creates the FIFO `kind` of `unit` (-1: front end) with its configured
   // depth, owned here, and binds `writer`'s port `out` and `reader`'s port
-  // `in` to it; a null writer is the host. Stages are registered on first
-  // use. Elaboration only; finish() when every FIFO is connected.
+  // `in` to it; a null writer is the host. `kind` must be an input of the
+  // reader's spec. Stages are registered on first use. An interposed stage
+  // (Interposers) goes between the two, on two FIFOs; the FIFO returned is
+  // the one `writer` writes. Elaboration only; finish() when every FIFO is
+  // connected.
   template <typename T>
   Fifo<T>& connect(const std::string& kind, int unit, PipelineStage* writer,
                    sc_core::sc_port_b<FifoOutIf<T>>* out, PipelineStage& reader,
                    FifoInPort<T>& in) {
-    auto fifo = std::make_unique<Fifo<T>>(PipelineStage::instance_name(kind, unit).c_str(),
-                                          m_config.fifo_depth_of(kind));
-    Fifo<T>& f = *fifo;
-    if (out != nullptr) (*out)(f);
-    in(f);
-    FifoNode n;
-    n.name = f.basename();
-    n.kind = kind;
-    n.unit = unit;
-    n.channel = &f;
-    n.attach_probe = [&f](TraceProbes& probes, size_t index) {
-      f.set_probe(probes.fifo_probe(index, ProbeTag<T>{}));
-    };
-    add_fifo(std::move(n), std::move(fifo), writer, reader);
-    return f;
+    const Interposers::Factory<T>* make =
+        m_interposers != nullptr ? m_interposers->find<T>(kind) : nullptr;
+    if (make == nullptr) return connect_fifo(kind, unit, writer, out, reader, in);
+    Interposers::Made<T> made = (*make)(unit, m_config, m_frame);
+    PipelineStage& stage = *made.stage;
+    m_owned_stages.push_back(std::move(made.stage));
+    if (stage.spec().inputs.size() != 1) {
+      throw std::logic_error("Topology: interposed stage '" + stage.stage_kind() +
+                             "' must read one FIFO kind");
+    }
+    Fifo<T>& first = connect_fifo(stage.spec().inputs.front(), unit, writer, out, stage, *made.in);
+    connect_fifo(kind, unit, &stage, made.out, reader, in);
+    return first;
   }
 
   // Sorts the netlist into pipeline order, checks it against the
@@ -116,14 +169,38 @@ class Topology {
   nlohmann::json descriptions() const;
 
  private:
+  template <typename T>
+  Fifo<T>& connect_fifo(const std::string& kind, int unit, PipelineStage* writer,
+                        sc_core::sc_port_b<FifoOutIf<T>>* out, PipelineStage& reader,
+                        FifoInPort<T>& in) {
+    auto fifo = std::make_unique<Fifo<T>>(PipelineStage::instance_name(kind, unit).c_str(),
+                                          m_config.fifo_depth_of(kind));
+    Fifo<T>& f = *fifo;
+    if (out != nullptr) (*out)(f);
+    in(f);
+    FifoNode n;
+    n.name = f.basename();
+    n.kind = kind;
+    n.unit = unit;
+    n.channel = &f;
+    n.attach_probe = [&f](TraceProbes& probes, size_t index) {
+      f.set_probe(probes.fifo_probe(index, ProbeTag<T>{}));
+    };
+    add_fifo(std::move(n), std::move(fifo), writer, reader);
+    return f;
+  }
   void add_fifo(FifoNode node, std::shared_ptr<FifoChannel> fifo, PipelineStage* writer,
                 PipelineStage& reader);
   int stage_index(PipelineStage& stage);
 
   const GpuConfig& m_config;
+  const FrameState& m_frame;  // for interposed stages
+  const Interposers* m_interposers;
   std::vector<StageNode> m_stages;
   std::vector<FifoNode> m_fifos;
   std::vector<std::shared_ptr<FifoChannel>> m_owned;
+  // Interposed stages, destroyed before the FIFOs they are bound to.
+  std::vector<std::unique_ptr<PipelineStage>> m_owned_stages;
   bool m_finished = false;
 };
 

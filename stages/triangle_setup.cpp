@@ -133,12 +133,25 @@ struct MajorLine {
 
 }  // namespace
 
+const StageSpec& TriangleSetup::spec() {
+  static const StageSpec s{
+      "triangle_setup",
+      StagePlacement::front_end,
+      /*optional=*/false,
+      {/*ii=*/4, /*latency=*/16},
+      "primitive",
+      "edge equations, fill-rule bias, attribute plane equations (one reciprocal of the area); a "
+      "line's band edges and end tests, a point's square",
+      "triangles and control tokens read",
+      "setup packets written",
+      {"clipper_to_setup"}};
+  return s;
+}
+GPUSIM_REGISTER_STAGE(TriangleSetup);
+
 TriangleSetup::TriangleSetup(sc_core::sc_module_name name, const GpuConfig& config,
                              const FrameState& frame)
-    : PipelineStage(name, "triangle_setup", -1, config, frame, "triangles and control tokens read",
-                    "setup packets written"),
-      in("in"),
-      out("out") {
+    : PipelineStage(name, spec(), -1, config, frame), in("in"), out("out") {
   SC_HAS_PROCESS(TriangleSetup);
   SC_THREAD(run);
 }

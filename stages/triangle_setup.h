@@ -65,6 +65,9 @@ namespace gpusim {
 
 class TriangleSetup : public PipelineStage {
  public:
+  // Its kind, cost and FIFOs (hw/stage_spec.h).
+  static const StageSpec& spec();
+
   FifoInPort<ClippedPrimitive> in;
   FifoOutPort<SetupPacket> out;
 

@@ -16,10 +16,24 @@ static_assert(sizeof(glm::vec4) == kPositionBytes && sizeof(glm::vec3) == kNorma
 
 }  // namespace
 
+const StageSpec& VertexFetch::spec() {
+  static const StageSpec s{
+      "vertex_fetch",
+      StagePlacement::front_end,
+      /*optional=*/false,
+      {/*ii=*/1, /*latency=*/2},
+      "vertex",
+      "address generation and format conversion; the memory delay comes on top",
+      "commands read",
+      "batches and control tokens written",
+      {"command_to_fetch"}};
+  return s;
+}
+GPUSIM_REGISTER_STAGE(VertexFetch);
+
 VertexFetch::VertexFetch(sc_core::sc_module_name name, const GpuConfig& config,
                          const FrameState& frame)
-    : PipelineStage(name, "vertex_fetch", -1, config, frame, "commands read",
-                    "batches and control tokens written"),
+    : PipelineStage(name, spec(), -1, config, frame),
       in("in"),
       out("out"),
       mem("mem"),

@@ -46,6 +46,9 @@ namespace gpusim {
 
 class VertexFetch : public PipelineStage {
  public:
+  // Its kind, cost and FIFOs (hw/stage_spec.h).
+  static const StageSpec& spec();
+
   FifoInPort<Command> in;
   FifoOutPort<VertexBatch> out;
   MemoryPort mem;

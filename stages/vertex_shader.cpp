@@ -29,13 +29,24 @@ glm::vec4 clamp01(const glm::vec4& c) {
 
 }  // namespace
 
+const StageSpec& VertexShader::spec() {
+  static const StageSpec s{"vertex_shader",
+                           StagePlacement::front_end,
+                           /*optional=*/false,
+                           {/*ii=*/4, /*latency=*/24},
+                           "vertex",
+                           "transform and lighting: 4×4 position and normal transforms plus "
+                           "lighting on one rank of multiply-adds shared 4 ways, deeply pipelined",
+                           "batches and control tokens read",
+                           "batches and control tokens written",
+                           {"fetch_to_shader"}};
+  return s;
+}
+GPUSIM_REGISTER_STAGE(VertexShader);
+
 VertexShader::VertexShader(sc_core::sc_module_name name, const GpuConfig& config,
                            const FrameState& frame)
-    : PipelineStage(name, "vertex_shader", -1, config, frame, "batches and control tokens read",
-                    "batches and control tokens written"),
-      in("in"),
-      out("out"),
-      m_lighting(frame) {
+    : PipelineStage(name, spec(), -1, config, frame), in("in"), out("out"), m_lighting(frame) {
   SC_HAS_PROCESS(VertexShader);
   SC_THREAD(run);
 }

@@ -28,6 +28,9 @@ namespace gpusim {
 
 class VertexShader : public PipelineStage {
  public:
+  // Its kind, cost and FIFOs (hw/stage_spec.h).
+  static const StageSpec& spec();
+
   FifoInPort<VertexBatch> in;
   FifoOutPort<ShadedBatch> out;
 

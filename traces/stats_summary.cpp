@@ -8,7 +8,6 @@
 #include <fstream>
 #include <limits>
 
-#include "hw/gpu_config.h"
 #include "hw/input_error.h"
 
 namespace gpusim {
@@ -60,84 +59,34 @@ nlohmann::json read_stats_file(const std::string& path, bool need_timing) {
   }
   if (!timing.contains("cycles") || !timing["cycles"].is_number_unsigned() ||
       !timing.contains("stages") || !timing["stages"].is_object() || timing["stages"].empty() ||
-      !j.contains("config") || !j["config"].is_object()) {
-    throw InputError(
-        path + ": not a gpusim stats.json: needs timing.cycles, timing.stages and config" + hint);
+      !timing.contains("netlist") || !timing["netlist"].is_object() || !j.contains("config") ||
+      !j["config"].is_object()) {
+    throw InputError(path +
+                     ": not a gpusim stats.json: needs timing.cycles, timing.stages, "
+                     "timing.netlist and config (a stats.json written before "
+                     "timing.netlist existed needs a new run)" +
+                     hint);
   }
   return j;
 }
 
-TraceManifest manifest_from_stats(const nlohmann::json& stats) {
+TraceManifest manifest_from_stats(const nlohmann::json& stats, const std::string& path) {
   TraceManifest m;
   const nlohmann::json& config = object_at(stats, "config");
   const nlohmann::json& timing = object_at(stats, "timing");
-  const nlohmann::json& stages = object_at(timing, "stages");
-  const nlohmann::json& fifos = object_at(timing, "fifos");
   m.scene = stats.value("scene", std::string());
   m.config = config;
   m.clock_mhz = number(config, "clock_mhz");
   m.cycles = cycles_at(timing, "cycles");
   m.units = static_cast<unsigned>(number(config, "units"));
-
-  const std::vector<std::string>& kinds = GpuConfig::stage_names();
-  // A kind with units appears as kind_0, kind_1, ...
-  const auto per_unit = [&](const std::string& kind) { return stages.contains(kind + "_0"); };
-  const auto add = [&](const std::string& name, const std::string& kind, int unit) {
-    if (!stages.contains(name) || m.stage(name)) return;
-    TraceStage s;
-    s.index = m.stages.size();
-    s.name = name;
-    s.kind = kind;
-    s.unit = unit;
-    m.stages.push_back(s);
-  };
-  size_t first_unit_kind = kinds.size();
-  for (size_t i = 0; i < kinds.size() && first_unit_kind == kinds.size(); ++i) {
-    if (per_unit(kinds[i])) first_unit_kind = i;
-  }
-  for (size_t i = 0; i < first_unit_kind; ++i) add(kinds[i], kinds[i], -1);
-  for (unsigned u = 0; u < m.units; ++u) {
-    for (size_t i = first_unit_kind; i < kinds.size(); ++i) {
-      if (per_unit(kinds[i]))
-        add(kinds[i] + "_" + std::to_string(u), kinds[i], static_cast<int>(u));
-    }
-  }
-  for (size_t i = first_unit_kind; i < kinds.size(); ++i) add(kinds[i], kinds[i], -1);
-  // A stage the configuration does not know (another version's): last, its
-  // own kind.
-  for (const auto& item : stages.items()) add(item.key(), item.key(), -1);
-
-  const std::vector<std::string>& fifo_kinds = GpuConfig::fifo_names();
-  const auto endpoint = [&](const std::string& kind, int unit) {
-    return unit >= 0 && per_unit(kind) ? kind + "_" + std::to_string(unit) : kind;
-  };
-  for (size_t i = 0; i < fifo_kinds.size() && i < kinds.size(); ++i) {
-    for (int unit = -1; unit < static_cast<int>(m.units); ++unit) {
-      const std::string name =
-          unit < 0 ? fifo_kinds[i] : fifo_kinds[i] + "_" + std::to_string(unit);
-      if (!fifos.contains(name)) continue;
-      TraceFifo f;
-      f.index = m.fifos.size();
-      f.name = name;
-      f.kind = fifo_kinds[i];
-      f.depth = cycles_at(fifos[name], "depth");
-      f.unit = unit;
-      f.writer = i == 0 ? "host" : endpoint(kinds[i - 1], unit);
-      f.reader = endpoint(kinds[i], unit);
-      for (TraceStage& s : m.stages) {
-        if (s.name == f.writer) s.outputs.push_back(name);
-        if (s.name == f.reader) s.inputs.push_back(name);
-      }
-      m.fifos.push_back(f);
-    }
-  }
+  read_netlist(object_at(timing, "netlist"), path, "timing.netlist", m);
   return m;
 }
 
 StatsSummary::StatsSummary(const nlohmann::json& stats, const std::string& path)
     : m_path(path),
       m_scene(stats.value("scene", std::string())),
-      m_manifest(manifest_from_stats(stats)) {
+      m_manifest(manifest_from_stats(stats, path)) {
   const nlohmann::json& timing = object_at(stats, "timing");
   m_seconds = number(timing, "simulated_seconds");
   const nlohmann::json& stages = object_at(timing, "stages");

@@ -28,13 +28,10 @@ namespace gpusim {
 // stages) and `config`, which `gpusim golden` does not write.
 nlohmann::json read_stats_file(const std::string& path, bool need_timing);
 
-// The netlist a cycle model's stats.json implies, as a trace's manifest
-// would list it: its stages (timing.stages) in pipeline order (front end,
-// then unit by unit, then the resolve), its FIFOs (timing.fifos) with their
-// writer and reader, units, clock and cycles. GpuConfig's stage and FIFO
-// lists give the order and the edges: FIFO i of fifo_names() joins stage
-// kind i - 1 of stage_names() (the host for the first) to stage kind i.
-TraceManifest manifest_from_stats(const nlohmann::json& stats);
+// The netlist a cycle model's stats.json records (timing.netlist, in
+// pipeline order), with its units, clock and cycles, as a trace's manifest
+// would list it. `path` names the file in errors.
+TraceManifest manifest_from_stats(const nlohmann::json& stats, const std::string& path);
 
 class StatsSummary {
  public:

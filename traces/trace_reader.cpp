@@ -103,6 +103,45 @@ std::string join(const std::vector<std::string>& v, const char* sep) {
   return out;
 }
 
+// The netlist's tables (hw/netlist_tables.h) at `where` ("" or "timing.netlist").
+void read_netlist(const ManifestParser& p, const nlohmann::json& j, const std::string& where,
+                  TraceManifest& m) {
+  const std::string prefix = where.empty() ? "" : where + ".";
+  const nlohmann::json& stages = p.array(j, where, "stages");
+  for (size_t i = 0; i < stages.size(); ++i) {
+    const std::string w = prefix + "stages[" + std::to_string(i) + "]";
+    const nlohmann::json& s = stages[i];
+    TraceStage st;
+    st.index = p.position(s, w, i);
+    st.name = p.string(p.field(s, w, "name"), w + ".name");
+    st.kind = p.string(p.field(s, w, "kind"), w + ".kind");
+    st.unit = p.optional_unit(p.field(s, w, "unit"), w + ".unit");
+    const nlohmann::json& inputs = p.array(s, w, "inputs");
+    for (size_t k = 0; k < inputs.size(); ++k) {
+      st.inputs.push_back(p.string(inputs[k], w + ".inputs[" + std::to_string(k) + "]"));
+    }
+    const nlohmann::json& outputs = p.array(s, w, "outputs");
+    for (size_t k = 0; k < outputs.size(); ++k) {
+      st.outputs.push_back(p.string(outputs[k], w + ".outputs[" + std::to_string(k) + "]"));
+    }
+    m.stages.push_back(std::move(st));
+  }
+  const nlohmann::json& fifos = p.array(j, where, "fifos");
+  for (size_t i = 0; i < fifos.size(); ++i) {
+    const std::string w = prefix + "fifos[" + std::to_string(i) + "]";
+    const nlohmann::json& f = fifos[i];
+    TraceFifo fi;
+    fi.index = p.position(f, w, i);
+    fi.name = p.string(p.field(f, w, "name"), w + ".name");
+    fi.kind = p.string(p.field(f, w, "kind"), w + ".kind");
+    fi.depth = p.unsigned_int(p.field(f, w, "depth"), w + ".depth");
+    fi.writer = p.string(p.field(f, w, "writer"), w + ".writer");
+    fi.reader = p.string(p.field(f, w, "reader"), w + ".reader");
+    fi.unit = p.optional_unit(p.field(f, w, "unit"), w + ".unit");
+    m.fifos.push_back(std::move(fi));
+  }
+}
+
 TraceManifest parse_manifest(const std::string& file) {
   std::ifstream in(file, std::ios::binary);
   if (!in) throw InputError(file + ": cannot open: " + std::strerror(errno));
@@ -182,39 +221,7 @@ TraceManifest parse_manifest(const std::string& file) {
                                      p.integer(prims[1], "filters.prims[1]"));
   }
 
-  const nlohmann::json& stages = p.array(j, "", "stages");
-  for (size_t i = 0; i < stages.size(); ++i) {
-    const std::string w = "stages[" + std::to_string(i) + "]";
-    const nlohmann::json& s = stages[i];
-    TraceStage st;
-    st.index = p.position(s, w, i);
-    st.name = p.string(p.field(s, w, "name"), w + ".name");
-    st.kind = p.string(p.field(s, w, "kind"), w + ".kind");
-    st.unit = p.optional_unit(p.field(s, w, "unit"), w + ".unit");
-    const nlohmann::json& inputs = p.array(s, w, "inputs");
-    for (size_t k = 0; k < inputs.size(); ++k) {
-      st.inputs.push_back(p.string(inputs[k], w + ".inputs[" + std::to_string(k) + "]"));
-    }
-    const nlohmann::json& outputs = p.array(s, w, "outputs");
-    for (size_t k = 0; k < outputs.size(); ++k) {
-      st.outputs.push_back(p.string(outputs[k], w + ".outputs[" + std::to_string(k) + "]"));
-    }
-    m.stages.push_back(std::move(st));
-  }
-  const nlohmann::json& fifos = p.array(j, "", "fifos");
-  for (size_t i = 0; i < fifos.size(); ++i) {
-    const std::string w = "fifos[" + std::to_string(i) + "]";
-    const nlohmann::json& f = fifos[i];
-    TraceFifo fi;
-    fi.index = p.position(f, w, i);
-    fi.name = p.string(p.field(f, w, "name"), w + ".name");
-    fi.kind = p.string(p.field(f, w, "kind"), w + ".kind");
-    fi.depth = p.unsigned_int(p.field(f, w, "depth"), w + ".depth");
-    fi.writer = p.string(p.field(f, w, "writer"), w + ".writer");
-    fi.reader = p.string(p.field(f, w, "reader"), w + ".reader");
-    fi.unit = p.optional_unit(p.field(f, w, "unit"), w + ".unit");
-    m.fifos.push_back(std::move(fi));
-  }
+  read_netlist(p, j, "", m);
   const nlohmann::json& draws = p.array(j, "", "draws");
   for (size_t i = 0; i < draws.size(); ++i) {
     const std::string w = "draws[" + std::to_string(i) + "]";
@@ -291,6 +298,11 @@ void check_record_file(const std::string& file, const char* magic, size_t record
 }
 
 }  // namespace
+
+void read_netlist(const nlohmann::json& netlist, const std::string& source,
+                  const std::string& where, TraceManifest& m) {
+  read_netlist(ManifestParser(source), netlist, where, m);
+}
 
 std::string TraceFilters::describe() const {
   std::vector<std::string> parts;

@@ -75,6 +75,7 @@ struct TraceManifest {
     // in traces written before lines and points (all triangles, filled).
     std::string primitive, polygon_mode;
   };
+
   std::vector<Draw> draws;
   bool recorded(const std::string& format) const;
   uint64_t transaction_records = 0;
@@ -98,6 +99,12 @@ struct TraceManifest {
   std::vector<std::string> unit_kinds() const;
   const TraceFifo* fifo(const std::string& name) const;
 };
+
+// The stages and FIFOs of `netlist` ({"stages": [...], "fifos": [...]}, as
+// hw/netlist_tables.h writes them) appended to m.stages and m.fifos; a
+// malformed table throws InputError "<source>: <where>.stages[i].name: ...".
+void read_netlist(const nlohmann::json& netlist, const std::string& source,
+                  const std::string& where, TraceManifest& m);
 
 // One transactions.bin record (docs/traces.md).
 struct TransactionRecord {

@@ -555,31 +555,7 @@ void TraceRecorder::write_manifest(uint64_t cycles) {
   using json = nlohmann::ordered_json;
   const FramebufferDesc& fb = m_frame.framebuffer;
   const int tile = static_cast<int>(m_config.tile_size);
-  json stages = json::array();
-  for (size_t i = 0; i < m_tables.stages.size(); ++i) {
-    const NetlistTables::Stage& s = m_tables.stages[i];
-    json inputs = json::array(), outputs = json::array();
-    for (int i : s.inputs) inputs.push_back(m_tables.fifos[i].name);
-    for (int o : s.outputs) outputs.push_back(m_tables.fifos[o].name);
-    stages.push_back({{"index", i},
-                      {"name", s.name},
-                      {"kind", s.kind},
-                      {"unit", s.unit < 0 ? json(nullptr) : json(s.unit)},
-                      {"inputs", inputs},
-                      {"outputs", outputs}});
-  }
-  json fifos = json::array();
-  for (size_t i = 0; i < m_tables.fifos.size(); ++i) {
-    const NetlistTables::Fifo& f = m_tables.fifos[i];
-    fifos.push_back(
-        {{"index", i},
-         {"name", f.name},
-         {"kind", f.kind},
-         {"depth", f.depth},
-         {"writer", f.writer < 0 ? json("host") : json(m_tables.stages[f.writer].name)},
-         {"reader", f.reader < 0 ? json(nullptr) : json(m_tables.stages[f.reader].name)},
-         {"unit", f.unit < 0 ? json(nullptr) : json(f.unit)}});
-  }
+  const json netlist = to_json(m_tables);
   json draws = json::array();
   json formats = json::array();
   if (m_write_vcd) formats.push_back("vcd");
@@ -609,8 +585,8 @@ void TraceRecorder::write_manifest(uint64_t cycles) {
         {"tiles_y", (fb.height + tile - 1) / tile}}},
       {"units", m_config.units},
       {"filters", json::parse(m_filter.to_json(m_tables, m_kept).dump())},
-      {"stages", stages},
-      {"fifos", fifos},
+      {"stages", netlist["stages"]},
+      {"fifos", netlist["fifos"]},
       {"draws", draws},
       {"records",
        {{"transactions", m_transactions.records()},

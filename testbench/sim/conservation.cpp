@@ -80,10 +80,19 @@ struct Context {
   uint64_t depth_clears = 0;
 
   uint64_t get(const std::string& counter) const { return l.stage(name, counter); }
-  // The stage writing this stage's (first) input FIFO: the one before it.
-  std::string upstream() const {
-    const int w = stage.inputs.empty() ? -1 : netlist.fifos[stage.inputs[0]].writer;
-    return w < 0 ? std::string("host") : netlist.stages[w].name;
+  // The nearest stage of `kind` before this one along the first inputs:
+  // the producer whose counters this stage's must match, whatever stages
+  // were put between them (stages/topology.h, Interposers). "host" when
+  // there is none.
+  std::string upstream(const std::string& kind) const {
+    const NetlistTables::Stage* s = &stage;
+    while (!s->inputs.empty()) {
+      const int w = netlist.fifos[s->inputs[0]].writer;
+      if (w < 0) break;
+      s = &netlist.stages[w];
+      if (s->kind == kind) return s->name;
+    }
+    return "host";
   }
 };
 
@@ -118,7 +127,7 @@ const std::map<std::string, Rule>& rules() {
       {"vertex_shader",
        [](Context& c) {
          // Every fetched vertex is shaded.
-         const std::string vf = c.upstream();
+         const std::string vf = c.upstream("vertex_fetch");
          c.l.equal(c.name, "tokens_out", c.get("tokens_out"), "tokens_in", c.get("tokens_in"));
          c.l.equal(c.name, "vertices_shaded", c.get("vertices_shaded"), vf + ".vertices_fetched",
                    c.l.stage(vf, "vertices_fetched"));
@@ -179,7 +188,7 @@ const std::map<std::string, Rule>& rules() {
          // rasterized. The rasterized ones leave unless their box holds no
          // pixel. Line and point counters are read when the clipper wrote
          // lines or points.
-         const std::string cl = c.upstream();
+         const std::string cl = c.upstream("clipper");
          const uint64_t after = c.l.stage(cl, "triangles_after_clip");
          const uint64_t lines = c.l.stage(cl, "lines_out");
          const uint64_t points = c.l.stage(cl, "points_out");
@@ -249,7 +258,7 @@ const std::map<std::string, Rule>& rules() {
        [](Context& c) {
          // Stamps and pixels in are the rasterizer's; the ones that fail are
          // dropped, so at most as many pass.
-         const std::string tr = c.upstream();
+         const std::string tr = c.upstream("tile_rasterizer");
          c.l.equal(c.name, "stamps", c.get("stamps"), tr + ".stamps_emitted",
                    c.l.stage(tr, "stamps_emitted"));
          c.l.equal(c.name, "fragments_in", c.get("fragments_in"), tr + ".fragments",
@@ -266,7 +275,7 @@ const std::map<std::string, Rule>& rules() {
       {"interpolator",
        [](Context& c) {
          // Shades exactly the pixels that passed.
-         const std::string dt = c.upstream();
+         const std::string dt = c.upstream("depth_test");
          c.l.equal(c.name, "tokens_out", c.get("tokens_out"), "tokens_in", c.get("tokens_in"));
          c.l.equal(c.name, "stamps", c.get("stamps"), dt + ".stamps_passed",
                    c.l.stage(dt, "stamps_passed"));
@@ -277,7 +286,7 @@ const std::map<std::string, Rule>& rules() {
        [](Context& c) {
          // Retires every token, or with a resolve after it passes the control
          // tokens on; writes at most the pixels it received.
-         const std::string ip = c.upstream();
+         const std::string ip = c.upstream("interpolator");
          if (c.stage.outputs.empty()) {
            c.l.equal(c.name, "tokens_out", c.get("tokens_out"), "tokens_in", c.get("tokens_in"));
          } else {

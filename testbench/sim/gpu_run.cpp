@@ -304,7 +304,7 @@ GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOp
   LoadedFrame loaded;
   uint64_t memory_bytes = 0;
   loaded.frame = layout_frame(scene, &memory_bytes);
-  Gpu gpu("gpu", config, loaded.frame, memory_bytes, options.unit_order);
+  Gpu gpu("gpu", config, loaded.frame, memory_bytes, options.unit_order, options.interposers);
   const Topology& netlist = gpu.topology();
   inject_faults(netlist, options, config);
   write_frame_arrays(scene, loaded.frame, gpu.memory().data(0, memory_bytes));

@@ -61,6 +61,8 @@ struct GpuRunOptions {
   std::function<void()> scene_arrays_copied;
   // Elaboration order of the raster units; no result may depend on it.
   Gpu::UnitOrder unit_order = Gpu::UnitOrder::ascending;
+  // Stages put in the place of FIFOs (stages/topology.h); must outlive the run.
+  const Interposers* interposers = nullptr;
   // Stages whose only inputs and outputs are FIFOs run ahead of the kernel's
   // time (temporal decoupling, hw/pipeline_stage.h): the same frames and
   // statistics, fewer context switches. Not with tracing (the probes see

@@ -808,10 +808,10 @@ TEST_F(Cli, RunSetErrorsNameTheOption) {
                  "1..1000000");
   expect_message("--set units=2 --set fifo_depths.clipper_to_setp=4",
                  "--set fifo_depths.clipper_to_setp=4: fifo_depths.clipper_to_setp: unknown key "
-                 "(allowed: commands, command_to_fetch, fetch_to_shader, shader_to_clipper, "
-                 "clipper_to_setup, setup_to_distributor, distributor_to_rasterizer, "
-                 "rasterizer_to_depth, depth_to_interpolator, interpolator_to_rop, "
-                 "rop_to_resolve)");
+                 "(allowed: clipper_to_setup, command_to_fetch, commands, "
+                 "depth_to_interpolator, distributor_to_rasterizer, fetch_to_shader, "
+                 "interpolator_to_rop, rasterizer_to_depth, rop_to_resolve, "
+                 "setup_to_distributor, shader_to_clipper)");
   expect_message("--set tile_sise=32",
                  "--set tile_sise=32: tile_sise: unknown key (allowed: clock_mhz, units, "
                  "tile_size, stamp, fifo_depth, fifo_depths, stages, memory, surfaces, "

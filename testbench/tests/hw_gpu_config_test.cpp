@@ -79,12 +79,17 @@ TEST(GpuConfig, Defaults) {
   EXPECT_EQ(c.lighting_cycles_per_light, 2u);
   EXPECT_EQ(c.watchdog_cycles, 1000000u);
 
-  ASSERT_EQ(GpuConfig::stage_names().size(), 11u);
-  EXPECT_EQ(GpuConfig::stage_names().front(), "command_processor");
-  EXPECT_EQ(GpuConfig::stage_names().back(), "resolve");
-  ASSERT_EQ(GpuConfig::fifo_names().size(), 11u);
-  EXPECT_EQ(GpuConfig::fifo_names().front(), "commands");
-  EXPECT_EQ(GpuConfig::fifo_names()[6], "distributor_to_rasterizer");
+  // The registered stages' kinds (hw/stage_spec.h), by name.
+  EXPECT_EQ(GpuConfig::stage_names(),
+            (std::vector<std::string>{"clipper", "command_processor", "depth_test", "interpolator",
+                                      "resolve", "rop", "tile_distributor", "tile_rasterizer",
+                                      "triangle_setup", "vertex_fetch", "vertex_shader"}));
+  EXPECT_EQ(
+      GpuConfig::fifo_names(),
+      (std::vector<std::string>{"clipper_to_setup", "command_to_fetch", "commands",
+                                "depth_to_interpolator", "distributor_to_rasterizer",
+                                "fetch_to_shader", "interpolator_to_rop", "rasterizer_to_depth",
+                                "rop_to_resolve", "setup_to_distributor", "shader_to_clipper"}));
   for (const auto& n : GpuConfig::fifo_names()) EXPECT_EQ(c.fifo_depth_of(n), 16u) << n;
   EXPECT_EQ(c.stages.size(), 11u);
   for (const auto& n : GpuConfig::stage_names()) EXPECT_GE(c.stage(n).ii, 1u) << n;
@@ -198,16 +203,16 @@ TEST(GpuConfig, UnknownKeysNameTheirPathAndTheAllowedKeys) {
             "lighting_cycles_per_light, watchdog_cycles)");
   // The old name of the tile rasterizer is refused with the list of stages.
   EXPECT_EQ(error_of(json::parse(R"({"stages": {"rasterizer": {"ii": 1}}})")),
-            "gpu.json: stages.rasterizer: unknown key (allowed: command_processor, "
-            "vertex_fetch, vertex_shader, clipper, triangle_setup, tile_distributor, "
-            "tile_rasterizer, depth_test, interpolator, rop, resolve)");
+            "gpu.json: stages.rasterizer: unknown key (allowed: clipper, command_processor, "
+            "depth_test, interpolator, resolve, rop, tile_distributor, tile_rasterizer, "
+            "triangle_setup, vertex_fetch, vertex_shader)");
   EXPECT_EQ(error_of(json::parse(R"({"stages": {"tile_rasterizer": {"iii": 1}}})")),
             "gpu.json: stages.tile_rasterizer.iii: unknown key (allowed: ii, latency)");
   EXPECT_EQ(error_of(json::parse(R"({"fifo_depths": {"fetch_to_shadr": 4}})")),
-            "gpu.json: fifo_depths.fetch_to_shadr: unknown key (allowed: commands, "
-            "command_to_fetch, fetch_to_shader, shader_to_clipper, clipper_to_setup, "
-            "setup_to_distributor, distributor_to_rasterizer, rasterizer_to_depth, "
-            "depth_to_interpolator, interpolator_to_rop, rop_to_resolve)");
+            "gpu.json: fifo_depths.fetch_to_shadr: unknown key (allowed: clipper_to_setup, "
+            "command_to_fetch, commands, depth_to_interpolator, distributor_to_rasterizer, "
+            "fetch_to_shader, interpolator_to_rop, rasterizer_to_depth, rop_to_resolve, "
+            "setup_to_distributor, shader_to_clipper)");
   EXPECT_EQ(error_of(json::parse(R"({"memory": {"latancy": 4}})")),
             "gpu.json: memory.latancy: unknown key (allowed: latency, bytes_per_cycle, channels, "
             "interleave_bytes)");
@@ -341,10 +346,11 @@ TEST(GpuConfig, FileErrorsAndComments) {
 TEST(GpuConfig, DefaultFileHoldsEveryDefault) {
   const std::string path = std::string(GPUSIM_SOURCE_DIR) + "/testbench/configs/default.json";
   EXPECT_EQ(load_gpu_config(path), GpuConfig());
-  // Not only equal once loaded: the file spells out every value.
+  // Not only equal once loaded: the file spells out every value (with
+  // comments, which the loader skips).
   std::ifstream in(path);
   ASSERT_TRUE(in);
-  EXPECT_EQ(json::parse(in), to_json(GpuConfig()));
+  EXPECT_EQ(json::parse(in, nullptr, true, /*ignore_comments=*/true), to_json(GpuConfig()));
 }
 
 // --set KEY=VALUE: each override as "--set <assignment>".
@@ -462,9 +468,9 @@ TEST(GpuConfigOverrides, ErrorsNameTheOverride) {
             "lighting_cycles_per_light, watchdog_cycles)");
   // An unknown stage is reported at the stage, which the key leads through.
   EXPECT_EQ(override_error(json::object(), sets({"stages.setup.ii=1"})),
-            "--set stages.setup.ii=1: stages.setup: unknown key (allowed: command_processor, "
-            "vertex_fetch, vertex_shader, clipper, triangle_setup, tile_distributor, "
-            "tile_rasterizer, depth_test, interpolator, rop, resolve)");
+            "--set stages.setup.ii=1: stages.setup: unknown key (allowed: clipper, "
+            "command_processor, depth_test, interpolator, resolve, rop, tile_distributor, "
+            "tile_rasterizer, triangle_setup, vertex_fetch, vertex_shader)");
   // A key below a value that is not an object.
   EXPECT_EQ(override_error(json::object(), sets({"units.x=1"})),
             "--set units.x=1: units: expected an integer, got object");

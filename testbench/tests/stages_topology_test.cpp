@@ -1,13 +1,10 @@
 // The netlist (stages/topology.h) is the one list of the pipeline: the
-// configuration, stats.json, the trace tables and docs/gpu-config.md must
+// configuration (the registered specs), stats.json and the trace tables must
 // name the same stages and FIFOs, with the same endpoints, and nothing may
 // depend on the order in which the GPU elaborates its units.
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <fstream>
-#include <regex>
-#include <sstream>
 
 #include "hw/simulation_context.h"
 #include "stages/gpu.h"
@@ -22,42 +19,14 @@ FrameState small_frame() {
   return f;
 }
 
-// Rows "| `name` | ... |" of the markdown table whose header starts with
-// `header`, as their cells (backticks removed).
-std::vector<std::vector<std::string>> table(const std::string& text, const std::string& header) {
-  std::vector<std::vector<std::string>> rows;
-  std::istringstream in(text);
-  std::string line;
-  bool inside = false;
-  while (std::getline(in, line)) {
-    if (line.rfind(header, 0) == 0) {
-      inside = true;
-      continue;
-    }
-    if (!inside) continue;
-    if (line.rfind("|---", 0) == 0) continue;
-    if (line.rfind("|", 0) != 0) break;
-    std::vector<std::string> cells;
-    std::stringstream cs(line.substr(1));
-    std::string cell;
-    while (std::getline(cs, cell, '|')) {
-      cell = std::regex_replace(cell, std::regex("`"), "");
-      cell = std::regex_replace(cell, std::regex("^ +| +$"), "");
-      cells.push_back(cell);
-    }
-    rows.push_back(cells);
-  }
-  return rows;
+std::vector<std::string> sorted(std::vector<std::string> v) {
+  std::sort(v.begin(), v.end());
+  return v;
 }
 
-std::string read(const std::string& path) {
-  std::ifstream f(path);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
-
-TEST(Topology, ConfigurationDocsAndNetlistNameTheSameThings) {
+// The configuration's kinds are the registered specs' (hw/stage_spec.h);
+// docs/gpu-config.md's tables are generated (sim_config_defaults_test).
+TEST(Topology, ConfigurationAndNetlistNameTheSameThings) {
   GpuConfig config;
   config.units = 3;
   // A multisampled frame elaborates every stage, the resolve included.
@@ -65,36 +34,17 @@ TEST(Topology, ConfigurationDocsAndNetlistNameTheSameThings) {
   frame.framebuffer.samples = 4;
   Gpu gpu("gpu", config, frame, 1 << 16);
   const Topology& t = gpu.topology();
-  EXPECT_EQ(t.stage_kinds(), GpuConfig::stage_names());
-  EXPECT_EQ(t.fifo_kinds(), GpuConfig::fifo_names());
-
-  const std::string doc = read(GPUSIM_SOURCE_DIR "/docs/gpu-config.md");
-  // The stage table: kinds in pipeline order with their default costs.
-  const auto stages = table(doc, "| stage | item | ii | latency |");
-  ASSERT_EQ(stages.size(), GpuConfig::stage_names().size());
-  for (size_t i = 0; i < stages.size(); ++i) {
-    const std::string& kind = GpuConfig::stage_names()[i];
-    EXPECT_EQ(stages[i][0], kind);
-    EXPECT_EQ(stages[i][2], std::to_string(config.stage(kind).ii)) << kind;
-    EXPECT_EQ(stages[i][3], std::to_string(config.stage(kind).latency)) << kind;
+  EXPECT_EQ(sorted(t.stage_kinds()), GpuConfig::stage_names());
+  EXPECT_EQ(sorted(t.fifo_kinds()), GpuConfig::fifo_names());
+  // Each FIFO is an input its reader's spec declares.
+  for (const auto& f : t.fifos()) {
+    const auto& inputs = t.stages()[f.reader].stage->spec().inputs;
+    EXPECT_NE(std::find(inputs.begin(), inputs.end(), f.kind), inputs.end()) << f.name;
   }
-  // The FIFO table: kinds in pipeline order, their writer and reader kinds,
-  // and whether each unit has its own.
-  const auto fifos = table(doc, "| FIFO | from → to |");
-  ASSERT_EQ(fifos.size(), GpuConfig::fifo_names().size());
-  for (size_t i = 0; i < fifos.size(); ++i) {
-    const std::string& kind = GpuConfig::fifo_names()[i];
-    EXPECT_EQ(fifos[i][0], kind);
-    const Topology::FifoNode* f = nullptr;
-    for (const auto& n : t.fifos()) {
-      if (n.kind == kind && !f) f = &n;
-    }
-    ASSERT_NE(f, nullptr) << kind;
-    const std::string writer =
-        f->writer == Topology::kHost ? "host" : t.stages()[f->writer].stage->stage_kind();
-    const std::string reader = t.stages()[f->reader].stage->stage_kind();
-    EXPECT_EQ(fifos[i][1], writer + " → " + reader) << kind;
-    EXPECT_EQ(fifos[i][2], f->unit >= 0 ? "yes" : "no") << kind;
+  // Each stage's placement is where the netlist put it.
+  for (const auto& s : t.stages()) {
+    const bool per_unit = s.stage->spec().placement == StagePlacement::per_unit;
+    EXPECT_EQ(per_unit, s.stage->unit() >= 0) << s.stage->basename();
   }
 }
 
@@ -112,7 +62,7 @@ TEST(Topology, ASingleSampleFrameLeavesOutExactlyTheOptionalKinds) {
   for (const std::string& k : all) {
     if (std::find(kinds.begin(), kinds.end(), k) == kinds.end()) missing.push_back(k);
   }
-  EXPECT_EQ(missing, GpuConfig::optional_kinds());
+  EXPECT_EQ(sorted(missing), StageRegistry::optional_kinds());
   // The resolve comes last in pipeline order when present.
   FrameState aa = small_frame();
   aa.framebuffer.supersample = 2;

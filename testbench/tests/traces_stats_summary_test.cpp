@@ -19,7 +19,7 @@ using StatsSummaryTest = trace_test::TraceTest;
 
 const std::string kScenes = GPUSIM_SOURCE_DIR "/testbench/scenes/";
 
-// The stages and FIFOs manifest_from_stats() derives from stats.json are
+// The stages and FIFOs manifest_from_stats() reads from stats.json are
 // those the recorder wrote from the elaborated netlist, in the same order.
 void expect_same_netlist(const TraceManifest& from_stats, const TraceManifest& traced) {
   ASSERT_EQ(from_stats.stages.size(), traced.stages.size());
@@ -59,7 +59,7 @@ TEST_F(StatsSummaryTest, NetlistAndBottleneckEqualTheTraces) {
     const std::string dir = trace(kScenes + c.scene, c.args, "t" + std::to_string(c.args.back()));
     const TraceReader reader(dir);
     const nlohmann::json stats = read_stats_file(reader.path("stats.json"), true);
-    expect_same_netlist(manifest_from_stats(stats), reader.manifest());
+    expect_same_netlist(manifest_from_stats(stats, "stats.json"), reader.manifest());
 
     const TraceSummary traced(reader);
     const StatsSummary summary(stats, reader.path("stats.json"));

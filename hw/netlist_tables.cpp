@@ -1,0 +1,35 @@
+#include "hw/netlist_tables.h"
+
+namespace gpusim {
+
+nlohmann::ordered_json to_json(const NetlistTables& t) {
+  using json = nlohmann::ordered_json;
+  const auto unit = [](int u) { return u < 0 ? json(nullptr) : json(u); };
+  json stages = json::array();
+  for (size_t i = 0; i < t.stages.size(); ++i) {
+    const NetlistTables::Stage& s = t.stages[i];
+    json inputs = json::array(), outputs = json::array();
+    for (int f : s.inputs) inputs.push_back(t.fifos[f].name);
+    for (int f : s.outputs) outputs.push_back(t.fifos[f].name);
+    stages.push_back({{"index", i},
+                      {"name", s.name},
+                      {"kind", s.kind},
+                      {"unit", unit(s.unit)},
+                      {"inputs", inputs},
+                      {"outputs", outputs}});
+  }
+  json fifos = json::array();
+  for (size_t i = 0; i < t.fifos.size(); ++i) {
+    const NetlistTables::Fifo& f = t.fifos[i];
+    fifos.push_back({{"index", i},
+                     {"name", f.name},
+                     {"kind", f.kind},
+                     {"depth", f.depth},
+                     {"writer", f.writer < 0 ? json("host") : json(t.stages[f.writer].name)},
+                     {"reader", f.reader < 0 ? json(nullptr) : json(t.stages[f.reader].name)},
+                     {"unit", unit(f.unit)}});
+  }
+  return {{"stages", stages}, {"fifos", fifos}};
+}
+
+}  // namespace gpusim

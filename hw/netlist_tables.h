@@ -1,0 +1,40 @@
+// The GPU's netlist (stages/topology.h) as the trace files and stats.json
+// number it: stats.json's names, in pipeline order (the front end, then
+// each unit's stages, then a stage the units feed).
+#pragma once
+
+#include <cstddef>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+namespace gpusim {
+
+struct NetlistTables {
+  static constexpr int kHost = -1;  // the writer of "commands"
+  struct Stage {
+    std::string name;                  // "triangle_setup", "depth_test_2"
+    std::string kind;                  // the name without the unit suffix
+    int unit = -1;                     // -1: front end
+    std::vector<int> inputs, outputs;  // indices into fifos
+  };
+  struct Fifo {
+    std::string name;
+    std::string kind;  // the name without the unit suffix
+    size_t depth = 0;
+    int writer = kHost;  // index into stages, or kHost
+    int reader = -1;
+    int unit = -1;
+  };
+  std::vector<Stage> stages;
+  std::vector<Fifo> fifos;
+};
+
+// {"stages": [{index, name, kind, unit, inputs, outputs}], "fifos":
+// [{index, name, kind, depth, writer, reader, unit}]}: names for the
+// endpoints, null for a front-end unit, "host" for the host. The tables of
+// a trace's manifest.json and of stats.json's timing.netlist
+// (docs/traces.md), read back by traces/trace_reader.h.
+nlohmann::ordered_json to_json(const NetlistTables& t);
+
+}  // namespace gpusim
