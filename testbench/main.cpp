@@ -34,6 +34,7 @@
 #include "testbench/io/image_files.h"
 #include "testbench/io/output_file.h"
 #include "testbench/scene/scene.h"
+#include "testbench/sim/config_defaults.h"
 #include "testbench/sim/gpu_run.h"
 #include "testbench/sim/memory_budget.h"
 #include "testbench/sim/progress.h"
@@ -1286,6 +1287,17 @@ int main_with_errors(int argc, char** argv) {
   stats_diff->add_option("b", stats_args.b, "Second stats.json")->required();
   stats_diff->add_flag("--json", stats_args.json, "Print JSON instead of text");
 
+  std::string config_table;
+  CLI::App* config_cmd = app.add_subcommand(
+      "config",
+      "Print the default GPU configuration (every key, stages and FIFOs in pipeline order, each "
+      "stage's cost with its reason) or a table of docs/gpu-config.md");
+  config_cmd->add_flag("--defaults", "The default configuration file (the default)");
+  config_cmd
+      ->add_option("--markdown", config_table,
+                   "A generated table of docs/gpu-config.md instead: stages or fifos")
+      ->check(CLI::IsMember({"stages", "fifos"}));
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -1304,6 +1316,12 @@ int main_with_errors(int argc, char** argv) {
   }
   if (replay_cmd->parsed()) return run_replay(replay, progress_args);
   if (info->parsed()) return run_info(info_scene);
+  if (config_cmd->parsed()) {
+    const PipelineKinds kinds = pipeline_kinds();
+    std::cout << (config_table.empty() ? default_config_text(kinds)
+                                       : markdown_table(kinds, config_table));
+    return 0;
+  }
   if (compare->parsed()) return run_compare(cmp);
   if (trace_summary->parsed()) return run_trace_summary(trace_args);
   if (stats_summary->parsed()) return run_stats_summary(stats_args);
