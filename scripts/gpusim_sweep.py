@@ -29,14 +29,6 @@ import time
 SOURCE_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DEFAULT_CONFIG = os.path.join(SOURCE_DIR, "testbench", "configs", "default.json")
 
-# Stage kinds in pipeline order (docs/gpu-config.md).
-PIPELINE = [
-    "command_processor", "vertex_fetch", "vertex_shader", "clipper", "triangle_setup",
-    "tile_distributor", "tile_rasterizer", "depth_test", "interpolator", "rop", "resolve",
-]
-# The memory-bound rule of `gpusim trace summary` (docs/traces.md).
-BUSY_BUS = 0.70
-MEMORY_DOMINATED = 0.50
 SWEEP_KEYS = {"description", "scenes", "base", "parameters", "combine"}
 
 
@@ -258,6 +250,16 @@ def run_point(gpusim, pdir, timeout=None):
             code, timed_out = -1, True
     with open(os.path.join(pdir, "stderr.txt"), encoding="utf-8", errors="replace") as f:
         stderr_text = f.read()
+    if code == 0:
+        # The bottleneck and the stages in pipeline order, by the rule of
+        # `gpusim stats summary` (docs/stats.md), which collect reads.
+        summary = subprocess.run([gpusim, "stats", "summary", "stats.json", "--json"], cwd=pdir,
+                                 capture_output=True, text=True, env=env)
+        if summary.returncode == 0:
+            write_atomic(os.path.join(pdir, "summary.json"), summary.stdout)
+        else:
+            code = summary.returncode
+            stderr_text = summary.stderr
     status = {"exit_status": code}
     if timed_out:
         status["error"] = f"timed out after {timeout:g} s (--timeout)"
@@ -409,50 +411,30 @@ def slurm_wait(out, points, job, poll):
 # Results
 
 
-def kind_of(stage):
-    base, _, unit = stage.rpartition("_")
-    return base if base and unit.isdigit() else stage
-
-
-def kind_rank(kind):
-    return (PIPELINE.index(kind), kind) if kind in PIPELINE else (len(PIPELINE), kind)
-
-
-def figures(stats):
-    """The row's figures from one stats.json (docs/sweeps.md, "Result columns")."""
+def figures(stats, summary):
+    """The row's figures from one stats.json and its `gpusim stats summary --json`
+    (docs/sweeps.md, "Result columns"), and the per-kind shares with the kinds
+    in pipeline order."""
     t = stats["timing"]
-    cycles = t["cycles"]
-    kinds = {}
-    for name, s in t["stages"].items():
-        kinds.setdefault(kind_of(name), []).append((name, s))
-    f = {"cycles": cycles, "simulated_seconds": t["simulated_seconds"]}
-    busiest = None  # (busy share, -rank, name)
+    f = {"cycles": t["cycles"], "simulated_seconds": t["simulated_seconds"]}
+    kinds = {}  # kind -> its stages' entries, in pipeline order
+    for s in summary["stages"]:
+        kinds.setdefault(s["kind"], []).append(s)
     shares = {}
-    for kind in sorted(kinds, key=kind_rank):
-        group = kinds[kind]
+    for kind, group in kinds.items():
         for state in ("busy", "stalled", "starved"):
-            vals = [float(s.get(f"{state}_cycles", 0)) / cycles if cycles else 0.0 for _, s in group]
-            shares[f"{kind}.{state}"] = sum(vals) / len(vals)
-        for name, s in sorted(group, key=lambda g: (len(g[0]), g[0])):
-            b = float(s.get("busy_cycles", 0)) / cycles if cycles else 0.0
-            if busiest is None or b > busiest[0]:
-                busiest = (b, kind, name)
+            shares[f"{kind}.{state}"] = sum(float(s[state]) for s in group) / len(group)
     rates = t.get("rates", {})
     for k in ("raster_pixels_per_clock", "raster_pixels_per_clock_peak",
               "setup_triangles_per_clock", "setup_triangles_per_clock_peak"):
         f[k] = rates.get(k)
-    mem_util = t.get("memory", {}).get("utilization")
-    f["memory_utilization"] = mem_util
-    b_share, b_kind, b_name = busiest
-    group = kinds[b_kind]
-    busy_sum = sum(float(s.get("busy_cycles", 0)) for _, s in group)
-    stall_sum = sum(float(s.get("memory_stall_cycles", 0)) for _, s in group)
-    mem_share = stall_sum / busy_sum if busy_sum else 0.0
-    f["busiest_stage"] = b_kind
-    f["busiest_unit"] = b_name
-    f["busiest_busy"] = b_share
-    f["memory_stall_share"] = mem_share
-    f["memory_bound"] = bool(mem_util is not None and mem_util >= BUSY_BUS and mem_share >= MEMORY_DOMINATED)
+    f["memory_utilization"] = t.get("memory", {}).get("utilization")
+    b = summary["bottleneck"]
+    f["busiest_stage"] = b["kind"]
+    f["busiest_unit"] = b["busiest"]
+    f["busiest_busy"] = b["busy"]
+    f["memory_stall_share"] = b["memory_stall_share"]
+    f["memory_bound"] = bool(b["memory_bound"])
     return f, shares
 
 
@@ -481,7 +463,7 @@ def collect(out):
         raise SweepError(f"{out}: no sweep here (sweep.json missing or unreadable)")
     pdirs = sorted(d for d in os.listdir(os.path.join(out, "points")) if d.isdigit())
     params = list(spec["parameters"])
-    rows, all_kinds, failed = [], set(), 0
+    rows, kinds, failed = [], [], 0  # kinds: pipeline order, as the points list them
     for d in pdirs:
         pdir = os.path.join(out, "points", d)
         with open(os.path.join(pdir, "point.json"), encoding="utf-8") as f:
@@ -500,19 +482,22 @@ def collect(out):
         else:
             try:
                 with open(os.path.join(pdir, "stats.json"), encoding="utf-8") as f:
-                    figs, shares = figures(json.load(f))
+                    stats = json.load(f)
+                with open(os.path.join(pdir, "summary.json"), encoding="utf-8") as f:
+                    figs, shares = figures(stats, json.load(f))
                 row["status"] = "ok"
                 row["error"] = ""
                 row.update(figs)
             except (OSError, ValueError, KeyError) as e:
                 row["status"] = "failed"
-                row["error"] = f"stats.json unreadable: {e}"
+                row["error"] = f"stats.json or summary.json unreadable: {e}"
         if row["status"] != "ok":
             failed += 1
         row["_shares"] = shares
-        all_kinds.update(k.split(".")[0] for k in shares)
+        for k in shares:
+            if k.split(".")[0] not in kinds:
+                kinds.append(k.split(".")[0])
         rows.append(row)
-    kinds = sorted(all_kinds, key=kind_rank)
     share_cols = [f"{k}.{s}" for k in kinds for s in ("busy", "stalled", "starved")]
     columns = (["point", "scene"] + params + ["status", "error", "cycles", "simulated_seconds"] +
                share_cols +

@@ -137,6 +137,18 @@ def test_local(gpusim, tmp):
         # The busiest stage: the highest busy_cycles of any stage, by hand.
         best = max(t["stages"].items(), key=lambda kv: kv[1]["busy_cycles"])
         check(row["busiest_unit"] == best[0], f"{tag}: busiest stage {row['busiest_unit']} == {best[0]}")
+        # Memory-bound: the busiest channel's utilization and the busiest
+        # kind's memory stalls over its busy cycles, by hand (docs/stats.md).
+        kind = best[0].rstrip("0123456789").rstrip("_") if best[0][-1].isdigit() else best[0]
+        group = [s for n, s in t["stages"].items()
+                 if n == kind or (n.startswith(kind + "_") and n[len(kind) + 1:].isdigit())]
+        busy = sum(s["busy_cycles"] for s in group)
+        stall_share = sum(s.get("memory_stall_cycles", 0) for s in group) / busy if busy else 0.0
+        channel_util = max(c["utilization"] for c in t["memory"]["channels"])
+        bound = channel_util >= 0.70 and stall_share >= 0.50
+        check(row["memory_bound"] == ("true" if bound else "false"),
+              f"{tag}: memory_bound {row['memory_bound']} == busiest channel {channel_util:.3f} "
+              f">= 0.70 and stall share {stall_share:.3f} >= 0.50")
     check(len(distinct) >= 8, f"the points differ in cycles ({len(distinct)} distinct of 12)")
 
     # Determinism: the same sweep again -> byte-identical tables.
