@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <limits>
 
 namespace gpusim {
 
@@ -16,6 +17,7 @@ constexpr int32_t kSubpixelHalf = kSubpixelOne / 2;   // pixel centre offset
 
 // Largest framebuffer side. Keeps pixel indices in 14 bits.
 constexpr int kMaxFramebufferSide = 8192;
+static_assert(kMaxFramebufferSide <= (1 << 14), "pixel indices are 14 bits");
 
 // Guard band: after clipping, every window x and y lies in
 // [-kGuardBandPixels, +kGuardBandPixels]. Triangles inside it are rasterized
@@ -43,6 +45,38 @@ using Subpixel = int32_t;
 // Snapped coordinates saturate at +-2^24 subpixels (2^16 pixels, twice the
 // guard band), so the bounds above hold for every input.
 constexpr int32_t kSnapLimit = 1 << 24;
+
+// The bit budgets above, checked by the compiler (llvmpipe's MAX_FIXED_LENGTH
+// pattern): a change of one constant that breaks a proof fails the build.
+namespace bit_budget {
+// Bits of a value below 2^n, as a constant: log2 of the power of two given.
+constexpr int bits_of(int64_t power_of_two) {
+  int n = 0;
+  while ((int64_t{1} << n) < power_of_two) ++n;
+  return n;
+}
+// The guard band in subpixels fits the snap limit, which a Subpixel holds
+// with room for the rounding overshoot of the clipper (7 bits).
+constexpr int64_t kGuardBandSubpixels = static_cast<int64_t>(kGuardBandPixels) * kSubpixelOne;
+static_assert(kGuardBandSubpixels <= kSnapLimit / 2, "the snap limit is twice the guard band");
+static_assert(bits_of(kSnapLimit) + 1 + 7 <= std::numeric_limits<Subpixel>::digits + 1,
+              "a snapped coordinate, its sign and 7 bits of overshoot fit a Subpixel");
+// A difference of two snapped coordinates is below 2^25; an edge product
+// below 2^50; the edge function (two products) below 2^51.
+constexpr int kDifferenceBits = bits_of(kSnapLimit) + 1;
+constexpr int kEdgeBits = 2 * kDifferenceBits + 1;
+static_assert(kEdgeBits == 51, "E < 2^51 as documented");
+// int64 keeps 12 bits of headroom over it, for stepping E incrementally
+// across the guard band.
+static_assert(kEdgeBits + 12 <= std::numeric_limits<EdgeValue>::digits,
+              "the edge function fits an EdgeValue with 12 bits of headroom");
+// A line's band edge adds s D +- 128 w |dM| with w < 2^8 (kMaxLineWidth): less
+// than 2^15 * 2^25 = 2^40, far below the headroom.
+static_assert(15 + kDifferenceBits < kEdgeBits, "a line's band term is below E's bound");
+// Pixel centres of the largest framebuffer are far inside the snap limit.
+static_assert(int64_t{kMaxFramebufferSide} * kSubpixelOne + kSubpixelHalf < kSnapLimit,
+              "pixel centres are representable snapped coordinates");
+}  // namespace bit_budget
 
 // Round a window coordinate to the subpixel grid: to nearest, ties to even.
 // x * 256 is exact in binary floating point, so the only rounding is the one
