@@ -5,7 +5,7 @@
 // descriptions).
 //
 //   StatGroup m_stats{"tile_rasterizer_0"};
-//   uint64_t& m_stamps = m_stats.counter("stamps", "stamps", "stamps", "4x4 stamps evaluated");
+//   uint64_t& m_stamps = m_stats.counter("stamps", "stamps", "4x4 stamps evaluated");
 //   ...
 //   ++m_stamps;  // a plain integer add
 //

@@ -68,7 +68,8 @@ struct GpuRunOptions {
   // statistics, fewer context switches. Not with tracing (the probes see
   // operations in the kernel's order) nor with the fault injection below.
   bool temporal_decoupling = true;
-  // Random stalls at every FIFO boundary when stall_probability > 0.
+  // Random stalls at every FIFO boundary when stall_probability > 0, each
+  // FIFO's stream seeded by stall_seed_of(its name, stall_seed).
   double stall_probability = 0.0;
   unsigned stall_max_cycles = 8;
   uint64_t stall_seed = 1;
@@ -125,5 +126,9 @@ struct GpuRunResult {
 
 // Throws SimulationError when the frame does not complete cleanly.
 GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOptions& options);
+
+// The seed of FIFO `fifo`'s random stalls in a run seeded `seed`: a function
+// of the name alone, not of the FIFO's place in the netlist.
+uint64_t stall_seed_of(const std::string& fifo, uint64_t seed);
 
 }  // namespace gpusim
