@@ -85,6 +85,7 @@
 #include "hw/fifo.h"
 #include "hw/gpu_config.h"
 #include "hw/packets.h"
+#include "hw/pipeline_counts.h"
 #include "hw/pipeline_stage.h"
 #include "hw/stats.h"
 #include "hw/vertex_packets.h"
@@ -107,23 +108,23 @@ class Clipper : public PipelineStage {
   uint64_t primitives_in() const { return m_in + m_lines_in + m_points_in; }
   // The golden model's counters this stage keeps (docs/pipeline-spec.md,
   // section 13). triangles_degenerate and triangles_culled are polygon
-  // mode's only; Gpu::pipeline_counts adds setup's.
-  nlohmann::json pipeline_counts() const {
-    return {{"triangles_in", m_in},
-            {"triangles_invalid", m_invalid},
-            {"triangles_clipped_away", m_clipped_away},
-            {"triangles_clipped", m_clipped},
-            {"triangles_after_clip", m_after_clip},
-            {"triangles_degenerate", m_unfilled_degenerate},
-            {"triangles_culled", m_unfilled_culled},
-            {"triangles_unfilled", m_unfilled},
-            {"lines_in", m_lines_in},
-            {"lines_invalid", m_lines_invalid},
-            {"lines_clipped_away", m_lines_clipped_away},
-            {"lines_clipped", m_lines_clipped},
-            {"points_in", m_points_in},
-            {"points_invalid", m_points_invalid},
-            {"points_clipped_away", m_points_clipped_away}};
+  // mode's only; setup adds its own.
+  void add_pipeline_counts(PipelineCounts& c) const {
+    c.triangles_in += m_in;
+    c.triangles_invalid += m_invalid;
+    c.triangles_clipped_away += m_clipped_away;
+    c.triangles_clipped += m_clipped;
+    c.triangles_after_clip += m_after_clip;
+    c.triangles_degenerate += m_unfilled_degenerate;
+    c.triangles_culled += m_unfilled_culled;
+    c.triangles_unfilled += m_unfilled;
+    c.lines_in += m_lines_in;
+    c.lines_invalid += m_lines_invalid;
+    c.lines_clipped_away += m_lines_clipped_away;
+    c.lines_clipped += m_lines_clipped;
+    c.points_in += m_points_in;
+    c.points_invalid += m_points_invalid;
+    c.points_clipped_away += m_points_clipped_away;
   }
 
  private:

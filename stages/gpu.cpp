@@ -99,24 +99,23 @@ void Gpu::attach_trace(TraceProbes& probes) {
   }
 }
 
-nlohmann::json Gpu::pipeline_counts() const {
-  nlohmann::json counts = m_clipper.pipeline_counts();
+PipelineCounts Gpu::pipeline_counts() const {
+  PipelineCounts counts;
   // Counters both stages keep add up: polygon mode's triangles are
   // degenerate or culled in the clipper, filled ones in setup.
-  const nlohmann::json setup = m_setup.pipeline_counts();
-  for (const auto& [key, value] : setup.items())
-    counts[key] = counts.value(key, uint64_t{0}) + value.get<uint64_t>();
+  m_clipper.add_pipeline_counts(counts);
+  m_setup.add_pipeline_counts(counts);
   const FragmentCounts fragments = fragment_counts();
-  counts["fragments_generated"] = fragments.generated;
-  counts["fragments_passed_depth"] = fragments.passed_depth;
-  counts["fragments_written"] = fragments.written;
-  counts["samples_generated"] = fragments.samples_generated;
-  counts["samples_passed_depth"] = fragments.samples_passed_depth;
-  counts["samples_written"] = fragments.samples_written;
+  counts.fragments_generated = fragments.generated;
+  counts.fragments_passed_depth = fragments.passed_depth;
+  counts.fragments_written = fragments.written;
+  counts.samples_generated = fragments.samples_generated;
+  counts.samples_passed_depth = fragments.samples_passed_depth;
+  counts.samples_written = fragments.samples_written;
   // Every unit executes every clear on the tiles it owns: one unit's count
   // is the frame's.
-  counts["color_clears"] = m_units.front().rop->color_clears();
-  counts["depth_clears"] = m_units.front().depth->depth_clears();
+  counts.color_clears = m_units.front().rop->color_clears();
+  counts.depth_clears = m_units.front().depth->depth_clears();
   return counts;
 }
 

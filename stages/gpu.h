@@ -24,6 +24,7 @@
 #include "hw/gpu_config.h"
 #include "hw/memory.h"
 #include "hw/packets.h"
+#include "hw/pipeline_counts.h"
 #include "hw/trace_probe.h"
 #include "stages/clipper.h"
 #include "stages/command_processor.h"
@@ -88,7 +89,7 @@ class Gpu : public sc_core::sc_module {
   // means. `cycles` is the frame's length.
   nlohmann::json stats_json(uint64_t cycles) const;
   // Pipeline counters comparable with the golden model's statistics.
-  nlohmann::json pipeline_counts() const;
+  PipelineCounts pipeline_counts() const;
 
  private:
   struct Unit {

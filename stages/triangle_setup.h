@@ -58,6 +58,7 @@
 #include "hw/fifo.h"
 #include "hw/gpu_config.h"
 #include "hw/packets.h"
+#include "hw/pipeline_counts.h"
 #include "hw/pipeline_stage.h"
 #include "hw/stats.h"
 
@@ -76,11 +77,14 @@ class TriangleSetup : public PipelineStage {
   bool decouplable() const override { return true; }
 
   // The golden model's setup counters (docs/pipeline-spec.md, section 13).
-  nlohmann::json pipeline_counts() const {
-    return {{"triangles_degenerate", m_degenerate},    {"triangles_culled", m_culled},
-            {"triangles_rasterized", m_rasterized},    {"triangles_offscreen", m_offscreen},
-            {"lines_degenerate", m_lines_degenerate},  {"lines_rasterized", m_lines_rasterized},
-            {"points_rasterized", m_points_rasterized}};
+  void add_pipeline_counts(PipelineCounts& c) const {
+    c.triangles_degenerate += m_degenerate;
+    c.triangles_culled += m_culled;
+    c.triangles_rasterized += m_rasterized;
+    c.triangles_offscreen += m_offscreen;
+    c.lines_degenerate += m_lines_degenerate;
+    c.lines_rasterized += m_lines_rasterized;
+    c.points_rasterized += m_points_rasterized;
   }
 
  private:

@@ -53,7 +53,7 @@ inline std::string check_scene_input(const uint8_t* data, size_t size) {
                           static_cast<uint64_t>(scene.framebuffer.height);
   if (pixels <= 64 * 64 && slots <= 4096) {
     const golden::Result r = golden::render(scene);
-    for (const std::string& e : pipeline_count_errors(r.stats.to_json())) {
+    for (const std::string& e : pipeline_count_errors(r.stats)) {
       return "golden counters do not balance: " + e;
     }
     if (r.framebuffer.width != scene.framebuffer.width ||

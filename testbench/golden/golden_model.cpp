@@ -1272,37 +1272,6 @@ Framebuffer resolve(const Framebuffer& target, unsigned k) {
   return out;
 }
 
-nlohmann::json Stats::to_json() const {
-  return {{"color_clears", color_clears},
-          {"depth_clears", depth_clears},
-          {"triangles_in", triangles_in},
-          {"triangles_invalid", triangles_invalid},
-          {"triangles_clipped_away", triangles_clipped_away},
-          {"triangles_clipped", triangles_clipped},
-          {"triangles_after_clip", triangles_after_clip},
-          {"triangles_degenerate", triangles_degenerate},
-          {"triangles_culled", triangles_culled},
-          {"triangles_rasterized", triangles_rasterized},
-          {"triangles_offscreen", triangles_offscreen},
-          {"triangles_unfilled", triangles_unfilled},
-          {"lines_in", lines_in},
-          {"lines_invalid", lines_invalid},
-          {"lines_clipped_away", lines_clipped_away},
-          {"lines_clipped", lines_clipped},
-          {"lines_degenerate", lines_degenerate},
-          {"lines_rasterized", lines_rasterized},
-          {"points_in", points_in},
-          {"points_invalid", points_invalid},
-          {"points_clipped_away", points_clipped_away},
-          {"points_rasterized", points_rasterized},
-          {"fragments_generated", fragments_generated},
-          {"fragments_passed_depth", fragments_passed_depth},
-          {"fragments_written", fragments_written},
-          {"samples_generated", samples_generated},
-          {"samples_passed_depth", samples_passed_depth},
-          {"samples_written", samples_written}};
-}
-
 Result render(const Scene& scene, const RenderOptions& options) {
   return Renderer(scene, options).run();
 }

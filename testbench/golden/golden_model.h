@@ -14,6 +14,7 @@
 
 #include "hw/fixed_point.h"
 #include "hw/framebuffer.h"
+#include "hw/pipeline_counts.h"
 #include "testbench/scene/scene.h"
 
 namespace gpusim::golden {
@@ -198,41 +199,8 @@ LineRectangle line_rectangle(int64_t ax, int64_t ay, int64_t bx, int64_t by, flo
 // k x k pixels (colour), sample 0 of the block's lower-left pixel (depth).
 Framebuffer resolve(const Framebuffer& target, unsigned k);
 
-struct Stats {
-  // Clears executed that wrote the colour (depth) buffer: the frame clear
-  // and the draw list's (section 15).
-  uint64_t color_clears = 0;
-  uint64_t depth_clears = 0;
-  uint64_t triangles_in = 0;            // assembled
-  uint64_t triangles_invalid = 0;       // non-finite position or out-of-range index
-  uint64_t triangles_clipped_away = 0;  // entirely outside the clip volume
-  uint64_t triangles_clipped = 0;       // needed clipping and kept a part
-  uint64_t triangles_after_clip = 0;    // triangles leaving the clipper
-  uint64_t triangles_degenerate = 0;    // zero area after snapping
-  uint64_t triangles_culled = 0;        // removed by face culling
-  uint64_t triangles_rasterized = 0;    // set up and scanned
-  uint64_t triangles_offscreen = 0;     // of those, no pixel centre in their box
-  uint64_t triangles_unfilled = 0;      // drawn as lines or points (polygon mode)
-  uint64_t lines_in = 0;                // assembled
-  uint64_t lines_invalid = 0;           // non-finite position or out-of-range index
-  uint64_t lines_clipped_away = 0;      // entirely outside the clip volume
-  uint64_t lines_clipped = 0;           // needed clipping and kept a part
-  uint64_t lines_degenerate = 0;        // diamond exit, zero length after snapping
-  uint64_t lines_rasterized = 0;        // rasterized, polygon mode's included
-  uint64_t points_in = 0;               // assembled
-  uint64_t points_invalid = 0;          // non-finite position or out-of-range index
-  uint64_t points_clipped_away = 0;     // outside the view volume
-  uint64_t points_rasterized = 0;       // rasterized, polygon mode's included
-  uint64_t fragments_generated = 0;     // covered pixels
-  uint64_t fragments_passed_depth = 0;
-  uint64_t fragments_written = 0;  // passed depth with a colour channel enabled
-  // Antialiasing: the samples behind the fragment counts (equal to them
-  // with one sample per pixel).
-  uint64_t samples_generated = 0;
-  uint64_t samples_passed_depth = 0;
-  uint64_t samples_written = 0;
-  nlohmann::json to_json() const;
-};
+// The pipeline's counters (hw/pipeline_counts.h), which the cycle model keeps too.
+using Stats = PipelineCounts;
 
 struct Result {
   Framebuffer framebuffer;  // resolved: the scene's width x height, one sample

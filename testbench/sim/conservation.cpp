@@ -400,22 +400,15 @@ std::vector<std::string> conservation_errors(const nlohmann::json& stats,
   return l.take();
 }
 
-std::vector<std::string> pipeline_count_errors(const nlohmann::json& counts) {
+std::vector<std::string> pipeline_count_errors(const PipelineCounts& c) {
   std::vector<std::string> errors;
-  const auto get = [&](const char* k) -> uint64_t {
-    if (!counts.contains(k) || !counts.at(k).is_number_unsigned()) {
-      errors.push_back(std::string(k) + ": missing");
-      return 0;
-    }
-    return counts.at(k).get<uint64_t>();
-  };
-  const uint64_t in = get("triangles_in"), invalid = get("triangles_invalid"),
-                 away = get("triangles_clipped_away"), clipped = get("triangles_clipped"),
-                 after = get("triangles_after_clip"), degenerate = get("triangles_degenerate"),
-                 culled = get("triangles_culled"), rasterized = get("triangles_rasterized"),
-                 offscreen = get("triangles_offscreen"), unfilled = get("triangles_unfilled"),
-                 generated = get("fragments_generated"), passed = get("fragments_passed_depth"),
-                 written = get("fragments_written");
+  const uint64_t in = c.triangles_in, invalid = c.triangles_invalid,
+                 away = c.triangles_clipped_away, clipped = c.triangles_clipped,
+                 after = c.triangles_after_clip, degenerate = c.triangles_degenerate,
+                 culled = c.triangles_culled, rasterized = c.triangles_rasterized,
+                 offscreen = c.triangles_offscreen, unfilled = c.triangles_unfilled,
+                 generated = c.fragments_generated, passed = c.fragments_passed_depth,
+                 written = c.fragments_written;
   const auto fail = [&](const std::string& what) { errors.push_back(what); };
   const auto n = [](uint64_t v) { return std::to_string(v); };
   // Survivors of the clipper of one kind: in - invalid - clipped away.
@@ -461,10 +454,9 @@ std::vector<std::string> pipeline_count_errors(const nlohmann::json& counts) {
   // Lines and points: the survivors are rasterized (or degenerate), and so
   // are polygon mode's lines and points, which exist only with unfilled
   // triangles.
-  const uint64_t lines =
-      survivors("lines", get("lines_in"), get("lines_invalid"), get("lines_clipped_away"));
-  const uint64_t lines_clipped = get("lines_clipped");
-  const uint64_t lines_set_up = get("lines_rasterized") + get("lines_degenerate");
+  const uint64_t lines = survivors("lines", c.lines_in, c.lines_invalid, c.lines_clipped_away);
+  const uint64_t lines_clipped = c.lines_clipped;
+  const uint64_t lines_set_up = c.lines_rasterized + c.lines_degenerate;
   if (lines_clipped > lines) {
     fail("lines_clipped = " + n(lines_clipped) + " exceeds the " + n(lines) +
          " lines the clipper kept");
@@ -473,9 +465,8 @@ std::vector<std::string> pipeline_count_errors(const nlohmann::json& counts) {
     fail("lines_rasterized + lines_degenerate = " + n(lines_set_up) + ", but the clipper kept " +
          n(lines) + " lines and " + n(unfilled) + " unfilled triangles");
   }
-  const uint64_t points =
-      survivors("points", get("points_in"), get("points_invalid"), get("points_clipped_away"));
-  const uint64_t points_set_up = get("points_rasterized");
+  const uint64_t points = survivors("points", c.points_in, c.points_invalid, c.points_clipped_away);
+  const uint64_t points_set_up = c.points_rasterized;
   if (points_set_up < points || (unfilled == 0 && points_set_up != points)) {
     fail("points_rasterized = " + n(points_set_up) + ", but the clipper kept " + n(points) +
          " points and " + n(unfilled) + " unfilled triangles");

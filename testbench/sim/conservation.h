@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "hw/draw_state.h"
+#include "hw/pipeline_counts.h"
 #include "hw/trace_probe.h"
 
 namespace gpusim {
@@ -29,6 +30,6 @@ std::vector<std::string> conservation_errors(const nlohmann::json& stats,
 // The spec's bookkeeping (docs/pipeline-spec.md, section 13) over a set of
 // pipeline counters, named as golden::Stats::to_json() names them: one line
 // per violated identity, empty when they hold.
-std::vector<std::string> pipeline_count_errors(const nlohmann::json& counts);
+std::vector<std::string> pipeline_count_errors(const PipelineCounts& counts);
 
 }  // namespace gpusim

@@ -118,7 +118,7 @@ struct GpuRunResult {
   double wall_seconds = 0.0;
   Framebuffer framebuffer;
   std::vector<int64_t> last_writer;  // when recorded
-  nlohmann::json counts;             // pipeline counters, named as the golden model's
+  PipelineCounts counts;             // the pipeline counters, the golden model's
   nlohmann::json timing;             // Gpu::stats_json
   NetlistTables netlist;             // the GPU's stages and FIFOs (Topology::trace_tables)
   size_t decoupled_stages = 0;       // run ahead of the kernel's time (temporal_decoupling)

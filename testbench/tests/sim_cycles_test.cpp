@@ -173,7 +173,7 @@ TEST(Cycles, ScissorCuttingTilesMasksTheirStamps) {
   EXPECT_EQ(stage_counter(r, "tile_rasterizer_0", "stamps_emitted"), 30u);
   EXPECT_EQ(stage_counter(r, "tile_rasterizer_0", "busy_cycles"), 3u + 30u + 2u);
   EXPECT_EQ(stage_counter(r, "tile_rasterizer_0", "fragments"), 400u);
-  EXPECT_EQ(r.counts.at("fragments_generated").get<uint64_t>(), 400u);
+  EXPECT_EQ(r.counts.fragments_generated, 400u);
 }
 
 TEST(Cycles, ViewportSubRectangleBoundsTheTilesVisited) {
@@ -367,7 +367,7 @@ TEST(Cycles, TinyLinesAndPointsRunAtSetupInitiationInterval) {
     const GpuRunResult a = run(tiny_primitives(type, 640), c);
     const GpuRunResult b = run(tiny_primitives(type, 1920), c);
     EXPECT_EQ(cycles(b) - cycles(a), 1280 * ii) << to_string(type);
-    EXPECT_EQ(b.counts.at("fragments_generated").get<uint64_t>(), 1920u) << to_string(type);
+    EXPECT_EQ(b.counts.fragments_generated, 1920u) << to_string(type);
   }
 }
 
@@ -469,8 +469,8 @@ TEST(Cycles, AMidFrameClearCostsOneTokenAndNoMemoryWhenTilesStayCached) {
       EXPECT_EQ(stage_counter(b, stage, "bytes_read"), 0u) << what << " " << stage;
       EXPECT_EQ(stage_counter(b, stage, "bytes_written"), 65536u * 4u) << what << " " << stage;
     }
-    EXPECT_EQ(b.counts.at(color ? "color_clears" : "depth_clears").get<uint64_t>(), 2u) << what;
-    EXPECT_EQ(b.counts.at(color ? "depth_clears" : "color_clears").get<uint64_t>(), 1u) << what;
+    EXPECT_EQ((color ? b.counts.color_clears : b.counts.depth_clears), 2u) << what;
+    EXPECT_EQ((color ? b.counts.depth_clears : b.counts.color_clears), 1u) << what;
   }
 }
 

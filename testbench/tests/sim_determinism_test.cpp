@@ -22,7 +22,7 @@ Scene scene(const char* name) {
 
 nlohmann::json run(const Scene& s, const GpuConfig& config, const GpuRunOptions& options) {
   const GpuRunResult r = run_gpu(s, config, options);
-  return {{"timing", r.timing}, {"counts", r.counts}};
+  return {{"timing", r.timing}, {"counts", r.counts.to_json()}};
 }
 
 // "" when equal, else the path of the first difference and both values.
@@ -93,8 +93,8 @@ TEST(HierarchicalZ, StatsDoNotDependOnProcessOrderUnderRandomStalls) {
       stalled.unit_order = Gpu::UnitOrder::descending;
       const GpuRunResult b = run_gpu(s, config, stalled);
       ASSERT_TRUE(a.completed && b.completed) << name;
-      const nlohmann::json ja = {{"timing", a.timing}, {"counts", a.counts}};
-      const nlohmann::json jb = {{"timing", b.timing}, {"counts", b.counts}};
+      const nlohmann::json ja = {{"timing", a.timing}, {"counts", a.counts.to_json()}};
+      const nlohmann::json jb = {{"timing", b.timing}, {"counts", b.counts.to_json()}};
       EXPECT_EQ(difference(ja, jb), "") << name << ", seed " << seed;
       EXPECT_TRUE(a.framebuffer == golden::render(s).framebuffer) << name;
       // Updates were applied and tiles culled: the rule was exercised.
@@ -167,8 +167,8 @@ TEST_P(TemporalDecoupling, SameStatsAndFrameAsLockstep) {
     EXPECT_EQ(decoupled.decoupled_stages, 4u + 4u * c.config.units) << c.name;
     EXPECT_EQ(lockstep.decoupled_stages, 0u) << c.name;
     EXPECT_EQ(decoupled.cycles, lockstep.cycles) << c.name;
-    const nlohmann::json a = {{"timing", decoupled.timing}, {"counts", decoupled.counts}};
-    const nlohmann::json b = {{"timing", lockstep.timing}, {"counts", lockstep.counts}};
+    const nlohmann::json a = {{"timing", decoupled.timing}, {"counts", decoupled.counts.to_json()}};
+    const nlohmann::json b = {{"timing", lockstep.timing}, {"counts", lockstep.counts.to_json()}};
     EXPECT_EQ(difference(a, b), "") << c.name;
     EXPECT_TRUE(decoupled.framebuffer == lockstep.framebuffer) << c.name;
   }

@@ -139,13 +139,11 @@ TEST(Progress, RunGpuShowsItsPhasesAndTheFinalFigures) {
     EXPECT_EQ(p.phases()[1].first, "simulate");
     EXPECT_EQ(p.phases()[2].first, "read back");
     // Every primitive assembled, as the pipeline counters count them.
-    const uint64_t primitives = r.counts.value("triangles_in", uint64_t{0}) +
-                                r.counts.value("lines_in", uint64_t{0}) +
-                                r.counts.value("points_in", uint64_t{0});
+    const uint64_t primitives = r.counts.triangles_in + r.counts.lines_in + r.counts.points_in;
     const std::string final_state = "\nsimulate: " + std::to_string(primitives) + " of " +
                                     std::to_string(primitives) + " primitives assembled, " +
                                     std::to_string(r.cycles) + " cycles, " +
-                                    r.counts.at("fragments_generated").dump() + " fragments, ";
+                                    std::to_string(r.counts.fragments_generated) + " fragments, ";
     EXPECT_NE(out.str().find(final_state), std::string::npos) << final_state << "\n" << out.str();
     // Its thread wakes through the write-back as well: no cycle moves.
     const GpuRunResult plain = run_gpu(scene, config, GpuRunOptions{});
