@@ -26,17 +26,16 @@
 
 #include "hw/gpu_config.h"
 #include "hw/input_error.h"
-#include "testbench/driver/painter_sort.h"
-#include "testbench/gl/gl_driver.h"
-#include "testbench/gl/trace_reader.h"
-#include "testbench/golden/golden_model.h"
+#include "testbench/gl/feature_report.h"
 #include "testbench/io/image_compare.h"
-#include "testbench/io/image_files.h"
-#include "testbench/io/output_file.h"
+#include "testbench/io/message_text.h"
 #include "testbench/scene/scene.h"
+#include "testbench/session/golden_session.h"
+#include "testbench/session/replay_session.h"
+#include "testbench/session/run_session.h"
+#include "testbench/session/session_steps.h"
 #include "testbench/sim/config_defaults.h"
 #include "testbench/sim/gpu_run.h"
-#include "testbench/sim/memory_budget.h"
 #include "testbench/sim/progress.h"
 #include "traces/stats_summary.h"
 #include "traces/trace_filter.h"
@@ -50,118 +49,37 @@ namespace {
 constexpr int kExitError = 2;
 constexpr int kExitSimulation = 3;
 
-// The --memory-limit option (MiB; 0: the machine's).
-MemoryLimit memory_limit(uint64_t mib) {
-  if (mib == 0) return default_memory_limit();
-  const uint64_t bytes = mib > (UINT64_MAX >> 20) ? UINT64_MAX : mib << 20;
-  return MemoryLimit{bytes, "--memory-limit " + std::to_string(mib)};
-}
-
-// Messages quote file names and file contents: control characters and bytes
-// that are not UTF-8 are shown as \xNN, so an error is one readable line.
-std::string printable(const std::string& s) {
-  std::string out;
-  const auto escape = [&](unsigned char c) {
-    char buf[8];
-    std::snprintf(buf, sizeof buf, "\\x%02X", c);
-    out += buf;
-  };
-  for (size_t i = 0; i < s.size();) {
-    const unsigned char c = static_cast<unsigned char>(s[i]);
-    if (c >= 0x20 && c < 0x7F) {
-      out += static_cast<char>(c);
-      ++i;
-      continue;
-    }
-    // A well-formed UTF-8 sequence passes unchanged.
-    size_t n = c >= 0xC2 && c <= 0xDF   ? 2
-               : c >= 0xE0 && c <= 0xEF ? 3
-               : c >= 0xF0 && c <= 0xF4 ? 4
-                                        : 0;
-    bool ok = n > 0 && i + n <= s.size();
-    for (size_t k = 1; ok && k < n; ++k) ok = (static_cast<unsigned char>(s[i + k]) & 0xC0) == 0x80;
-    if (ok) {
-      out.append(s, i, n);
-      i += n;
-    } else {
-      escape(c);
-      ++i;
-    }
-  }
-  return out;
-}
-
-std::string join(const std::vector<std::string>& words, const std::string& sep) {
-  std::string out;
-  for (const std::string& w : words) out += (out.empty() ? "" : sep) + w;
-  return out;
-}
-
-// Each line of a multi-line report made printable.
-std::string printable_report(const std::string& report) {
-  std::string out, line;
-  for (size_t i = 0; i <= report.size(); ++i) {
-    if (i == report.size() || report[i] == '\n') {
-      out += (i == line.size() ? "" : "\n") + printable(line);
-      line.clear();
-    } else {
-      line += report[i];
-    }
-  }
-  return out;
-}
-
 // A simulation failure: "gpusim: <scene>: <report>" on stderr, exit 3.
 int report_simulation_error(const std::string& scene_path, const SimulationError& e) {
   std::cerr << "gpusim: " << printable(scene_path) << ": " << printable_report(e.what()) << "\n";
   return kExitSimulation;
 }
 
-// frame.exr, frame.png and stats.json into dir, committed together, each
-// named on the progress display as it starts (a large frame's EXR and PNG
-// take seconds).
-void write_frame_outputs(const std::string& dir, const Framebuffer& fb, const nlohmann::json& stats,
-                         Progress& progress) {
-  create_output_directory(dir);
-  OutputFiles files;
-  const auto add = [&](const std::string& name) {
-    progress.update("writing " + printable(dir) + "/" + name, true);
-    return files.add(dir + "/" + name);
-  };
-  write_frame_exr(fb, add("frame.exr"));
-  write_frame_png(fb, add("frame.png"));
-  write_text_file_atomically(add("stats.json"), stats.dump(2) + "\n");
-  files.commit();
-}
-
 // The summary's primitive and fragment lines from the counters both models
 // report (docs/pipeline-spec.md, section 13); lines and points only when the
 // frame has some. Off-screen triangles are rasterized without a pixel, so
 // they are shown apart: "rasterized" is the ones that reach the frame.
-void print_counts(const nlohmann::json& c) {
-  auto n = [&](const char* key) { return c.value(key, uint64_t{0}); };
+void print_counts(const PipelineCounts& c) {
   auto u = [](uint64_t v) { return static_cast<unsigned long long>(v); };
   std::printf(
       "  triangles: %llu in, %llu culled, %llu clipped, %llu rasterized, %llu off-screen or "
       "between pixel centres",
-      u(n("triangles_in")), u(n("triangles_culled")), u(n("triangles_clipped")),
-      u(n("triangles_rasterized") - n("triangles_offscreen")), u(n("triangles_offscreen")));
-  if (n("triangles_unfilled") > 0) {
-    std::printf(", %llu drawn as lines or points", u(n("triangles_unfilled")));
+      u(c.triangles_in), u(c.triangles_culled), u(c.triangles_clipped),
+      u(c.triangles_rasterized - c.triangles_offscreen), u(c.triangles_offscreen));
+  if (c.triangles_unfilled > 0) {
+    std::printf(", %llu drawn as lines or points", u(c.triangles_unfilled));
   }
   std::printf("\n");
-  if (n("lines_in") > 0 || n("lines_rasterized") > 0) {
+  if (c.lines_in > 0 || c.lines_rasterized > 0) {
     std::printf("  lines: %llu in, %llu clipped away, %llu clipped, %llu rasterized\n",
-                u(n("lines_in")), u(n("lines_clipped_away")), u(n("lines_clipped")),
-                u(n("lines_rasterized")));
+                u(c.lines_in), u(c.lines_clipped_away), u(c.lines_clipped), u(c.lines_rasterized));
   }
-  if (n("points_in") > 0 || n("points_rasterized") > 0) {
-    std::printf("  points: %llu in, %llu clipped away, %llu rasterized\n", u(n("points_in")),
-                u(n("points_clipped_away")), u(n("points_rasterized")));
+  if (c.points_in > 0 || c.points_rasterized > 0) {
+    std::printf("  points: %llu in, %llu clipped away, %llu rasterized\n", u(c.points_in),
+                u(c.points_clipped_away), u(c.points_rasterized));
   }
   std::printf("  fragments: %llu generated, %llu passed depth, %llu written\n",
-              u(n("fragments_generated")), u(n("fragments_passed_depth")),
-              u(n("fragments_written")));
+              u(c.fragments_generated), u(c.fragments_passed_depth), u(c.fragments_written));
 }
 
 // --progress, --quiet, --progress-interval (run and golden).
@@ -189,149 +107,34 @@ Progress make_progress(const ProgressArgs& p) {
                   p.interval);
 }
 
-// The load phase: the scene, each mesh reported as its import starts
-// (names made printable, as in error messages: the line stays one line).
-Scene load_scene_shown(const std::string& path, Progress& progress) {
-  progress.begin("load", "reading " + printable(path));
-  return load_scene(path, [&](const std::string& what) { progress.update(printable(what), true); });
+// Lines for stderr: a session's notes and warnings.
+void print_lines(const std::vector<std::string>& lines) {
+  for (const std::string& l : lines) std::cerr << l << "\n";
 }
-
-// The driver's visibility option (docs/painter.md) rewrites the scene's
-// draws before either model sees them; a painter's frame adds its sort's
-// figures to stats.json under "painter". The sort is a phase of its own,
-// so that the summary gives the host's time for it.
-void apply_driver(Scene& scene, nlohmann::json& stats_sections, Progress& progress) {
-  if (scene.visibility == Visibility::painter)
-    progress.begin("driver", "sorting the draws back to front (painter)");
-  if (const auto painter = painter::apply_visibility(scene))
-    stats_sections["painter"] = painter->to_json();
-}
-
-// "(1, 2.5, -3)": a resolved vector or colour from Scene::resolved.
-std::string vec_text(const nlohmann::json& v) {
-  std::string out;
-  for (const nlohmann::json& x : v) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%g", x.get<double>());
-    out += (out.empty() ? "(" : ", ") + std::string(buf);
-  }
-  return out + ")";
-}
-
-std::string vec_text(const glm::vec3& v) {
-  return vec_text(nlohmann::json::array({v.x, v.y, v.z}));
-}
-
-// Says on stderr that the loader framed the meshes (run, golden): the frame
-// depends on it, and stats.json's settings.camera holds every value to copy.
-void note_auto_camera(const Scene& scene) {
-  if (!scene.auto_camera) return;
-  const nlohmann::json& c = scene.resolved["camera"];
-  std::cerr << "gpusim: scene has no camera: framing the meshes' bounding box (eye "
-            << vec_text(c["eye"]) << ", target " << vec_text(c["target"]) << ", fovy "
-            << c["fovy"].get<double>() << "); stats.json's settings.camera has every value\n";
-}
-
-// Whether a lit material is white on every colour channel even where the
-// surface is turned 60 degrees from each light (n.L = 0.5; spec section 2,
-// attenuation taken as 1): its shading then shows almost no shape. Specular
-// counts only with shininess 0, where pow(n.H, 0) = 1 on every lit surface.
-bool saturates(const Scene& scene, const Material& m) {
-  glm::vec3 c = glm::vec3(m.emission) + glm::vec3(scene.global_ambient) * glm::vec3(m.ambient);
-  for (const Light& l : scene.lights) {
-    c += glm::vec3(l.ambient) * glm::vec3(m.ambient) +
-         0.5f * glm::vec3(l.diffuse) * glm::vec3(m.diffuse);
-    if (m.shininess == 0.0f) c += glm::vec3(l.specular) * glm::vec3(m.specular);
-  }
-  return c.r >= 1.0f && c.g >= 1.0f && c.b >= 1.0f;
-}
-
-// Warnings about a frame that rendered, probably not as meant (stderr only:
-// stats.json does not change), each with a hint.
-void print_warnings(const Scene& scene, const nlohmann::json& c) {
-  auto n = [&](const char* key) { return c.value(key, uint64_t{0}); };
-  const std::string info = "`gpusim info " + printable(scene.path) + "`";
-  for (const Draw& d : scene.draws) {
-    if (d.lighting && saturates(scene, d.material)) {
-      const Material& m = d.material;
-      std::cerr << "warning: " << printable(d.name)
-                << ": its material saturates the lighting, so it renders flat white-ish (ambient "
-                << vec_text(glm::vec3(m.ambient)) << ", diffuse " << vec_text(glm::vec3(m.diffuse))
-                << ", specular " << vec_text(glm::vec3(m.specular)) << ", shininess " << m.shininess
-                << "); give the draw a \"material\" with lower values: " << info
-                << " lists the materials\n";
-    }
-  }
-  const uint64_t triangles = n("triangles_in");
-  const uint64_t reaching =
-      n("triangles_rasterized") - n("triangles_offscreen") + n("triangles_unfilled");
-  if (triangles > 0 && reaching == 0) {
-    std::string why;
-    for (auto [key, what] : {std::pair{"triangles_culled", "culled"},
-                             {"triangles_offscreen", "off-screen"},
-                             {"triangles_clipped_away", "clipped away"},
-                             {"triangles_degenerate", "degenerate"},
-                             {"triangles_invalid", "invalid"}}) {
-      if (n(key) > 0) why += (why.empty() ? "" : ", ") + std::to_string(n(key)) + " " + what;
-    }
-    std::cerr << "warning: none of the " << triangles << " triangles reaches the frame (" << why
-              << "); check the camera and the cull state: " << info
-              << " prints the camera and the bounding box\n";
-  }
-  if (triangles + n("lines_in") + n("points_in") > 0 && n("fragments_generated") == 0) {
-    std::cerr << "warning: the frame has no fragments: only the clear colour is drawn; check the "
-                 "camera: "
-              << info << " prints it and the bounding box\n";
-  }
-}
-
-// A golden render nothing compares with the cycle model: no per-pixel last
-// writers (only --check prints them).
-constexpr golden::RenderOptions kNoLastWriters{false};
 
 int run_golden(const std::string& scene_path, const std::string& out_dir, uint64_t memory_mib,
                const ProgressArgs& progress_args) {
   Progress progress = make_progress(progress_args);
-  Scene scene = load_scene_shown(scene_path, progress);
-  note_auto_camera(scene);
-  nlohmann::json driver = nlohmann::json::object();
-  apply_driver(scene, driver, progress);
-  check_scene_limits(scene);
-  check_memory(estimate_golden_memory(scene), memory_limit(memory_mib), scene_path);
-  progress.begin("render", "rendering with the golden model");
-  const auto start = std::chrono::steady_clock::now();
-  const golden::Result result = golden::render(scene, kNoLastWriters);
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  const std::vector<std::string> errors = pipeline_count_errors(result.stats.to_json());
-  if (!errors.empty()) {
-    std::string report = "golden model: the counters do not balance:";
-    for (const std::string& e : errors) report += "\n  " + e;
+  GoldenRequest request;
+  request.scene = scene_path;
+  request.out_dir = out_dir;
+  request.memory_mib = memory_mib;
+  request.note = [](const std::string& line) { std::cerr << line << "\n"; };
+  GoldenOutcome outcome;
+  try {
+    outcome = golden_session(request, progress);
+  } catch (const SessionError& e) {
     progress.interrupt();
-    return report_simulation_error(scene_path,
-                                   SimulationError(SimulationError::Kind::conservation, report));
+    return report_simulation_error(e.where(), e);
   }
-
-  // No wall-clock figures in stats.json: the same input gives the same bytes.
-  nlohmann::json stats = {
-      {"model", "golden"},
-      {"scene", scene_path},
-      {"settings", scene.resolved},
-      {"stats", result.stats.to_json()},
-  };
-  stats.update(driver);
-  progress.begin("write", "frame.exr, frame.png, stats.json into " + printable(out_dir));
-  write_frame_outputs(out_dir, result.framebuffer, stats, progress);
-  progress.end();
-
-  std::printf("golden: %s rendered in %.3f s\n", scene_path.c_str(), seconds);
-  print_counts(result.stats.to_json());
+  const Framebuffer& fb = outcome.result.framebuffer;
+  std::printf("golden: %s rendered in %.3f s\n", scene_path.c_str(), outcome.seconds);
+  print_counts(outcome.result.stats);
   std::printf("  frame: %s/frame.exr (%dx%d), %s/frame.png, %s/stats.json\n", out_dir.c_str(),
-              result.framebuffer.width, result.framebuffer.height, out_dir.c_str(),
-              out_dir.c_str());
+              fb.width, fb.height, out_dir.c_str(), out_dir.c_str());
   std::printf("  wall: %s\n", progress.wall_summary().c_str());
   std::fflush(stdout);  // the summary, then its warnings, when both go to a terminal
-  print_warnings(scene, result.stats.to_json());
+  print_lines(outcome.warnings);
   return 0;
 }
 
@@ -369,128 +172,52 @@ GpuConfig resolve_config(const RunArgs& args) {
   return overrides.empty() ? config : gpu_config_with_overrides(base, overrides);
 }
 
-std::string pixel_text(const Framebuffer& fb, int x, int y) {
-  const ColorChannel* c = fb.color_at(x, y);
-  char buf[160];
-  std::snprintf(buf, sizeof buf, "colour (%g, %g, %g, %g) depth %g",
-                decode_color(fb.color_format, c[0]), decode_color(fb.color_format, c[1]),
-                decode_color(fb.color_format, c[2]), decode_color(fb.color_format, c[3]),
-                decode_depth(fb.depth_format, fb.depth[fb.pixel_index(x, y)]));
-  return buf;
-}
-
-// Compares the cycle model's frame and counters with the golden model's.
-// k: the supersample factor, which maps an output pixel to its render-target
-// pixels (the last writers are recorded per render-target pixel).
-bool check_against_golden(const golden::Result& ref, const GpuRunResult& gpu, unsigned k) {
-  const Framebuffer& a = gpu.framebuffer;
-  const Framebuffer& b = ref.framebuffer;
-  bool ok = true;
-  for (int y = 0; y < a.height && ok; ++y) {
-    for (int x = 0; x < a.width; ++x) {
-      const size_t p = a.pixel_index(x, y);
-      if (std::equal(a.color_at(x, y), a.color_at(x, y) + 4, b.color_at(x, y)) &&
-          a.depth[p] == b.depth[p]) {
-        continue;
-      }
-      // The writers of its lower-left render-target pixel.
-      const size_t q = size_t{k} * static_cast<size_t>(y) * k * static_cast<size_t>(a.width) +
-                       size_t{k} * static_cast<size_t>(x);
-      std::printf("check: FAIL: first differing pixel x=%d y=%d\n", x, y);
-      std::printf("  cycle model: %s, last written by primitive %lld\n",
-                  pixel_text(a, x, y).c_str(), static_cast<long long>(gpu.last_writer[q]));
-      std::printf("  golden:      %s, last written by primitive %lld\n",
-                  pixel_text(b, x, y).c_str(), static_cast<long long>(ref.last_writer[q]));
-      ok = false;
-      break;
-    }
+// `--check`'s lines: the first differing pixel and every differing counter,
+// or that the frame is bit-exact.
+bool print_check(const CheckReport& check, const Framebuffer& fb) {
+  if (const auto& p = check.pixel) {
+    std::printf("check: FAIL: first differing pixel x=%d y=%d\n", p->x, p->y);
+    std::printf("  cycle model: %s, last written by primitive %lld\n", p->cycle.c_str(),
+                static_cast<long long>(p->cycle_writer));
+    std::printf("  golden:      %s, last written by primitive %lld\n", p->golden.c_str(),
+                static_cast<long long>(p->golden_writer));
   }
-  const nlohmann::json golden_counts = ref.stats.to_json();
-  for (const auto& item : golden_counts.items()) {
-    if (gpu.counts.value(item.key(), nlohmann::json()) != item.value()) {
-      std::printf("check: FAIL: %s is %s in the cycle model, %s in the golden model\n",
-                  item.key().c_str(), gpu.counts.value(item.key(), nlohmann::json()).dump().c_str(),
-                  item.value().dump().c_str());
-      ok = false;
-    }
+  for (const CountDifference& d : check.counts) {
+    std::printf("check: FAIL: %s is %llu in the cycle model, %llu in the golden model\n",
+                d.name.c_str(), static_cast<unsigned long long>(d.a),
+                static_cast<unsigned long long>(d.b));
   }
-  if (ok) {
+  if (check.ok()) {
     std::printf("check: bit-exact with the golden model (%dx%d colour and depth, all counters)\n",
-                a.width, a.height);
+                fb.width, fb.height);
   }
-  return ok;
+  return check.ok();
 }
 
 int run_cycle_model(const RunArgs& args, const ProgressArgs& progress_args) {
   Progress progress = make_progress(progress_args);
-  Scene scene = load_scene_shown(args.scene, progress);
-  note_auto_camera(scene);
-  nlohmann::json driver = nlohmann::json::object();
-  apply_driver(scene, driver, progress);
-  const GpuConfig config = resolve_config(args);
-  const TraceFormats trace_formats = TraceFormats::parse(args.trace_formats);
-  check_scene_limits(scene);
-  check_memory(estimate_cycle_memory(scene, config, args.check), memory_limit(args.memory_mib),
-               args.scene);
-  GpuRunOptions options;
-  options.record_last_writer = args.check;
-  options.progress = &progress;
-  options.temporal_decoupling = !args.lockstep;
-  // Without --check nothing reads the vertex arrays after the GPU's memory
-  // holds them (the warnings read names, lighting and materials): free them
-  // before simulating, so that a large mesh is held once.
-  if (!args.check) {
-    options.scene_arrays_copied = [&scene] {
-      for (Draw& d : scene.draws) {
-        std::vector<glm::vec4>().swap(d.positions);
-        std::vector<glm::vec3>().swap(d.normals);
-        std::vector<glm::vec4>().swap(d.colors);
-        std::vector<uint32_t>().swap(d.indices);
-      }
-    };
-  }
-  // The trace's files, committed with its frame.exr and stats.json below; on
-  // any failure they are removed and an earlier trace in the directory stays.
-  OutputFiles trace_files;
-  options.trace_dir = args.trace_dir;
-  options.trace_files = &trace_files;
-  options.trace_scene = args.scene;
-  options.trace_stages = args.trace_stages;
-  options.trace_window = args.trace_window;
-  options.trace_prims = args.trace_prims;
-  options.trace_formats = args.trace_formats;
-  GpuRunResult result;
+  RunRequest request;
+  request.scene = args.scene;
+  request.config = resolve_config(args);
+  request.out_dir = args.out_dir;
+  request.check = args.check;
+  request.lockstep = args.lockstep;
+  request.memory_mib = args.memory_mib;
+  request.trace_dir = args.trace_dir;
+  request.trace_stages = args.trace_stages;
+  request.trace_window = args.trace_window;
+  request.trace_prims = args.trace_prims;
+  request.trace_formats = args.trace_formats;
+  request.note = [](const std::string& line) { std::cerr << line << "\n"; };
+  RunOutcome outcome;
   try {
-    result = run_gpu(scene, config, options);
-  } catch (const SimulationError& e) {
+    outcome = run_session(request, progress);
+  } catch (const SessionError& e) {
     progress.interrupt();
-    return report_simulation_error(args.scene, e);  // a hang, or counters that do not balance
+    return report_simulation_error(e.where(), e);  // a hang, or counters that do not balance
   }
-  // No wall-clock figures in stats.json: the same input gives the same bytes.
-  nlohmann::json stats = {
-      {"model", "cycle"},          {"scene", args.scene},    {"settings", scene.resolved},
-      {"config", to_json(config)}, {"stats", result.counts}, {"timing", result.timing},
-  };
-  stats.update(driver);
-  progress.begin(
-      "write", "frame.exr, frame.png, stats.json into " + printable(args.out_dir) +
-                   (args.trace_dir.empty() ? "" : ", the trace into " + printable(args.trace_dir)));
-  write_frame_outputs(args.out_dir, result.framebuffer, stats, progress);
-  if (!args.trace_dir.empty()) {
-    progress.update("writing " + printable(args.trace_dir) + "/frame.exr and stats.json", true);
-    write_frame_exr(result.framebuffer, trace_files.add(args.trace_dir + "/frame.exr"));
-    write_text_file_atomically(trace_files.add(args.trace_dir + "/stats.json"),
-                               stats.dump(2) + "\n");
-    trace_files.commit();
-  }
-  // The golden model's frame now, so that the summary can give its time.
-  std::optional<golden::Result> reference;
-  if (args.check) {
-    progress.begin("check", "rendering with the golden model");
-    reference = golden::render(scene);
-  }
-  progress.end();
-
+  const GpuRunResult& result = outcome.result;
+  const GpuConfig& config = request.config;
   const double mhz = config.clock_mhz;
   std::printf(
       "run: %s on %u unit%s: %llu cycles (%.3f ms at %g MHz), simulated in %.3f s (%.3g "
@@ -502,16 +229,14 @@ int run_cycle_model(const RunArgs& args, const ProgressArgs& progress_args) {
   print_counts(result.counts);
   std::printf("  frame: %s/frame.exr, %s/frame.png, %s/stats.json\n", args.out_dir.c_str(),
               args.out_dir.c_str(), args.out_dir.c_str());
-  if (!args.trace_dir.empty()) {
-    std::vector<std::string> files = trace_formats.files();
-    files.insert(files.begin(), "manifest.json");
-    std::printf("  trace: %s (%s)\n", args.trace_dir.c_str(), join(files, ", ").c_str());
+  if (!outcome.trace_files.empty()) {
+    std::printf("  trace: %s (%s)\n", args.trace_dir.c_str(),
+                join(outcome.trace_files, ", ").c_str());
   }
   std::printf("  wall: %s\n", progress.wall_summary().c_str());
   std::fflush(stdout);
-  print_warnings(scene, result.counts);
-  if (reference && !check_against_golden(*reference, result, scene.framebuffer.supersample))
-    return 1;
+  print_lines(outcome.warnings);
+  if (outcome.check && !print_check(*outcome.check, result.framebuffer)) return 1;
   return 0;
 }
 
@@ -556,114 +281,46 @@ std::pair<uint32_t, uint32_t> replay_range(const ReplayArgs& args) {
 
 int run_replay(const ReplayArgs& args, const ProgressArgs& progress_args) {
   using Clock = std::chrono::steady_clock;
-  const auto seconds_since = [](Clock::time_point t) {
-    return std::chrono::duration<double>(Clock::now() - t).count();
-  };
   const auto [first, last] = replay_range(args);
   if (args.model != "cycle" && args.model != "golden") {
     throw InputError("replay: --model " + printable(args.model) + ": expected cycle or golden");
   }
-  const bool cycle = args.model == "cycle";
-  GpuConfig config;
+  ReplayRequest request;
+  request.trace = args.trace;
+  request.first = first;
+  request.last = last;
+  request.cycle = args.model == "cycle";
+  request.out_dir = args.out_dir;
+  const bool cycle = request.cycle;
   if (!args.config.empty()) {
-    config = gpu_config_from_json(load_gpu_config_json(args.config),
-                                  args.config == "-" ? "standard input" : args.config);
+    request.config = gpu_config_from_json(load_gpu_config_json(args.config),
+                                          args.config == "-" ? "standard input" : args.config);
   }
   const Clock::time_point replay_start = Clock::now();
   Progress progress = make_progress(progress_args);
-  progress.begin("driver", "reading " + printable(args.trace));
-  gl::TraceReader reader(args.trace);
-  create_output_directory(args.out_dir);
-  gl::GlDriver driver;
-  driver.set_capture(first == 0);
-  gl::FeatureReport total;
-  gl::TraceCall call;
-  uint32_t rendered = 0, frames_seen = 0;
-  double driver_seconds = 0.0, render_seconds = 0.0;
-  Clock::time_point frame_start = Clock::now();
-  std::printf("replay: %s through the %s model\n", args.trace.c_str(), cycle ? "cycle" : "golden");
-  while (reader.next(call)) {
-    if (!driver.call(call)) {
-      if ((call.number & 0xFFF) == 0) {
-        progress.update(
-            "frame " + std::to_string(frames_seen) + ", call " + std::to_string(call.number) +
-            ", " +
-            std::to_string(reader.bytes_read() * 100 / std::max<uint64_t>(reader.file_size(), 1)) +
-            "% of the trace read");
-      }
-      continue;
-    }
-    gl::DriverFrame frame = driver.take_frame();
-    ++frames_seen;
-    driver.set_capture(frame.index + 1 >= first && frame.index + 1 <= last);
-    if (frame.index < first) {
-      frame_start = Clock::now();
-      continue;
-    }
-    const double driver_s = seconds_since(frame_start);
-    driver_seconds += driver_s;
-    const Scene& scene = frame.scene;
-    check_scene_limits(scene);
-    const std::string n = std::to_string(frame.index);
-    progress.begin("render", "frame " + n + ": " + std::to_string(scene.draws.size()) +
-                                 " draws through the " + args.model + " model");
-    const Clock::time_point render_start = Clock::now();
-    nlohmann::json stats = {
-        {"model", args.model}, {"scene", args.trace + " frame " + n}, {"trace", args.trace}};
-    Framebuffer fb;
-    uint64_t cycles = 0;
-    if (cycle) {
-      GpuRunOptions options;
-      GpuRunResult result;
-      try {
-        result = run_gpu(scene, config, options);
-      } catch (const SimulationError& e) {
-        progress.interrupt();
-        return report_simulation_error(args.trace + " frame " + n, e);
-      }
-      cycles = result.cycles;
-      fb = std::move(result.framebuffer);
-      stats["config"] = to_json(config);
-      stats["stats"] = result.counts;
-      stats["timing"] = result.timing;
-    } else {
-      golden::Result result = golden::render(scene, kNoLastWriters);
-      fb = std::move(result.framebuffer);
-      stats["stats"] = result.stats.to_json();
-    }
-    const double render_s = seconds_since(render_start);
-    render_seconds += render_s;
-    stats["driver"] = frame.to_json();
-    // No wall-clock figures in the stats: the same trace gives the same bytes.
-    progress.begin("write", "frame_" + n + ".exr, .png, stats_" + n + ".json");
-    OutputFiles files;
-    write_frame_exr(fb, files.add(args.out_dir + "/frame_" + n + ".exr"));
-    // The PNG as the window shows it: opaque, like apitrace's images, so that
-    // a reader that premultiplies alpha compares the same colours (the EXR
-    // keeps the alpha channel).
-    Framebuffer opaque = fb;
-    for (size_t i = 3; i < opaque.color.size(); i += 4) {
-      opaque.color[i] = encode_color(opaque.color_format, 1.0f);
-    }
-    write_frame_png(opaque, files.add(args.out_dir + "/frame_" + n + ".png"));
-    write_text_file_atomically(files.add(args.out_dir + "/stats_" + n + ".json"),
-                               stats.dump(2) + "\n");
-    files.commit();
-    progress.begin("driver", "reading " + printable(args.trace));
-    total.merge(frame.features);
-    ++rendered;
-    std::printf("  frame %s (swap at call %u): %zu draws, %llu vertices, %llu primitives",
-                n.c_str(), frame.end_call, scene.draws.size(),
-                static_cast<unsigned long long>(frame.vertices),
-                static_cast<unsigned long long>(frame.primitives));
-    if (cycle) std::printf(", %llu cycles", static_cast<unsigned long long>(cycles));
-    std::printf("; driver %.3f s, %s %.3f s%s\n", driver_s, cycle ? "simulation" : "golden",
-                render_s, frame.features.any_unsupported() ? "; uses unsupported features" : "");
+  ReplayCallbacks callbacks;
+  callbacks.opened = [&] {
+    std::printf("replay: %s through the %s model\n", args.trace.c_str(),
+                cycle ? "cycle" : "golden");
+  };
+  callbacks.frame = [&](const ReplayedFrame& f) {
+    std::printf("  frame %u (swap at call %u): %zu draws, %llu vertices, %llu primitives", f.index,
+                f.end_call, f.draws, static_cast<unsigned long long>(f.vertices),
+                static_cast<unsigned long long>(f.primitives));
+    if (cycle) std::printf(", %llu cycles", static_cast<unsigned long long>(f.cycles));
+    std::printf("; driver %.3f s, %s %.3f s%s\n", f.driver_seconds, cycle ? "simulation" : "golden",
+                f.render_seconds, f.unsupported ? "; uses unsupported features" : "");
     std::fflush(stdout);
-    frame_start = Clock::now();
-    if (frame.index >= last) break;
+  };
+  ReplayOutcome outcome;
+  try {
+    outcome = replay_session(request, progress, callbacks);
+  } catch (const SessionError& e) {
+    progress.interrupt();
+    return report_simulation_error(e.where(), e);
   }
-  progress.end();
+  const uint32_t rendered = outcome.rendered, frames_seen = outcome.frames_seen;
+  const gl::FeatureReport& total = outcome.features;
   if (rendered == 0 || (last != UINT32_MAX && first + rendered <= last)) {
     throw InputError("replay: " + printable(args.trace) + " has " + std::to_string(frames_seen) +
                      " complete frame" + (frames_seen == 1 ? "" : "s") + " (numbered from 0); " +
@@ -672,8 +329,8 @@ int run_replay(const ReplayArgs& args, const ProgressArgs& progress_args) {
                      " asks for more");
   }
   std::printf("  %u frame%s into %s/; driver %.3f s, %s %.3f s\n", rendered,
-              rendered == 1 ? "" : "s", args.out_dir.c_str(), driver_seconds,
-              cycle ? "simulation" : "golden", render_seconds);
+              rendered == 1 ? "" : "s", args.out_dir.c_str(), outcome.driver_seconds,
+              cycle ? "simulation" : "golden", outcome.render_seconds);
   for (const auto& [what, count] : total.unsupported()) {
     std::printf("  unsupported: %s: %llu\n", what.c_str(), static_cast<unsigned long long>(count));
   }
@@ -699,7 +356,8 @@ int run_replay(const ReplayArgs& args, const ProgressArgs& progress_args) {
     std::snprintf(buf, sizeof buf, "%s%s %.3f s", wall.empty() ? "" : ", ", phase.c_str(), seconds);
     wall += buf;
   }
-  std::printf("  wall: %s; total %.3f s\n", wall.c_str(), seconds_since(replay_start));
+  std::printf("  wall: %s; total %.3f s\n", wall.c_str(),
+              std::chrono::duration<double>(Clock::now() - replay_start).count());
   std::fflush(stdout);
   if (args.strict && total.any_unsupported()) {
     std::cerr << "gpusim: replay: " << total.unsupported().size()

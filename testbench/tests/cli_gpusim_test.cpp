@@ -368,15 +368,15 @@ TEST_F(Cli, CommandLineMistakesNameTheWordAtFault) {
   };
   expect_message("render scene.json",
                  "unknown command 'render'; commands: golden, run, replay, info, compare, sweep, "
-                 "trace, stats; "
+                 "trace, stats, config; "
                  "see gpusim --help");
   expect_message("rn scene.json",
                  "unknown command 'rn' (did you mean run?); commands: golden, run, replay, info, "
-                 "compare, sweep, trace, stats; see gpusim --help");
+                 "compare, sweep, trace, stats, config; see gpusim --help");
   expect_message(
       "",
-      "a command is required: golden, run, replay, info, compare, sweep, trace, stats; see gpusim "
-      "--help");
+      "a command is required: golden, run, replay, info, compare, sweep, trace, stats, config; see "
+      "gpusim --help");
   expect_message("run " + scene + " --tile-size 32",
                  "run: unknown option --tile-size (tile_size is a GPU configuration key: --set "
                  "tile_size=VALUE, or in the --config file; docs/gpu-config.md); see gpusim run "

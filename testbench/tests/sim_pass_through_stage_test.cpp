@@ -13,7 +13,7 @@
 #include "hw/pipeline_stage.h"
 #include "hw/stage_spec.h"
 #include "testbench/golden/golden_model.h"
-#include "testbench/scene/scene_loader.h"
+#include "testbench/scene/scene.h"
 #include "testbench/sim/gpu_run.h"
 
 namespace gpusim {

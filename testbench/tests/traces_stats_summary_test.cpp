@@ -7,6 +7,7 @@
 #include <cmath>
 #include <string>
 
+#include "hw/netlist_tables.h"
 #include "testbench/tests/traces_support.h"
 #include "traces/stats_summary.h"
 #include "traces/trace_reader.h"
@@ -158,10 +159,34 @@ nlohmann::json made_up(double utilization) {
       {"busy_cycles", 100}, {"stalled_cycles", 0.0}, {"starved_cycles", 900.0}};
   stages["rop_0"] = {{"busy_cycles", 200}, {"stalled_cycles", 0.0}, {"starved_cycles", 800.0}};
   nlohmann::json fifos = nlohmann::json::object();
-  for (const char* f :
-       {"commands", "command_to_fetch", "fetch_to_shader", "shader_to_clipper", "clipper_to_setup",
-        "setup_to_distributor", "distributor_to_rasterizer_0", "rasterizer_to_depth_0",
-        "depth_to_interpolator_0", "interpolator_to_rop_0"}) {
+  // The netlist: a chain, FIFO i from stage i - 1 (the host for the first)
+  // to stage i.
+  const std::vector<std::string> order = {
+      "command_processor", "vertex_fetch",      "vertex_shader", "clipper",        "triangle_setup",
+      "tile_distributor",  "tile_rasterizer_0", "depth_test_0",  "interpolator_0", "rop_0"};
+  const std::vector<std::string> fifo_order = {"commands",
+                                               "command_to_fetch",
+                                               "fetch_to_shader",
+                                               "shader_to_clipper",
+                                               "clipper_to_setup",
+                                               "setup_to_distributor",
+                                               "distributor_to_rasterizer_0",
+                                               "rasterizer_to_depth_0",
+                                               "depth_to_interpolator_0",
+                                               "interpolator_to_rop_0"};
+  NetlistTables netlist;
+  for (size_t i = 0; i < order.size(); ++i) {
+    const bool unit = order[i].back() == '0';
+    netlist.stages.push_back(
+        {order[i],
+         unit ? order[i].substr(0, order[i].size() - 2) : order[i],
+         unit ? 0 : -1,
+         {static_cast<int>(i)},
+         i + 1 < order.size() ? std::vector<int>{static_cast<int>(i + 1)} : std::vector<int>{}});
+    const std::string& f = fifo_order[i];
+    const bool funit = f.back() == '0';
+    netlist.fifos.push_back({f, funit ? f.substr(0, f.size() - 2) : f, 16, static_cast<int>(i) - 1,
+                             static_cast<int>(i), funit ? 0 : -1});
     fifos[f] = {{"depth", 16}};
   }
   return {{"stats", nlohmann::json::object()},
@@ -171,6 +196,7 @@ nlohmann::json made_up(double utilization) {
             {"simulated_seconds", 1e-6},
             {"stages", stages},
             {"fifos", fifos},
+            {"netlist", nlohmann::json::parse(to_json(netlist).dump())},
             {"memory", {{"utilization", utilization}, {"busy_cycles", 1000 * utilization}}}}}};
 }
 

@@ -1,0 +1,42 @@
+#include "testbench/session/session_steps.h"
+
+#include "testbench/driver/painter_sort.h"
+#include "testbench/io/image_files.h"
+#include "testbench/io/message_text.h"
+#include "testbench/io/output_file.h"
+
+namespace gpusim {
+
+MemoryLimit memory_limit(uint64_t mib) {
+  if (mib == 0) return default_memory_limit();
+  const uint64_t bytes = mib > (UINT64_MAX >> 20) ? UINT64_MAX : mib << 20;
+  return MemoryLimit{bytes, "--memory-limit " + std::to_string(mib)};
+}
+
+Scene load_scene_shown(const std::string& path, Progress& progress) {
+  progress.begin("load", "reading " + printable(path));
+  return load_scene(path, [&](const std::string& what) { progress.update(printable(what), true); });
+}
+
+void apply_driver(Scene& scene, nlohmann::json& stats_sections, Progress& progress) {
+  if (scene.visibility == Visibility::painter)
+    progress.begin("driver", "sorting the draws back to front (painter)");
+  if (const auto painter = painter::apply_visibility(scene))
+    stats_sections["painter"] = painter->to_json();
+}
+
+void write_frame_outputs(const std::string& dir, const Framebuffer& fb, const nlohmann::json& stats,
+                         Progress& progress) {
+  create_output_directory(dir);
+  OutputFiles files;
+  const auto add = [&](const std::string& name) {
+    progress.update("writing " + printable(dir) + "/" + name, true);
+    return files.add(dir + "/" + name);
+  };
+  write_frame_exr(fb, add("frame.exr"));
+  write_frame_png(fb, add("frame.png"));
+  write_text_file_atomically(add("stats.json"), stats.dump(2) + "\n");
+  files.commit();
+}
+
+}  // namespace gpusim
