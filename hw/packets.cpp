@@ -8,8 +8,8 @@
 namespace gpusim {
 namespace {
 
-bool same_triangle(const std::shared_ptr<const RasterPrimitive>& a,
-                   const std::shared_ptr<const RasterPrimitive>& b) {
+bool same_primitive(const std::shared_ptr<const RasterPrimitive>& a,
+                    const std::shared_ptr<const RasterPrimitive>& b) {
   if (a == b) return true;
   return a && b && *a == *b;
 }
@@ -133,23 +133,23 @@ std::ostream& operator<<(std::ostream& os, const RasterPrimitive& t) {
 }
 
 bool SetupPacket::operator==(const SetupPacket& o) const {
-  return kind == o.kind && same_triangle(triangle, o.triangle);
+  return kind == o.kind && same_primitive(primitive, o.primitive);
 }
 
 std::ostream& operator<<(std::ostream& os, const SetupPacket& p) {
   os << "SetupPacket{" << p.kind;
-  if (p.triangle) os << " " << *p.triangle;
+  if (p.primitive) os << " " << *p.primitive;
   return os << "}";
 }
 
 bool StampBatch::operator==(const StampBatch& o) const {
-  return kind == o.kind && same_triangle(triangle, o.triangle) && stamps == o.stamps &&
+  return kind == o.kind && same_primitive(primitive, o.primitive) && stamps == o.stamps &&
          samples == o.samples && hz_seq == o.hz_seq;
 }
 
 std::ostream& operator<<(std::ostream& os, const StampBatch& b) {
   os << "StampBatch{" << b.kind;
-  if (b.triangle) os << " prim " << b.triangle->primitive_id;
+  if (b.primitive) os << " prim " << b.primitive->primitive_id;
   os << " " << b.stamps.size() << " stamps";
   for (const Stamp& s : b.stamps)
     os << " (" << s.x << ", " << s.y << ": " << std::hex << s.mask << std::dec << ")";
@@ -159,13 +159,13 @@ std::ostream& operator<<(std::ostream& os, const StampBatch& b) {
 }
 
 bool ShadedStampBatch::operator==(const ShadedStampBatch& o) const {
-  return kind == o.kind && same_triangle(triangle, o.triangle) && stamps == o.stamps &&
+  return kind == o.kind && same_primitive(primitive, o.primitive) && stamps == o.stamps &&
          colors == o.colors && samples == o.samples;
 }
 
 std::ostream& operator<<(std::ostream& os, const ShadedStampBatch& b) {
   os << "ShadedStampBatch{" << b.kind;
-  if (b.triangle) os << " prim " << b.triangle->primitive_id;
+  if (b.primitive) os << " prim " << b.primitive->primitive_id;
   os << " " << b.stamps.size() << " stamps, " << b.colors.size() << " colours";
   if (!b.samples.empty()) os << ", " << b.samples.size() << " sample masks";
   return os << "}";

@@ -41,6 +41,7 @@
 #include <vector>
 
 #include "hw/fixed_point.h"
+#include "hw/primitive_kind.h"
 #include "hw/varying_layout.h"
 
 namespace gpusim {
@@ -60,14 +61,6 @@ struct Command {
 };
 std::ostream& operator<<(std::ostream& os, const Command& c);
 
-// What an assembled primitive is. The kind travels with every primitive, so
-// lines and points share the triangles' packets.
-enum class PrimitiveKind : uint8_t { point, line, triangle };
-std::ostream& operator<<(std::ostream& os, PrimitiveKind k);
-// Vertices of a primitive of kind k: 1, 2 or 3.
-constexpr uint8_t vertex_count_of(PrimitiveKind k) {
-  return k == PrimitiveKind::point ? 1 : k == PrimitiveKind::line ? 2 : 3;
-}
 // Vertex slots in a primitive packet: a triangle's.
 constexpr unsigned kMaxPrimitiveVertices = 3;
 
@@ -181,11 +174,11 @@ std::ostream& operator<<(std::ostream& os, const RasterPrimitive& t);
 // Triangle setup -> tile distributor -> each tile rasterizer unit.
 struct SetupPacket {
   PacketKind kind = PacketKind::work;
-  std::shared_ptr<const RasterPrimitive> triangle;  // work only
+  std::shared_ptr<const RasterPrimitive> primitive;  // work only
   bool operator==(const SetupPacket& o) const;
   friend void swap(SetupPacket& a, SetupPacket& b) noexcept {
     std::swap(a.kind, b.kind);
-    a.triangle.swap(b.triangle);
+    a.primitive.swap(b.primitive);
   }
 };
 std::ostream& operator<<(std::ostream& os, const SetupPacket& p);
@@ -207,7 +200,7 @@ struct Stamp {
 // covers in one tile, in the order the unit walked them.
 struct StampBatch {
   PacketKind kind = PacketKind::work;
-  std::shared_ptr<const RasterPrimitive> triangle;
+  std::shared_ptr<const RasterPrimitive> primitive;
   std::vector<Stamp> stamps;
   // Multisampling (docs/pipeline-spec.md, section 14): per covered pixel
   // (stamp order, then bit order), its covered samples, bit s for sample s;
@@ -221,7 +214,7 @@ struct StampBatch {
   friend void swap(StampBatch& a, StampBatch& b) noexcept {
     std::swap(a.kind, b.kind);
     std::swap(a.hz_seq, b.hz_seq);
-    a.triangle.swap(b.triangle);
+    a.primitive.swap(b.primitive);
     a.stamps.swap(b.stamps);
     a.samples.swap(b.samples);
   }
@@ -235,14 +228,14 @@ std::ostream& operator<<(std::ostream& os, const StampBatch& b);
 // interpolated normal and eye position (docs/pipeline-spec.md, 9b).
 struct ShadedStampBatch {
   PacketKind kind = PacketKind::work;
-  std::shared_ptr<const RasterPrimitive> triangle;
+  std::shared_ptr<const RasterPrimitive> primitive;
   std::vector<Stamp> stamps;
   std::vector<glm::vec4> colors;
   std::vector<uint16_t> samples;  // as StampBatch: the samples each colour goes to
   bool operator==(const ShadedStampBatch& o) const;
   friend void swap(ShadedStampBatch& a, ShadedStampBatch& b) noexcept {
     std::swap(a.kind, b.kind);
-    a.triangle.swap(b.triangle);
+    a.primitive.swap(b.primitive);
     a.stamps.swap(b.stamps);
     a.colors.swap(b.colors);
     a.samples.swap(b.samples);

@@ -176,16 +176,16 @@ GPUSIM_INSTANTIATE(ColorFormat)
 GPUSIM_INSTANTIATE(DepthFormat)
 #undef GPUSIM_INSTANTIATE
 
-PrimitiveClass primitive_class(PrimitiveType t) {
+PrimitiveKind primitive_kind_of(PrimitiveType t) {
   switch (t) {
     case PrimitiveType::points:
-      return PrimitiveClass::point;
+      return PrimitiveKind::point;
     case PrimitiveType::lines:
     case PrimitiveType::line_strip:
     case PrimitiveType::line_loop:
-      return PrimitiveClass::line;
+      return PrimitiveKind::line;
     default:
-      return PrimitiveClass::triangle;
+      return PrimitiveKind::triangle;
   }
 }
 

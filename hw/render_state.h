@@ -9,6 +9,8 @@
 #include <string>
 #include <string_view>
 
+#include "hw/primitive_kind.h"
+
 namespace gpusim {
 
 // Largest line width and point size, as llvmpipe's (GL's minimum maximum is 1).
@@ -24,8 +26,7 @@ enum class PrimitiveType : uint8_t {
   line_loop,
 };
 // Whether a draw of this type assembles points, lines or triangles.
-enum class PrimitiveClass : uint8_t { point, line, triangle };
-PrimitiveClass primitive_class(PrimitiveType t);
+PrimitiveKind primitive_kind_of(PrimitiveType t);
 // Primitives a draw of `slots` vertex slots assembles (docs/pipeline-spec.md,
 // section 3): partial primitives are ignored.
 uint64_t primitive_count(PrimitiveType t, uint64_t slots);

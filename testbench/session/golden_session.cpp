@@ -13,12 +13,8 @@ namespace gpusim {
 GoldenOutcome golden_session(const GoldenRequest& request, Progress& progress) {
   GoldenOutcome outcome;
   Scene& scene = outcome.scene;
-  scene = load_scene_shown(request.scene, progress);
-  const std::string note = auto_camera_note(scene);
-  if (!note.empty() && request.note) request.note(note);
   nlohmann::json driver = nlohmann::json::object();
-  apply_driver(scene, driver, progress);
-  check_scene_limits(scene);
+  scene = prepare_scene(request.scene, request.note, driver, progress);
   check_memory(estimate_golden_memory(scene), memory_limit(request.memory_mib), request.scene);
   progress.begin("render", "rendering with the golden model");
   const auto start = std::chrono::steady_clock::now();

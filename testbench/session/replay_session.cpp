@@ -2,8 +2,8 @@
 
 #include <chrono>
 
+#include "testbench/gl/apitrace_reader.h"
 #include "testbench/gl/gl_driver.h"
-#include "testbench/gl/trace_reader.h"
 #include "testbench/golden/golden_model.h"
 #include "testbench/io/image_files.h"
 #include "testbench/io/message_text.h"
@@ -27,7 +27,7 @@ ReplayOutcome replay_session(const ReplayRequest& request, Progress& progress,
                              const ReplayCallbacks& callbacks) {
   const std::string model = request.cycle ? "cycle" : "golden";
   progress.begin("driver", "reading " + printable(request.trace));
-  gl::TraceReader reader(request.trace);
+  gl::ApitraceReader reader(request.trace);
   create_output_directory(request.out_dir);
   gl::GlDriver driver;
   driver.set_capture(request.first == 0);

@@ -52,14 +52,10 @@ CheckReport compare_with_golden(const golden::Result& ref, const GpuRunResult& g
 RunOutcome run_session(const RunRequest& request, Progress& progress) {
   RunOutcome outcome;
   Scene& scene = outcome.scene;
-  scene = load_scene_shown(request.scene, progress);
-  const std::string note = auto_camera_note(scene);
-  if (!note.empty() && request.note) request.note(note);
   nlohmann::json driver = nlohmann::json::object();
-  apply_driver(scene, driver, progress);
+  scene = prepare_scene(request.scene, request.note, driver, progress);
   const GpuConfig& config = request.config;
   const TraceFormats trace_formats = TraceFormats::parse(request.trace_formats);
-  check_scene_limits(scene);
   check_memory(estimate_cycle_memory(scene, config, request.check),
                memory_limit(request.memory_mib), request.scene);
   GpuRunOptions options;

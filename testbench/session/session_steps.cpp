@@ -4,6 +4,7 @@
 #include "testbench/io/image_files.h"
 #include "testbench/io/message_text.h"
 #include "testbench/io/output_file.h"
+#include "testbench/session/frame_warnings.h"
 
 namespace gpusim {
 
@@ -13,16 +14,19 @@ MemoryLimit memory_limit(uint64_t mib) {
   return MemoryLimit{bytes, "--memory-limit " + std::to_string(mib)};
 }
 
-Scene load_scene_shown(const std::string& path, Progress& progress) {
+Scene prepare_scene(const std::string& path, const std::function<void(const std::string&)>& note,
+                    nlohmann::json& stats_sections, Progress& progress) {
   progress.begin("load", "reading " + printable(path));
-  return load_scene(path, [&](const std::string& what) { progress.update(printable(what), true); });
-}
-
-void apply_driver(Scene& scene, nlohmann::json& stats_sections, Progress& progress) {
+  Scene scene =
+      load_scene(path, [&](const std::string& what) { progress.update(printable(what), true); });
+  const std::string camera = auto_camera_note(scene);
+  if (!camera.empty() && note) note(camera);
   if (scene.visibility == Visibility::painter)
     progress.begin("driver", "sorting the draws back to front (painter)");
   if (const auto painter = painter::apply_visibility(scene))
     stats_sections["painter"] = painter->to_json();
+  check_scene_limits(scene);
+  return scene;
 }
 
 void write_frame_outputs(const std::string& dir, const Framebuffer& fb, const nlohmann::json& stats,

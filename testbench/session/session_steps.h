@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -31,14 +32,13 @@ class SessionError : public SimulationError {
 // The --memory-limit option: MiB, 0 for the machine's.
 MemoryLimit memory_limit(uint64_t mib);
 
-// The load phase: the scene, each mesh reported as its import starts.
-Scene load_scene_shown(const std::string& path, Progress& progress);
-
-// The driver's visibility option (docs/painter.md) rewrites the scene's
-// draws before either model sees them; a painter's frame adds its sort's
-// figures to `stats_sections` under "painter". The sort is a phase of its
-// own, so that the summary gives the host's time for it.
-void apply_driver(Scene& scene, nlohmann::json& stats_sections, Progress& progress);
+// A session's scene, ready for a model: loaded (the load phase), `note`
+// called with the automatic camera's note if the loader framed the meshes,
+// the draws rewritten by the driver's visibility option (docs/painter.md;
+// a painter's frame adds its sort's figures to `stats_sections` under
+// "painter", the sort a phase of its own), and checked against the limits.
+Scene prepare_scene(const std::string& path, const std::function<void(const std::string&)>& note,
+                    nlohmann::json& stats_sections, Progress& progress);
 
 // frame.exr, frame.png and stats.json into dir, committed together, each
 // named on the progress display as it starts.
