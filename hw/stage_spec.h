@@ -18,6 +18,7 @@
 // (stages/topology.h), the registry's is by kind.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -33,6 +34,56 @@ enum class StagePlacement {
 };
 const char* to_string(StagePlacement p);
 
+// What a stage's conservation rule sees (testbench/sim/conservation.h
+// implements it over a run's statistics): its own counters and those of the
+// stages and FIFOs around it, the frame's totals, and the two checks, each
+// violation collected with where it happened.
+class ConservationLedger {
+ public:
+  struct Frame {
+    uint64_t draws = 0;      // in the frame
+    uint64_t slots = 0;      // vertex slots of its draws
+    uint64_t triangles = 0;  // assembled from them, by kind
+    uint64_t lines = 0;
+    uint64_t points = 0;
+    uint64_t control = 0;  // control tokens every stage forwards (clears + the end of frame)
+    uint64_t units = 0;
+    // The frame's clears (the frame clear and the draw list's), and of them
+    // those of the colour and of the depth buffer.
+    uint64_t clears = 0, color_clears = 0, depth_clears = 0;
+  };
+  struct Output {
+    std::string fifo, reader;  // names: "distributor_to_rasterizer_1", "tile_rasterizer_1"
+    int unit = -1;
+  };
+  virtual ~ConservationLedger() = default;
+
+  virtual const std::string& name() const = 0;  // the stage's: "depth_test_2"
+  virtual const Frame& frame() const = 0;
+  virtual uint64_t get(const std::string& counter) = 0;  // the stage's own
+  virtual uint64_t stage(const std::string& stage, const std::string& counter) = 0;
+  virtual uint64_t fifo(const std::string& fifo, const std::string& field) = 0;
+  // The nearest stage of `kind` before this one along the first inputs,
+  // whatever stages were put between them; "host" when there is none.
+  virtual std::string upstream(const std::string& kind) const = 0;
+  virtual std::vector<Output> outputs() const = 0;
+  // "<where>: <a> = <va>, but <b> = <vb>" unless they are equal; "... exceeds
+  // ..." unless va <= vb. `where` is the stage unless given.
+  virtual void check_equal(const std::string& where, const std::string& a, uint64_t va,
+                           const std::string& b, uint64_t vb) = 0;
+  virtual void check_at_most(const std::string& where, const std::string& a, uint64_t va,
+                             const std::string& b, uint64_t vb) = 0;
+  void equal(const std::string& a, uint64_t va, const std::string& b, uint64_t vb) {
+    check_equal(name(), a, va, b, vb);
+  }
+  void at_most(const std::string& a, uint64_t va, const std::string& b, uint64_t vb) {
+    check_at_most(name(), a, va, b, vb);
+  }
+};
+// A stage's own conservation rules: how its counters must balance with its
+// FIFOs', its neighbours' and the frame's when a run ends.
+using ConservationRule = void (*)(ConservationLedger&);
+
 struct StageSpec {
   std::string kind;  // configuration key, stats.json and trace name: "tile_rasterizer"
   StagePlacement placement = StagePlacement::front_end;
@@ -47,6 +98,9 @@ struct StageSpec {
   // (the key of fifo_depths): a FIFO belongs to its reader, so putting a
   // stage in front of another renames nothing.
   std::vector<std::string> inputs;
+  // Its rules beyond the ones every stage obeys (tokens in and out equal its
+  // FIFOs' items); none when it has no counters of its own to balance.
+  ConservationRule conservation = nullptr;
 };
 
 class StageRegistry {

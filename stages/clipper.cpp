@@ -30,6 +30,56 @@ ClippedPrimitive work_primitive(PrimitiveKind kind, uint32_t draw_id, int64_t pr
 
 }  // namespace
 
+namespace {
+
+// Conservation (testbench/sim/conservation.h): how its counters balance.
+void conserve(ConservationLedger& l) {
+  const ConservationLedger::Frame& f = l.frame();
+  // Per kind, primitives in = invalid + clipped away + survivors.
+  // A filled triangle leaves as one triangle or more; a polygon-mode
+  // one (line or point) is degenerate, culled or unfilled here, and
+  // an unfilled one leaves as lines or points; an assembled line or
+  // point leaves as itself.
+  const auto survivors = [&l](const std::string& kind, uint64_t assembled) {
+    const uint64_t in = l.get(kind + "_in");
+    const uint64_t dropped = l.get(kind + "_invalid") + l.get(kind + "_clipped_away");
+    l.equal(kind + "_in", in, kind + " assembled from the frame's draws", assembled);
+    l.at_most(kind + "_invalid + " + kind + "_clipped_away", dropped, kind + "_in", in);
+    return in >= dropped ? in - dropped : 0;
+  };
+  const uint64_t triangles = survivors("triangles", f.triangles);
+  const uint64_t lines = survivors("lines", f.lines);
+  const uint64_t points = survivors("points", f.points);
+  const uint64_t after = l.get("triangles_after_clip");
+  const uint64_t unfilled = l.get("triangles_unfilled");
+  const uint64_t polygon_mode =
+      l.get("triangles_degenerate") + l.get("triangles_culled") + unfilled;
+  l.at_most("polygon-mode triangles (degenerate + culled + unfilled)", polygon_mode,
+            "triangle survivors", triangles);
+  const uint64_t filled = triangles >= polygon_mode ? triangles - polygon_mode : 0;
+  l.at_most("filled survivors", filled, "triangles_after_clip", after);
+  l.at_most("triangles_clipped", l.get("triangles_clipped"), "triangle survivors", triangles);
+  l.at_most("lines_clipped", l.get("lines_clipped"), "line survivors", lines);
+  const uint64_t lines_out = l.get("lines_out"), points_out = l.get("points_out");
+  l.equal("lines_out", lines_out, "line survivors + unfilled_lines",
+          lines + l.get("unfilled_lines"));
+  l.equal("points_out", points_out, "point survivors + unfilled_points",
+          points + l.get("unfilled_points"));
+  if (unfilled == 0) {
+    l.equal("unfilled_lines + unfilled_points", l.get("unfilled_lines") + l.get("unfilled_points"),
+            "lines and points of triangles_unfilled", 0);
+  }
+  l.equal("cache_reads", l.get("cache_reads"), "vertex_fetch.cache_hits",
+          l.stage("vertex_fetch", "cache_hits"));
+  l.equal("tokens_in", l.get("tokens_in"), "vertex_fetch batches + control tokens",
+          l.stage("vertex_fetch", "batches") + f.control);
+  l.equal("tokens_out", l.get("tokens_out"),
+          "triangles_after_clip + lines_out + points_out + control tokens",
+          after + lines_out + points_out + f.control);
+}
+
+}  // namespace
+
 const StageSpec& Clipper::spec() {
   static const StageSpec s{"clipper",
                            StagePlacement::front_end,
@@ -41,7 +91,8 @@ const StageSpec& Clipper::spec() {
                            "one in polygon mode per line or point it becomes",
                            "batches and control tokens read",
                            "primitives and control tokens written",
-                           {"shader_to_clipper"}};
+                           {"shader_to_clipper"},
+                           &conserve};
   return s;
 }
 GPUSIM_REGISTER_STAGE(Clipper);

@@ -4,12 +4,28 @@
 
 namespace gpusim {
 
+namespace {
+
+// Conservation (testbench/sim/conservation.h): how its counters balance.
+void conserve(ConservationLedger& l) {
+  const ConservationLedger::Frame& f = l.frame();
+  // Commands in = commands out.
+  l.equal("draws", l.get("draws"), "draws in the frame", f.draws);
+  l.equal("frames", l.get("frames"), "frames run", 1);
+  l.equal("clears", l.get("clears"), "clears in the frame", f.clears);
+  l.equal("tokens_in", l.get("tokens_in"), "draws + clears + frames",
+          l.get("draws") + l.get("clears") + l.get("frames"));
+  l.equal("tokens_out", l.get("tokens_out"), "tokens_in", l.get("tokens_in"));
+}
+
+}  // namespace
+
 const StageSpec& CommandProcessor::spec() {
   static const StageSpec s{"command_processor", StagePlacement::front_end,
                            /*optional=*/false,  {/*ii=*/1, /*latency=*/2},
                            "command",           "decode one command word",
                            "commands read",     "commands forwarded to vertex fetch",
-                           {"commands"}};
+                           {"commands"},        &conserve};
   return s;
 }
 GPUSIM_REGISTER_STAGE(CommandProcessor);

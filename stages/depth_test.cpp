@@ -126,6 +126,26 @@ __m128i depth_compare4(__m128i fragment, __m128i stored) {
 
 }  // namespace
 
+namespace {
+
+// Conservation (testbench/sim/conservation.h): how its counters balance.
+void conserve(ConservationLedger& l) {
+  const ConservationLedger::Frame& f = l.frame();
+  // Stamps and pixels in are the rasterizer's; the ones that fail are
+  // dropped, so at most as many pass.
+  const std::string tr = l.upstream("tile_rasterizer");
+  l.equal("stamps", l.get("stamps"), tr + ".stamps_emitted", l.stage(tr, "stamps_emitted"));
+  l.equal("fragments_in", l.get("fragments_in"), tr + ".fragments", l.stage(tr, "fragments"));
+  l.at_most("fragments_passed", l.get("fragments_passed"), "fragments_in", l.get("fragments_in"));
+  l.at_most("stamps_passed", l.get("stamps_passed"), "stamps", l.get("stamps"));
+  // Every unit executes every depth clear on its own tiles.
+  l.equal("depth_clears", l.get("depth_clears"), "depth clears in the frame", f.depth_clears);
+  l.at_most("tokens_out", l.get("tokens_out"), "tokens_in", l.get("tokens_in"));
+  l.at_most("control tokens", f.control, "tokens_out", l.get("tokens_out"));
+}
+
+}  // namespace
+
 const StageSpec& DepthTest::spec() {
   static const StageSpec s{"depth_test",
                            StagePlacement::per_unit,
@@ -135,7 +155,8 @@ const StageSpec& DepthTest::spec() {
                            "compare and merge; reading and writing depth go through the memory",
                            "stamp batches and control tokens read",
                            "stamp batches and control tokens forwarded",
-                           {"rasterizer_to_depth"}};
+                           {"rasterizer_to_depth"},
+                           &conserve};
   return s;
 }
 GPUSIM_REGISTER_STAGE(DepthTest);
@@ -256,7 +277,7 @@ void DepthTest::run() {
 }
 
 void DepthTest::test(StampBatch& batch, sc_core::sc_time& t) {
-  const RasterPrimitive& tri = *batch.triangle;
+  const RasterPrimitive& tri = *batch.primitive;
   const RenderState& st = m_frame.draws.at(tri.draw_id).state;
   const FramebufferDesc& fb = m_frame.framebuffer;
   const unsigned stamp_w = m_config.stamp[0];
@@ -386,7 +407,7 @@ void DepthTest::test_stamps(StampBatch& batch, sc_core::sc_time& t, const Render
   constexpr unsigned bytes = F == DepthFormat::unorm16 ? 2 : 4;
   [[maybe_unused]] constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
   (void)probe;  // unused in a build without trace hooks
-  const RasterPrimitive& tri = *batch.triangle;
+  const RasterPrimitive& tri = *batch.primitive;
   const FramebufferDesc& fb = m_frame.framebuffer;
   const unsigned stamp_w = m_config.stamp[0], stamp_h = m_config.stamp[1];
   const int tile = static_cast<int>(m_config.tile_size);
@@ -519,7 +540,7 @@ void DepthTest::test_samples(StampBatch& batch, sc_core::sc_time& t, const Rende
                              FragmentProbe* probe) {
   constexpr unsigned bytes = F == DepthFormat::unorm16 ? 2 : 4;  // per sample
   (void)probe;  // unused in a build without trace hooks
-  const RasterPrimitive& tri = *batch.triangle;
+  const RasterPrimitive& tri = *batch.primitive;
   const FramebufferDesc& fb = m_frame.framebuffer;
   const unsigned samples = fb.samples;
   const int w_mask = static_cast<int>(m_config.stamp[0] - 1);

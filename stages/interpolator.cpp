@@ -14,6 +14,20 @@
 
 namespace gpusim {
 
+namespace {
+
+// Conservation (testbench/sim/conservation.h): how its counters balance.
+void conserve(ConservationLedger& l) {
+  // Shades exactly the pixels that passed.
+  const std::string dt = l.upstream("depth_test");
+  l.equal("tokens_out", l.get("tokens_out"), "tokens_in", l.get("tokens_in"));
+  l.equal("stamps", l.get("stamps"), dt + ".stamps_passed", l.stage(dt, "stamps_passed"));
+  l.equal("fragments", l.get("fragments"), dt + ".fragments_passed",
+          l.stage(dt, "fragments_passed"));
+}
+
+}  // namespace
+
 const StageSpec& Interpolator::spec() {
   static const StageSpec s{
       "interpolator",
@@ -24,7 +38,8 @@ const StageSpec& Interpolator::spec() {
       "perspective-correct interpolation: a reciprocal of 1/w then the attribute products",
       "stamp batches and control tokens read",
       "shaded batches and control tokens written",
-      {"depth_to_interpolator"}};
+      {"depth_to_interpolator"},
+      &conserve};
   return s;
 }
 GPUSIM_REGISTER_STAGE(Interpolator);
@@ -70,7 +85,7 @@ void Interpolator::run() {
       result.samples.swap(batch.samples);  // multisampled: where each colour goes
       m_fragments += result.colors.size();
     }
-    result.triangle.swap(batch.triangle);
+    result.primitive.swap(batch.primitive);
     work(cycles);
     emit(out, std::move(result));
   }
@@ -190,7 +205,7 @@ void Interpolator::shade_phong(const std::vector<Stamp>& stamps, const EdgeOffse
 }
 
 void Interpolator::shade(const StampBatch& batch, ShadedStampBatch& result) {
-  const RasterPrimitive& prim = *batch.triangle;
+  const RasterPrimitive& prim = *batch.primitive;
   const DrawState& draw = m_frame.draws.at(prim.draw_id);
   const RenderState& st = draw.state;
   const VaryingLayout& layout = draw.varyings;

@@ -8,6 +8,18 @@
 
 namespace gpusim {
 
+namespace {
+
+// Conservation (testbench/sim/conservation.h): how its counters balance.
+void conserve(ConservationLedger& l) {
+  const ConservationLedger::Frame& f = l.frame();
+  // One token per unit per control token; forwards nothing.
+  l.equal("tokens_in", l.get("tokens_in"), "control tokens x units", f.control * f.units);
+  l.equal("frames", l.get("frames"), "frames run", 1);
+}
+
+}  // namespace
+
 const StageSpec& Resolve::spec() {
   static const StageSpec s{"resolve",
                            StagePlacement::shared,
@@ -19,7 +31,8 @@ const StageSpec& Resolve::spec() {
                            "reading the samples and writing the image go through the memory",
                            "control tokens read (one per unit and token)",
                            "tokens forwarded (none)",
-                           {"rop_to_resolve"}};
+                           {"rop_to_resolve"},
+                           &conserve};
   return s;
 }
 GPUSIM_REGISTER_STAGE(Resolve);

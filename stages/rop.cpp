@@ -154,6 +154,32 @@ void blend_rgba8_alpha(const glm::vec4& src, uint8_t* stored) {
 
 }  // namespace
 
+namespace {
+
+// Conservation (testbench/sim/conservation.h): how its counters balance.
+void conserve(ConservationLedger& l) {
+  const ConservationLedger::Frame& f = l.frame();
+  // Retires every token, or with a resolve after it passes the control
+  // tokens on; writes at most the pixels it received.
+  const std::string ip = l.upstream("interpolator");
+  if (l.outputs().empty()) {
+    l.equal("tokens_out", l.get("tokens_out"), "tokens_in", l.get("tokens_in"));
+  } else {
+    l.equal("tokens_out", l.get("tokens_out"), "control tokens", f.control);
+  }
+  l.equal("stamps", l.get("stamps"), ip + ".stamps", l.stage(ip, "stamps"));
+  l.equal("fragments_in", l.get("fragments_in"), ip + ".fragments", l.stage(ip, "fragments"));
+  l.at_most("fragments_written", l.get("fragments_written"), "fragments_in", l.get("fragments_in"));
+  l.equal("frames", l.get("frames"), "frames run", 1);
+  l.equal("color_clears", l.get("color_clears"), "colour clears in the frame", f.color_clears);
+  l.at_most("samples_written", l.get("samples_written"), "fragments_written x 16",
+            16 * l.get("fragments_written"));
+  l.at_most("fragments_written", l.get("fragments_written"), "samples_written",
+            l.get("samples_written"));
+}
+
+}  // namespace
+
 const StageSpec& Rop::spec() {
   static const StageSpec s{
       "rop",
@@ -164,7 +190,8 @@ const StageSpec& Rop::spec() {
       "blend and colour mask; reading and writing colour go through the memory",
       "shaded batches and control tokens read",
       "tokens retired (their writes done or posted)",
-      {"interpolator_to_rop"}};
+      {"interpolator_to_rop"},
+      &conserve};
   return s;
 }
 GPUSIM_REGISTER_STAGE(Rop);
@@ -282,7 +309,7 @@ void Rop::check_pixel(int x, int y, const FramebufferDesc& fb) const {
 }
 
 void Rop::blend(const ShadedStampBatch& batch, sc_core::sc_time& t) {
-  const RasterPrimitive& tri = *batch.triangle;
+  const RasterPrimitive& tri = *batch.primitive;
   const RenderState& st = m_frame.draws.at(tri.draw_id).state;
   const FramebufferDesc& fb = m_frame.framebuffer;
   m_stamps += batch.stamps.size();
@@ -376,7 +403,7 @@ template <typename Write>
 size_t Rop::for_each_fragment(const ShadedStampBatch& batch, sc_core::sc_time& t,
                               FragmentProbe* probe, Write&& write) {
   (void)probe;  // unused in a build without trace hooks
-  const RasterPrimitive& tri = *batch.triangle;
+  const RasterPrimitive& tri = *batch.primitive;
   const FramebufferDesc& fb = m_frame.framebuffer;
   const ColorFormat format = fb.color_format;
   const bool half = format == ColorFormat::rgba16f;

@@ -5,6 +5,39 @@
 
 namespace gpusim {
 
+namespace {
+
+// Conservation (testbench/sim/conservation.h): how its counters balance.
+void conserve(ConservationLedger& l) {
+  const ConservationLedger::Frame& f = l.frame();
+  // Each triangle goes to one unit or more; control tokens to every
+  // unit, so each output carries its unit's triangles and them all.
+  const uint64_t in = l.get("tokens_in");
+  const uint64_t work_in = in >= f.control ? in - f.control : 0;
+  const uint64_t sent = l.get("triangles_sent");
+  l.equal("tokens_out", l.get("tokens_out"), "triangles_sent + control tokens x units",
+          sent + f.control * f.units);
+  l.at_most("triangles read", work_in, "triangles_sent", sent);
+  l.at_most("triangles_sent", sent, "triangles read x units", work_in * f.units);
+  uint64_t sum = 0;
+  for (const ConservationLedger::Output& out : l.outputs()) {
+    const std::string u = std::to_string(out.unit);
+    const uint64_t sent_u = l.get("triangles_sent_unit" + u);
+    sum += sent_u;
+    l.equal(out.fifo + ".written", l.fifo(out.fifo, "written"),
+            "triangles_sent_unit" + u + " + control tokens", sent_u + f.control);
+    // Every primitive sent to a unit (triangles_sent counts every
+    // kind) is received by its rasterizer, which counts them by kind.
+    const std::string& tr = out.reader;
+    l.check_equal(tr, "triangles + lines + points",
+                  l.stage(tr, "triangles") + l.stage(tr, "lines") + l.stage(tr, "points"),
+                  l.name() + ".triangles_sent_unit" + u, sent_u);
+  }
+  l.equal("sum of triangles_sent_unit*", sum, "triangles_sent", sent);
+}
+
+}  // namespace
+
 const StageSpec& TileDistributor::spec() {
   static const StageSpec s{"tile_distributor",
                            StagePlacement::front_end,
@@ -14,7 +47,8 @@ const StageSpec& TileDistributor::spec() {
                            "one unit's FIFO written per cycle; a control token is broadcast in one",
                            "setup packets read",
                            "packets written, summed over units",
-                           {"setup_to_distributor"}};
+                           {"setup_to_distributor"},
+                           &conserve};
   return s;
 }
 GPUSIM_REGISTER_STAGE(TileDistributor);
@@ -64,7 +98,7 @@ void TileDistributor::run() {
     const PacketKind kind = p.kind;
     unsigned sends = units;
     if (kind == PacketKind::work) {
-      sends = target_units(*p.triangle, m_targets);
+      sends = target_units(*p.primitive, m_targets);
     } else {
       m_targets.assign(units, true);
     }

@@ -25,6 +25,20 @@ int stamp_pixels(const GpuConfig& c) {
 
 }  // namespace
 
+namespace {
+
+// Conservation (testbench/sim/conservation.h): how its counters balance.
+void conserve(ConservationLedger& l) {
+  const ConservationLedger::Frame& f = l.frame();
+  // The line walker's stamps (line_stamps) are emitted as it builds them.
+  l.at_most("stamps_emitted", l.get("stamps_emitted"),
+            "stamps_evaluated + stamps_accepted + line_stamps",
+            l.get("stamps_evaluated") + l.get("stamps_accepted") + l.get("line_stamps"));
+  l.at_most("control tokens", f.control, "tokens_out", l.get("tokens_out"));
+}
+
+}  // namespace
+
 const StageSpec& TileRasterizer::spec() {
   static const StageSpec s{"tile_rasterizer",
                            StagePlacement::per_unit,
@@ -35,7 +49,8 @@ const StageSpec& TileRasterizer::spec() {
                            "step per cycle, docs/architecture.md)",
                            "setup packets read",
                            "stamp batches and control tokens written",
-                           {"distributor_to_rasterizer"}};
+                           {"distributor_to_rasterizer"},
+                           &conserve};
   return s;
 }
 GPUSIM_REGISTER_STAGE(TileRasterizer);
@@ -97,7 +112,7 @@ void TileRasterizer::run() {
       emit_at(out, std::move(token), local_time() + m_latency + m_hz_delay);
       continue;
     }
-    rasterize(p.triangle);
+    rasterize(p.primitive);
     // Cycles of trailing tiles that produced no batch.
     work(m_pending_cycles);
     m_pending_cycles = 0;
@@ -108,7 +123,7 @@ void TileRasterizer::emit_batch(const std::shared_ptr<const RasterPrimitive>& tr
   work(m_pending_cycles);
   m_pending_cycles = 0;
   m_batch.kind = PacketKind::work;
-  m_batch.triangle = tri;
+  m_batch.primitive = tri;
   m_batch.hz_seq = 0;
   if (!m_hz) {
     // Moved in: m_batch comes back holding the slot's stale packet, whose

@@ -133,6 +133,50 @@ struct MajorLine {
 
 }  // namespace
 
+namespace {
+
+// Conservation (testbench/sim/conservation.h): how its counters balance.
+void conserve(ConservationLedger& l) {
+  const ConservationLedger::Frame& f = l.frame();
+  // Primitives in = the clipper's outputs. Triangles in = degenerate
+  // + culled + rasterized (setup's own counters: polygon mode's are
+  // the clipper's); lines in = degenerate + rasterized; points in =
+  // rasterized. The rasterized ones leave unless their box holds no
+  // pixel. Line and point counters are read when the clipper wrote
+  // lines or points.
+  const std::string cl = l.upstream("clipper");
+  const uint64_t after = l.stage(cl, "triangles_after_clip");
+  const uint64_t lines = l.stage(cl, "lines_out");
+  const uint64_t points = l.stage(cl, "points_out");
+  const uint64_t rasterized = l.get("triangles_rasterized");
+  const uint64_t offscreen = l.get("triangles_offscreen");
+  l.equal("tokens_in", l.get("tokens_in"),
+          cl + ".triangles_after_clip + lines_out + points_out + control tokens",
+          after + lines + points + f.control);
+  l.equal(cl + ".triangles_after_clip", after,
+          "triangles_degenerate + triangles_culled + triangles_rasterized",
+          l.get("triangles_degenerate") + l.get("triangles_culled") + rasterized);
+  l.at_most("triangles_offscreen", offscreen, "triangles_rasterized", rasterized);
+  uint64_t sent = rasterized >= offscreen ? rasterized - offscreen : 0;
+  if (lines > 0) {
+    const uint64_t lr = l.get("lines_rasterized"), lo = l.get("lines_offscreen");
+    l.equal(cl + ".lines_out", lines, "lines_degenerate + lines_rasterized",
+            l.get("lines_degenerate") + lr);
+    l.at_most("lines_offscreen", lo, "lines_rasterized", lr);
+    sent += lr >= lo ? lr - lo : 0;
+  }
+  if (points > 0) {
+    const uint64_t pr = l.get("points_rasterized"), po = l.get("points_offscreen");
+    l.equal(cl + ".points_out", points, "points_rasterized", pr);
+    l.at_most("points_offscreen", po, "points_rasterized", pr);
+    sent += pr >= po ? pr - po : 0;
+  }
+  l.equal("tokens_out", l.get("tokens_out"), "primitives rasterized - offscreen + control tokens",
+          sent + f.control);
+}
+
+}  // namespace
+
 const StageSpec& TriangleSetup::spec() {
   static const StageSpec s{
       "triangle_setup",
@@ -144,7 +188,8 @@ const StageSpec& TriangleSetup::spec() {
       "line's band edges and end tests, a point's square",
       "triangles and control tokens read",
       "setup packets written",
-      {"clipper_to_setup"}};
+      {"clipper_to_setup"},
+      &conserve};
   return s;
 }
 GPUSIM_REGISTER_STAGE(TriangleSetup);
@@ -487,7 +532,7 @@ void TriangleSetup::run() {
                                                         : m_points_offscreen);
         continue;
       }
-      p.triangle = std::move(t);
+      p.primitive = std::move(t);
     }
     emit(out, std::move(p));
   }

@@ -16,6 +16,24 @@ static_assert(sizeof(glm::vec4) == kPositionBytes && sizeof(glm::vec3) == kNorma
 
 }  // namespace
 
+namespace {
+
+// Conservation (testbench/sim/conservation.h): how its counters balance.
+void conserve(ConservationLedger& l) {
+  const ConservationLedger::Frame& f = l.frame();
+  // Draws become batches of slots; every slot is invalid, a cache hit
+  // or fetched.
+  l.equal("draws", l.get("draws"), "draws in the frame", f.draws);
+  l.equal("tokens_in", l.get("tokens_in"), "draws + control tokens", f.draws + f.control);
+  l.equal("tokens_out", l.get("tokens_out"), "batches + control tokens",
+          l.get("batches") + f.control);
+  l.equal("slots", l.get("slots"), "slots of the frame's draws", f.slots);
+  l.equal("slots", l.get("slots"), "invalid_slots + cache_hits + vertices_fetched",
+          l.get("invalid_slots") + l.get("cache_hits") + l.get("vertices_fetched"));
+}
+
+}  // namespace
+
 const StageSpec& VertexFetch::spec() {
   static const StageSpec s{
       "vertex_fetch",
@@ -26,7 +44,8 @@ const StageSpec& VertexFetch::spec() {
       "address generation and format conversion; the memory delay comes on top",
       "commands read",
       "batches and control tokens written",
-      {"command_to_fetch"}};
+      {"command_to_fetch"},
+      &conserve};
   return s;
 }
 GPUSIM_REGISTER_STAGE(VertexFetch);

@@ -29,6 +29,19 @@ glm::vec4 clamp01(const glm::vec4& c) {
 
 }  // namespace
 
+namespace {
+
+// Conservation (testbench/sim/conservation.h): how its counters balance.
+void conserve(ConservationLedger& l) {
+  // Every fetched vertex is shaded.
+  const std::string vf = l.upstream("vertex_fetch");
+  l.equal("tokens_out", l.get("tokens_out"), "tokens_in", l.get("tokens_in"));
+  l.equal("vertices_shaded", l.get("vertices_shaded"), vf + ".vertices_fetched",
+          l.stage(vf, "vertices_fetched"));
+}
+
+}  // namespace
+
 const StageSpec& VertexShader::spec() {
   static const StageSpec s{"vertex_shader",
                            StagePlacement::front_end,
@@ -39,7 +52,8 @@ const StageSpec& VertexShader::spec() {
                            "lighting on one rank of multiply-adds shared 4 ways, deeply pipelined",
                            "batches and control tokens read",
                            "batches and control tokens written",
-                           {"fetch_to_shader"}};
+                           {"fetch_to_shader"},
+                           &conserve};
   return s;
 }
 GPUSIM_REGISTER_STAGE(VertexShader);

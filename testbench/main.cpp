@@ -415,11 +415,11 @@ int run_info(const std::string& scene_path) {
            vec_text(b.max - b.min) + ", centre " + vec_text((b.min + b.max) * 0.5f);
   };
   Bounds meshes;
-  uint64_t totals[3] = {0, 0, 0};  // by PrimitiveClass
+  uint64_t totals[3] = {0, 0, 0};  // by PrimitiveKind
   for (size_t i = 0; i < scene.draws.size(); ++i) {
     if (r["draws"][i].contains("mesh")) meshes.add(world_bounds(scene.draws[i]));
     const Draw& d = scene.draws[i];
-    totals[static_cast<int>(primitive_class(d.primitive))] +=
+    totals[static_cast<int>(primitive_kind_of(d.primitive))] +=
         primitive_count(d.primitive, d.vertex_count());
   }
   std::printf("bounding box of the meshes (world space): %s\n", box_text(meshes).c_str());
@@ -437,7 +437,7 @@ int run_info(const std::string& scene_path) {
                 vec_text(l["diffuse"]).c_str(), vec_text(l["specular"]).c_str());
   }
 
-  const char* kinds[3] = {"points", "lines", "triangles"};  // PrimitiveClass order
+  const char* kinds[3] = {"points", "lines", "triangles"};  // PrimitiveKind order
   std::printf("draws: %zu (%llu triangles, %llu lines, %llu points)\n", scene.draws.size(),
               static_cast<unsigned long long>(totals[2]),
               static_cast<unsigned long long>(totals[1]),
@@ -447,7 +447,7 @@ int run_info(const std::string& scene_path) {
     const nlohmann::json& dr = r["draws"][i];
     const bool mesh = dr.contains("mesh");
     // The assembly when it is not the kind's plain list ("triangle_strip").
-    const std::string kind = kinds[static_cast<int>(primitive_class(d.primitive))];
+    const std::string kind = kinds[static_cast<int>(primitive_kind_of(d.primitive))];
     const std::string type(to_string(d.primitive));
     std::printf("  %s: %llu %s%s, %s, %s\n", printable(d.name).c_str(),
                 static_cast<unsigned long long>(primitive_count(d.primitive, d.vertex_count())),

@@ -9,11 +9,6 @@ namespace {
 void put(uint8_t* p, uint64_t v, int bytes) {
   for (int i = 0; i < bytes; ++i) p[i] = static_cast<uint8_t>(v >> (8 * i));
 }
-void put_f32(uint8_t* p, float f) {
-  uint32_t bits;
-  std::memcpy(&bits, &f, 4);
-  put(p, bits, 4);
-}
 
 }  // namespace
 
@@ -27,34 +22,12 @@ RecordFile::RecordFile(const std::string& path, const char (&magic)[9], uint32_t
 }
 
 void RecordFile::write(const TransactionRecord& r) {
-  uint8_t* p = m_file.reserve(TransactionRecord::kSize);
-  put(p, r.cycle_in, 8);
-  put(p + 8, r.cycle_out, 8);
-  put(p + 16, static_cast<uint64_t>(r.prim_first), 8);
-  put(p + 24, static_cast<uint64_t>(r.prim_last), 8);
-  put(p + 32, r.draw, 4);
-  put(p + 36, r.stage, 2);
-  p[38] = r.kind;
-  p[39] = r.prim_kind;
-  put(p + 40, static_cast<uint16_t>(r.tile_x), 2);
-  put(p + 42, static_cast<uint16_t>(r.tile_y), 2);
-  put(p + 44, r.count, 4);
+  encode(r, m_file.reserve(TransactionRecord::kSize));
   ++m_records;
 }
 
 void RecordFile::write(const FragmentRecord& r) {
-  uint8_t* p = m_file.reserve(FragmentRecord::kSize);
-  put(p, r.cycle, 8);
-  put(p + 8, static_cast<uint64_t>(r.prim), 8);
-  put(p + 16, r.x, 2);
-  put(p + 18, r.y, 2);
-  p[20] = r.stage;
-  p[21] = r.unit;
-  p[22] = r.outcome;
-  p[23] = 0;
-  put_f32(p + 24, r.depth);
-  put_f32(p + 28, r.old_depth);
-  for (int k = 0; k < 4; ++k) put_f32(p + 32 + 4 * k, r.value[k]);
+  encode(r, m_file.reserve(FragmentRecord::kSize));
   ++m_records;
 }
 

@@ -18,7 +18,7 @@ ItemInfo ItemDescriber::describe(const Command& c) const {
   ItemInfo i;
   i.draw = c.draw_id;
   const DrawState& d = m_frame.draws.at(c.draw_id);
-  i.prim_kind = prim_kind_code(primitive_class(d.primitive));
+  i.prim_kind = prim_kind_code(primitive_kind_of(d.primitive));
   const uint64_t n = primitive_count(d.primitive, d.buffers.slot_count);
   i.count = static_cast<uint32_t>(n);
   if (n > 0) {
@@ -36,7 +36,7 @@ ItemInfo ItemDescriber::describe(const BatchHeader& b) const {
   i.first_slot = b.first_slot;
   i.is_batch = true;
   const DrawState& d = m_frame.draws.at(b.draw_id);
-  i.prim_kind = prim_kind_code(primitive_class(d.primitive));
+  i.prim_kind = prim_kind_code(primitive_kind_of(d.primitive));
   const int64_t n = static_cast<int64_t>(primitive_count(d.primitive, d.buffers.slot_count));
   if (n == 0 || b.slot_count == 0) return i;
   const int64_t lo = b.first_slot, hi = lo + b.slot_count - 1;
@@ -94,9 +94,9 @@ ItemInfo ItemDescriber::describe(const ClippedPrimitive& t) const {
 ItemInfo ItemDescriber::describe(const SetupPacket& p) const {
   if (p.kind != PacketKind::work) return control(p.kind);
   ItemInfo i;
-  i.draw = p.triangle->draw_id;
-  i.prim_kind = prim_kind_code(p.triangle->primitive_kind);
-  i.prim_first = i.prim_last = p.triangle->primitive_id;
+  i.draw = p.primitive->draw_id;
+  i.prim_kind = prim_kind_code(p.primitive->primitive_kind);
+  i.prim_first = i.prim_last = p.primitive->primitive_id;
   return i;
 }
 
@@ -116,11 +116,11 @@ ItemInfo ItemDescriber::stamps(PacketKind kind, const RasterPrimitive* tri,
 }
 
 ItemInfo ItemDescriber::describe(const StampBatch& b) const {
-  return stamps(b.kind, b.triangle.get(), b.stamps);
+  return stamps(b.kind, b.primitive.get(), b.stamps);
 }
 
 ItemInfo ItemDescriber::describe(const ShadedStampBatch& b) const {
-  return stamps(b.kind, b.triangle.get(), b.stamps);
+  return stamps(b.kind, b.primitive.get(), b.stamps);
 }
 
 }  // namespace gpusim

@@ -8,18 +8,18 @@
 #include "hw/draw_state.h"
 #include "hw/packets.h"
 #include "hw/vertex_packets.h"
+#include "traces/trace_records.h"
 
 namespace gpusim {
 
 // transactions.bin's `prim_kind`: what the item's primitives are, as the
 // stage sees them (a triangle of polygon mode `line` is a triangle up to
 // setup and lines after it).
-constexpr uint8_t kPrimKindNone = 0;  // control tokens; traces before the field
+constexpr uint8_t kPrimKindNone = TransactionRecord::prim_none;  // control tokens
 constexpr uint8_t prim_kind_code(PrimitiveKind k) {
-  return k == PrimitiveKind::point ? 1 : k == PrimitiveKind::line ? 2 : 3;
-}
-constexpr uint8_t prim_kind_code(PrimitiveClass c) {
-  return c == PrimitiveClass::point ? 1 : c == PrimitiveClass::line ? 2 : 3;
+  return k == PrimitiveKind::point  ? TransactionRecord::prim_point
+         : k == PrimitiveKind::line ? TransactionRecord::prim_line
+                                    : TransactionRecord::prim_triangle;
 }
 
 struct ItemInfo {

@@ -22,24 +22,9 @@ constexpr uint32_t kManifestVersion = 2;
 // Records per read: 48 KiB buffers keep streaming cheap and memory flat.
 constexpr size_t kChunkRecords = 1024;
 
-// Little-endian field decoders: the files are little endian whatever the
-// host, so fields are assembled from bytes rather than memcpy'd into structs.
-uint64_t u64(const uint8_t* p) {
-  uint64_t v = 0;
-  for (int i = 7; i >= 0; --i) v = v << 8 | p[i];
-  return v;
-}
+// A little-endian header field.
 uint32_t u32(const uint8_t* p) {
   return uint32_t{p[0]} | uint32_t{p[1]} << 8 | uint32_t{p[2]} << 16 | uint32_t{p[3]} << 24;
-}
-uint16_t u16(const uint8_t* p) {
-  return static_cast<uint16_t>(p[0] | p[1] << 8);
-}
-float f32(const uint8_t* p) {
-  const uint32_t bits = u32(p);
-  float f;
-  std::memcpy(&f, &bits, 4);
-  return f;
 }
 
 // The manifest's fields, each failure naming the file and the JSON path.
@@ -375,37 +360,6 @@ const TraceFifo* TraceManifest::fifo(const std::string& name) const {
   return nullptr;
 }
 
-TransactionRecord decode_transaction(const uint8_t* p) {
-  TransactionRecord r;
-  r.cycle_in = u64(p);
-  r.cycle_out = u64(p + 8);
-  r.prim_first = static_cast<int64_t>(u64(p + 16));
-  r.prim_last = static_cast<int64_t>(u64(p + 24));
-  r.draw = u32(p + 32);
-  r.stage = u16(p + 36);
-  r.kind = p[38];
-  r.prim_kind = p[39];
-  r.tile_x = static_cast<int16_t>(u16(p + 40));
-  r.tile_y = static_cast<int16_t>(u16(p + 42));
-  r.count = u32(p + 44);
-  return r;
-}
-
-FragmentRecord decode_fragment(const uint8_t* p) {
-  FragmentRecord r;
-  r.cycle = u64(p);
-  r.prim = static_cast<int64_t>(u64(p + 8));
-  r.x = u16(p + 16);
-  r.y = u16(p + 18);
-  r.stage = p[20];
-  r.unit = p[21];
-  r.outcome = p[22];
-  r.depth = f32(p + 24);
-  r.old_depth = f32(p + 28);
-  for (int k = 0; k < 4; ++k) r.value[k] = f32(p + 32 + 4 * k);
-  return r;
-}
-
 int TraceManifest::pipeline_rank(const std::string& kind) const {
   for (size_t i = 0; i < stages.size(); ++i) {
     if (stages[i].kind == kind) return static_cast<int>(i);
@@ -490,7 +444,7 @@ void TraceReader::for_each_transaction(
   const size_t stages = m_manifest.stages.size();
   for_each_record(
       file, m_manifest.transaction_records, kTransactionBytes, [&](const uint8_t* p, uint64_t i) {
-        const TransactionRecord r = decode_transaction(p);
+        const TransactionRecord r = decode<TransactionRecord>(p);
         if (r.stage >= stages || r.kind > TransactionRecord::end_of_frame) {
           throw InputError(file + ": record " + std::to_string(i) + ": " +
                            (r.stage >= stages
@@ -512,7 +466,7 @@ void TraceReader::for_each_fragment(const std::function<void(const FragmentRecor
   const std::string file = path("fragments.bin");
   for_each_record(file, m_manifest.fragment_records, kFragmentBytes,
                   [&](const uint8_t* p, uint64_t i) {
-                    const FragmentRecord r = decode_fragment(p);
+                    const FragmentRecord r = decode<FragmentRecord>(p);
                     if (r.stage > FragmentRecord::rop) {
                       throw InputError(file + ": record " + std::to_string(i) + ": stage " +
                                        std::to_string(r.stage) + " is not 0 or 1");

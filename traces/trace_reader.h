@@ -19,6 +19,8 @@
 #include <utility>
 #include <vector>
 
+#include "traces/trace_records.h"
+
 namespace gpusim {
 
 // One entry of manifest.json's `stages`.
@@ -106,45 +108,6 @@ struct TraceManifest {
 void read_netlist(const nlohmann::json& netlist, const std::string& source,
                   const std::string& where, TraceManifest& m);
 
-// One transactions.bin record (docs/traces.md).
-struct TransactionRecord {
-  enum Kind : uint8_t { work = 0, clear = 1, end_of_frame = 2 };
-  // What the item's primitives are at this stage; none for control tokens
-  // and in traces written before the field (the byte was reserved, 0).
-  enum PrimKind : uint8_t { prim_none = 0, prim_point = 1, prim_line = 2, prim_triangle = 3 };
-  uint64_t cycle_in = 0;
-  uint64_t cycle_out = 0;
-  int64_t prim_first = -1;
-  int64_t prim_last = -1;
-  uint32_t draw = 0xFFFFFFFFu;
-  uint16_t stage = 0;
-  uint8_t kind = work;
-  uint8_t prim_kind = prim_none;
-  int16_t tile_x = -1;
-  int16_t tile_y = -1;
-  uint32_t count = 0;
-
-  bool carries(int64_t prim) const {
-    return prim_first >= 0 && prim_first <= prim && prim <= prim_last;
-  }
-};
-
-// One fragments.bin record.
-struct FragmentRecord {
-  enum Stage : uint8_t { depth_test = 0, rop = 1 };
-  enum Outcome : uint8_t { failed = 0, passed = 1, passed_test_off = 2, not_written = 3 };
-  static constexpr uint8_t written = 1;
-  uint64_t cycle = 0;
-  int64_t prim = 0;
-  uint16_t x = 0, y = 0;
-  uint8_t stage = depth_test;
-  uint8_t unit = 0;
-  uint8_t outcome = 0;
-  float depth = 0.0f;
-  float old_depth = 0.0f;
-  float value[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-};
-
 class TraceReader {
  public:
   // Reads manifest.json and checks the headers and lengths of
@@ -179,9 +142,5 @@ class TraceReader {
   std::string m_dir;
   TraceManifest m_manifest;
 };
-
-// Decodes one record (exposed for tests and for tools reading single records).
-TransactionRecord decode_transaction(const uint8_t* p);
-FragmentRecord decode_fragment(const uint8_t* p);
 
 }  // namespace gpusim

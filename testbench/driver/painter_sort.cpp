@@ -135,7 +135,7 @@ bool straddles(const SortTriangle& t, const SortTriangle& plane) {
 // stretch.
 bool sortable(const Draw& d) {
   const RenderState& s = d.state;
-  return primitive_class(d.primitive) == PrimitiveClass::triangle &&
+  return primitive_kind_of(d.primitive) == PrimitiveKind::triangle &&
          s.polygon_mode == PolygonMode::fill && !s.blend && s.depth_test &&
          (s.depth_func == CompareFunc::less || s.depth_func == CompareFunc::lequal) &&
          s.color_mask == std::array<bool, 4>{true, true, true, true} &&

@@ -4,7 +4,7 @@
 // tagged by a type byte. Signatures (functions, enums, bitmasks, structs,
 // backtrace frames) are spelled out the first time their id appears and
 // referred to by id afterwards.
-#include "testbench/gl/trace_reader.h"
+#include "testbench/gl/apitrace_reader.h"
 
 #include <snappy.h>
 #include <sys/stat.h>
@@ -137,7 +137,7 @@ bool is_scalar(TraceValue::Kind kind) {
 
 }  // namespace
 
-struct TraceReader::State {
+struct ApitraceReader::State {
   std::string path;
   std::ifstream file;
   uint64_t file_size = 0;
@@ -517,7 +517,7 @@ struct TraceReader::State {
   }
 };
 
-TraceReader::TraceReader(const std::string& path) : m_state(std::make_unique<State>()) {
+ApitraceReader::ApitraceReader(const std::string& path) : m_state(std::make_unique<State>()) {
   State& s = *m_state;
   s.path = path;
   struct stat st {};
@@ -560,9 +560,9 @@ TraceReader::TraceReader(const std::string& path) : m_state(std::make_unique<Sta
   }
 }
 
-TraceReader::~TraceReader() = default;
+ApitraceReader::~ApitraceReader() = default;
 
-bool TraceReader::next(TraceCall& call) {
+bool ApitraceReader::next(TraceCall& call) {
   State& s = *m_state;
   if (!s.at_end) {
     for (;;) {
@@ -588,22 +588,22 @@ bool TraceReader::next(TraceCall& call) {
   return true;
 }
 
-uint64_t TraceReader::bytes_read() const {
+uint64_t ApitraceReader::bytes_read() const {
   return m_state->file_pos;
 }
-uint64_t TraceReader::file_size() const {
+uint64_t ApitraceReader::file_size() const {
   return m_state->file_size;
 }
-const std::string& TraceReader::path() const {
+const std::string& ApitraceReader::path() const {
   return m_state->path;
 }
-uint32_t TraceReader::version() const {
+uint32_t ApitraceReader::version() const {
   return m_state->version;
 }
-uint32_t TraceReader::semantic_version() const {
+uint32_t ApitraceReader::semantic_version() const {
   return m_state->semantic_version;
 }
-const std::vector<std::pair<std::string, std::string>>& TraceReader::properties() const {
+const std::vector<std::pair<std::string, std::string>>& ApitraceReader::properties() const {
   return m_state->properties;
 }
 

@@ -83,15 +83,15 @@ std::ostream& operator<<(std::ostream&, const TraceCall&);
 // swap calls apitrace treats as frame ends).
 bool ends_frame(const TraceCall& call);
 
-class TraceReader {
+class ApitraceReader {
  public:
   // Throws InputError (hw/input_error.h) with a one-line message: missing or
   // unreadable file, not an apitrace trace, an unsupported format version,
   // corrupt data.
-  explicit TraceReader(const std::string& path);
-  ~TraceReader();
-  TraceReader(const TraceReader&) = delete;
-  TraceReader& operator=(const TraceReader&) = delete;
+  explicit ApitraceReader(const std::string& path);
+  ~ApitraceReader();
+  ApitraceReader(const ApitraceReader&) = delete;
+  ApitraceReader& operator=(const ApitraceReader&) = delete;
 
   // The next call, in the order `apitrace dump` prints them (calls complete at
   // their leave event; a call whose leave never came because the program was

@@ -577,7 +577,7 @@ struct GlDriver::State {
   // depth range, scissor"); false when GL draws nothing (an empty viewport or
   // scissor box). A viewport or scissor covering the window is left out, as
   // the GPU's default is the same rectangle.
-  bool window_state(PrimitiveClass cls, uint32_t poly_mode, RenderState& rs) {
+  bool window_state(PrimitiveKind cls, uint32_t poly_mode, RenderState& rs) {
     rs.depth_near = depth_near, rs.depth_far = depth_far;
     if (!window_known) return true;  // reported by check_draw_state
     const std::optional<PixelRect> box = scissor_box();
@@ -602,9 +602,9 @@ struct GlDriver::State {
     const bool covers = viewport[0] <= 0 && viewport[1] <= 0 &&
                         viewport[0] + viewport[2] >= window_width &&
                         viewport[1] + viewport[3] >= window_height;
-    const bool tri = cls == PrimitiveClass::triangle;
-    const bool lines = cls == PrimitiveClass::line || (tri && poly_mode == en::LINE);
-    const bool points = cls == PrimitiveClass::point || (tri && poly_mode == en::POINT);
+    const bool tri = cls == PrimitiveKind::triangle;
+    const bool lines = cls == PrimitiveKind::line || (tri && poly_mode == en::LINE);
+    const bool points = cls == PrimitiveKind::point || (tri && poly_mode == en::POINT);
     if (!covers && ((lines && line_width > 1.0f) || (points && point_size > 1.0f))) {
       unsupported("wide lines or points larger than 1 with a glViewport smaller than the window");
     }
@@ -613,8 +613,8 @@ struct GlDriver::State {
 
   // The RenderState of a draw of class `cls` from GL primitive `mode`; false
   // when GL draws nothing (triangles with GL_FRONT_AND_BACK culled).
-  bool render_state(PrimitiveClass cls, uint32_t mode, Faces faces, RenderState& rs) {
-    const bool tri = cls == PrimitiveClass::triangle;
+  bool render_state(PrimitiveKind cls, uint32_t mode, Faces faces, RenderState& rs) {
+    const bool tri = cls == PrimitiveKind::triangle;
     uint32_t poly_mode = polygon_front;
     if (tri && faces != Faces::visible) {
       rs.cull = faces == Faces::front ? CullMode::back : CullMode::front;
@@ -674,9 +674,9 @@ struct GlDriver::State {
       if (poly_mode == en::FILL && is_enabled(en::POLYGON_SMOOTH)) unsupported("GL_POLYGON_SMOOTH");
       if (poly_mode == en::LINE && is_enabled(en::LINE_SMOOTH)) unsupported("GL_LINE_SMOOTH");
       if (poly_mode == en::POINT && is_enabled(en::POINT_SMOOTH)) unsupported("GL_POINT_SMOOTH");
-    } else if (cls == PrimitiveClass::line && is_enabled(en::LINE_SMOOTH)) {
+    } else if (cls == PrimitiveKind::line && is_enabled(en::LINE_SMOOTH)) {
       unsupported("GL_LINE_SMOOTH");
-    } else if (cls == PrimitiveClass::point && is_enabled(en::POINT_SMOOTH)) {
+    } else if (cls == PrimitiveKind::point && is_enabled(en::POINT_SMOOTH)) {
       unsupported("GL_POINT_SMOOTH");
     }
     return true;
@@ -806,7 +806,7 @@ struct GlDriver::State {
       return;
     }
     if (assembly->indices.empty()) return;
-    const PrimitiveClass cls = primitive_class(assembly->type);
+    const PrimitiveKind cls = primitive_kind_of(assembly->type);
     check_draw_state();
     DrawKey key;
     key.type = assembly->type;
@@ -823,7 +823,7 @@ struct GlDriver::State {
     // has one material and one mode per draw, so a call showing both faces
     // is drawn twice, front faces (back ones culled) then back faces (front
     // ones culled) with the back material and negated normals.
-    const bool tri = cls == PrimitiveClass::triangle, cull = is_enabled(en::CULL_FACE);
+    const bool tri = cls == PrimitiveKind::triangle, cull = is_enabled(en::CULL_FACE);
     const bool front_visible =
         !(cull && (cull_face == en::FRONT || cull_face == en::FRONT_AND_BACK));
     const bool back_visible = !(cull && (cull_face == en::BACK || cull_face == en::FRONT_AND_BACK));
@@ -853,14 +853,14 @@ struct GlDriver::State {
   // One pass of emit() over the call's primitives with `key`'s state.
   void emit_pass(DrawKey& key, const GlAssembly& assembly, const std::vector<Vertex>& v,
                  const glm::mat3& normal_matrix, bool count, const TraceCall& c) {
-    const PrimitiveClass cls = primitive_class(assembly.type);
+    const PrimitiveKind cls = primitive_kind_of(assembly.type);
 
     const bool strip =
         assembly.type == PrimitiveType::line_strip || assembly.type == PrimitiveType::line_loop;
-    const size_t per = strip                             ? assembly.indices.size()
-                       : cls == PrimitiveClass::triangle ? 3
-                       : cls == PrimitiveClass::line     ? 2
-                                                         : 1;
+    const size_t per = strip                            ? assembly.indices.size()
+                       : cls == PrimitiveKind::triangle ? 3
+                       : cls == PrimitiveKind::line     ? 2
+                                                        : 1;
     const bool flat = shade_model == en::FLAT;
     bool mixed = false, uneven = false, unfoldable = false;
     ++emit_serial;

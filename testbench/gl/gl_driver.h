@@ -1,5 +1,5 @@
 // A fixed-function OpenGL 1.x driver for the simulated GPU: it executes the
-// calls of an apitrace trace (TraceCall values, testbench/gl/trace_reader.h)
+// calls of an apitrace trace (TraceCall values, testbench/gl/apitrace_reader.h)
 // on a GL state machine and, per frame, translates what was drawn into what
 // the GPU's command processor and registers take: a gpusim::Scene of draws
 // (object-space arrays, matrices, RenderState, material) and per-frame
@@ -17,8 +17,8 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "testbench/gl/apitrace_reader.h"
 #include "testbench/gl/feature_report.h"
-#include "testbench/gl/trace_reader.h"
 #include "testbench/scene/scene.h"
 
 namespace gpusim::gl {

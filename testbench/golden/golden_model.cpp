@@ -358,8 +358,8 @@ class Renderer {
       return is_finite(out.clip);
     };
 
-    switch (primitive_class(draw.primitive)) {
-      case PrimitiveClass::triangle: {
+    switch (primitive_kind_of(draw.primitive)) {
+      case PrimitiveKind::triangle: {
         const uint64_t triangles = primitive_count(draw.primitive, draw.vertex_count());
         for (uint32_t i = 0; i < triangles; ++i) {
           const std::array<uint32_t, 3> slots = triangle_slots(draw.primitive, i);
@@ -379,7 +379,7 @@ class Renderer {
         }
         break;
       }
-      case PrimitiveClass::line:
+      case PrimitiveKind::line:
         for (const LineSlots& slots : assemble_lines(draw.primitive, draw.vertex_count())) {
           const int64_t id = m_next_primitive_id++;
           ++m_stats.lines_in;
@@ -391,7 +391,7 @@ class Renderer {
           render_line(state, line, slots.draw_first, slots.draw_last, id);
         }
         break;
-      case PrimitiveClass::point:
+      case PrimitiveKind::point:
         for (const uint32_t slot : assemble_points(draw.primitive, draw.vertex_count())) {
           const int64_t id = m_next_primitive_id++;
           ++m_stats.points_in;
@@ -830,7 +830,7 @@ std::array<uint32_t, 3> triangle_slots(PrimitiveType type, uint32_t i) {
 
 std::vector<std::array<uint32_t, 3>> assemble_triangles(PrimitiveType type, size_t n) {
   std::vector<std::array<uint32_t, 3>> out;
-  if (primitive_class(type) != PrimitiveClass::triangle) return out;  // points and lines
+  if (primitive_kind_of(type) != PrimitiveKind::triangle) return out;  // points and lines
   const uint64_t count = primitive_count(type, n);
   out.reserve(count);
   for (uint32_t i = 0; i < count; ++i) out.push_back(triangle_slots(type, i));

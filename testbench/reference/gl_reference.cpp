@@ -999,14 +999,14 @@ struct GlReference::Impl {
     const RenderState st = scaled_state(draw.state);
     vp = golden::ViewportTransform{viewport_of(st, width, height), st.depth_near, st.depth_far};
     const golden::GuardBand gb = golden::guard_band_for(vp.rect);
-    switch (primitive_class(draw.primitive)) {
-      case PrimitiveClass::point:
+    switch (primitive_kind_of(draw.primitive)) {
+      case PrimitiveKind::point:
         prepare_points(draw, shaded);
         return;
-      case PrimitiveClass::line:
+      case PrimitiveKind::line:
         prepare_lines(draw, shaded, gb);
         return;
-      case PrimitiveClass::triangle:
+      case PrimitiveKind::triangle:
         break;
     }
     if (draw.state.polygon_mode != PolygonMode::fill) ++stats.unfilled_draws;
@@ -1109,8 +1109,8 @@ struct GlReference::Impl {
   ReferenceResult render(const Scene& scene, int repeat) {
     for (size_t d = 0; d < scene.draws.size(); ++d) {
       const Draw& draw = scene.draws[d];
-      const bool draws_lines = primitive_class(draw.primitive) == PrimitiveClass::line ||
-                               (primitive_class(draw.primitive) == PrimitiveClass::triangle &&
+      const bool draws_lines = primitive_kind_of(draw.primitive) == PrimitiveKind::line ||
+                               (primitive_kind_of(draw.primitive) == PrimitiveKind::triangle &&
                                 draw.state.polygon_mode == PolygonMode::line);
       if (golden::lit_per_pixel(draw) && scene.lights.size() > kMaxPhongLights) {
         throw NotRenderable("draw " + std::to_string(d) + " is lit per pixel with " +

@@ -4,9 +4,10 @@
 //    every item it took; a stage read what its input FIFOs delivered and
 //    wrote what its output FIFOs took (PipelineStage counts tokens_in and
 //    tokens_out at every read and write);
-//  - each stage kind's own rules (items in = items dropped + items out,
-//    counters that must agree with the stage before it), in one table in
-//    conservation.cpp keyed by kind.
+//  - each stage's own rules (items in = items dropped + items out, counters
+//    that must agree with the stage before it), which its spec declares in
+//    its own files (StageSpec::conservation, hw/stage_spec.h); this ledger
+//    runs them over a run's statistics.
 #pragma once
 
 #include <nlohmann/json.hpp>

@@ -24,7 +24,7 @@
 #include <vector>
 
 #include "hw/input_error.h"
-#include "testbench/gl/trace_reader.h"
+#include "testbench/gl/apitrace_reader.h"
 
 namespace gpusim::gl {
 namespace {
@@ -64,7 +64,7 @@ bool is_call_line(const std::string& line) {
 }
 
 std::vector<TraceCall> read_all(const std::string& path) {
-  TraceReader reader(path);
+  ApitraceReader reader(path);
   std::vector<TraceCall> calls;
   TraceCall call;
   while (reader.next(call)) calls.push_back(call);
@@ -264,7 +264,7 @@ class WrittenTrace : public testing::Test {
   fs::path dir_;
   void SetUp() override {
     dir_ =
-        fs::temp_directory_path() / ("gl_trace_reader_test_" + std::to_string(::getpid()) + "_" +
+        fs::temp_directory_path() / ("gl_apitrace_reader_test_" + std::to_string(::getpid()) + "_" +
                                      testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::create_directories(dir_);
   }
@@ -277,7 +277,7 @@ class WrittenTrace : public testing::Test {
   // The one-line message the reader throws, reading the whole file.
   std::string error_of(const std::string& path) {
     try {
-      TraceReader reader(path);
+      ApitraceReader reader(path);
       TraceCall call;
       while (reader.next(call)) {
       }
@@ -349,7 +349,7 @@ TEST_F(WrittenTrace, EveryValueKindAsWritten) {
   const std::string bytes = every_kind();
   // Cuts inside a string, a float and a varint.
   const std::string path = write("every.trace", container(bytes, {37, 70, 200}));
-  TraceReader reader(path);
+  ApitraceReader reader(path);
   EXPECT_EQ(reader.version(), 6u);
   EXPECT_EQ(reader.semantic_version(), 2u);
   ASSERT_EQ(reader.properties().size(), 1u);

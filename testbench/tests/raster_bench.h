@@ -102,7 +102,7 @@ struct Bench {
     const int sw = static_cast<int>(config.stamp[0]);
     for (const auto& unit : out) {
       for (const StampBatch& b : unit) {
-        if (b.kind != PacketKind::work || b.triangle->primitive_id != id) continue;
+        if (b.kind != PacketKind::work || b.primitive->primitive_id != id) continue;
         for (const Stamp& s : b.stamps) {
           for (int bit = 0; bit < 64; ++bit) {
             if (s.mask >> bit & 1) ++got[{s.x + bit % sw, s.y + bit / sw}];

@@ -170,7 +170,7 @@ void rasterize(const std::shared_ptr<RasterPrimitive>& t, const GpuConfig& cfg,
   for (int ty = t->y0 / ts; ty <= t->y1 / ts; ++ty) {
     for (int tx = t->x0 / ts; tx <= t->x1 / ts; ++tx) {
       StampBatch b;
-      b.triangle = t;
+      b.primitive = t;
       for (int sy = ty * ts; sy < (ty + 1) * ts && sy < fb.height; sy += cfg.stamp[1]) {
         for (int sx = tx * ts; sx < (tx + 1) * ts && sx < fb.width; sx += cfg.stamp[0]) {
           const Stamp s = make_stamp(*t, sx, sy, cfg, fb);
@@ -746,7 +746,7 @@ TEST(Interpolator, ColoursEqualTheSpecPerPixel) {
     ASSERT_EQ(s.kind, b.kind);
     ASSERT_EQ(s.stamps, b.stamps);
     if (b.kind != PacketKind::work) continue;
-    const RasterPrimitive& t = *b.triangle;
+    const RasterPrimitive& t = *b.primitive;
     const auto v = window_vertices(t);
     const bool is_flat = scene.draws[t.draw_id].state.shading == Shading::flat;
     size_t c = 0;
@@ -823,7 +823,7 @@ UnitTokens stamp_pattern(const std::shared_ptr<RasterPrimitive>& t, const GpuCon
   if (clear) tokens[0].push_back(StampBatch{PacketKind::clear, nullptr, {}, {}});
   for (const auto& o : origins) {
     StampBatch b;
-    b.triangle = t;
+    b.primitive = t;
     b.stamps.push_back(make_stamp(*t, o[0], o[1], cfg, fb));
     tokens[0].push_back(b);
   }
@@ -916,7 +916,7 @@ TEST(BackEndTiming, StagesAloneMatchTheCostModel) {
   const auto tri = full_screen_triangle(depth_frame.framebuffer, 0.5f);
   auto batch = [&](std::vector<std::array<int, 2>> origins) {
     StampBatch b;
-    b.triangle = tri;
+    b.primitive = tri;
     for (const auto& o : origins)
       b.stamps.push_back(make_stamp(*tri, o[0], o[1], cfg, depth_frame.framebuffer));
     return b;
@@ -981,7 +981,7 @@ TEST(BackEndTiming, StagesAloneMatchTheCostModel) {
   rop_d.in(in_d);
   rop_d.mem.bind(mem_d);
   ShadedStampBatch shaded;
-  shaded.triangle = tri;
+  shaded.primitive = tri;
   shaded.stamps = batch({{0, 0}, {4, 4}}).stamps;
   shaded.colors.assign(32, glm::vec4(0.5f));
   double frame_done_at = -1;
@@ -1081,7 +1081,7 @@ TEST(BackEndTiming, TiledBurstsCompressionAndNoFill) {
   const auto tri = full_screen_triangle(frame.framebuffer, 0.5f);
   auto batch = [&](std::vector<std::array<int, 2>> origins) {
     StampBatch b;
-    b.triangle = tri;
+    b.primitive = tri;
     for (const auto& o : origins)
       b.stamps.push_back(make_stamp(*tri, o[0], o[1], cfg, frame.framebuffer));
     return b;
@@ -1188,7 +1188,7 @@ TEST(BackEndTiming, TiledBurstsCompressionAndNoFill) {
   rop_i.in(in_i);
   rop_i.mem.bind(mem_i);
   ShadedStampBatch shaded;
-  shaded.triangle = tri;
+  shaded.primitive = tri;
   shaded.stamps = whole_tile(0, 0, true).stamps;
   shaded.colors.assign(256, glm::vec4(0.5f, 0.25f, 1.0f, 1.0f));
   double frame_done_at = -1;

@@ -334,7 +334,7 @@ TEST(Lines, DiamondExitEqualsIntegerForm) {
     EXPECT_EQ(counter(b->setup.stats(), "lines_rasterized"), cases.size() - degenerate);
     for (const auto& unit : b->out) {
       for (const StampBatch& batch : unit) {
-        const RasterPrimitive& t = *batch.triangle;
+        const RasterPrimitive& t = *batch.primitive;
         const int64_t dx = int64_t{t.x[1]} - t.x[0], dy = int64_t{t.y[1]} - t.y[0];
         EXPECT_EQ(t.area2, dx * dx + dy * dy);
         for (const Stamp& s : batch.stamps) {
@@ -423,7 +423,7 @@ TEST(Points, SquareEqualsSpecInequalities) {
   EXPECT_EQ(counter(b.setup.stats(), "points_rasterized"), tokens.size());
   for (const auto& unit : b.out) {
     for (const StampBatch& batch : unit) {
-      EXPECT_EQ(batch.triangle->area2, 1);
+      EXPECT_EQ(batch.primitive->area2, 1);
       for (const Stamp& s : batch.stamps) EXPECT_EQ(s.e, (std::array<EdgeValue, 3>{1, 0, 0}));
     }
   }

@@ -227,11 +227,11 @@ void check_outputs(const Bench& b, const std::vector<ClippedPrimitive>& tokens,
       if (batch.kind != PacketKind::work) {
         controls_out.push_back(batch.kind);
         EXPECT_TRUE(batch.stamps.empty());
-        EXPECT_FALSE(batch.triangle);
+        EXPECT_FALSE(batch.primitive);
         continue;
       }
-      ASSERT_TRUE(batch.triangle);
-      const int64_t prim = batch.triangle->primitive_id;
+      ASSERT_TRUE(batch.primitive);
+      const int64_t prim = batch.primitive->primitive_id;
       ASSERT_GE(prim, 0);
       ASSERT_LT(prim, static_cast<int64_t>(ex.size()));
       EXPECT_EQ(epoch[prim], controls_out.size()) << "prim " << prim << " crossed a control token";
@@ -337,11 +337,11 @@ void check_setup(const Bench& b, const std::vector<ClippedPrimitive>& tokens,
   for (const SetupPacket& p : b.setup_packets) {
     if (p.kind != PacketKind::work) {
       got_ids.push_back(-1 - static_cast<int>(p.kind));
-      EXPECT_FALSE(p.triangle);
+      EXPECT_FALSE(p.primitive);
       continue;
     }
-    ASSERT_TRUE(p.triangle);
-    const RasterPrimitive& r = *p.triangle;
+    ASSERT_TRUE(p.primitive);
+    const RasterPrimitive& r = *p.primitive;
     got_ids.push_back(r.primitive_id);
     const Expect& x = ex.at(r.primitive_id);
     const ClippedPrimitive& t = tokens.at(r.primitive_id);
@@ -805,7 +805,7 @@ TEST_P(RasterVsRender, CountsLastWriterAndDepthEqualGolden) {
   for (unsigned u = 0; u < units; ++u) {
     for (const StampBatch& b : bench->out[u]) {
       if (b.kind != PacketKind::work) continue;
-      const RasterPrimitive& t = *b.triangle;
+      const RasterPrimitive& t = *b.primitive;
       for (const Stamp& st : b.stamps) {
         for (int bit = 0; bit < 64; ++bit) {
           if (!(st.mask >> bit & 1)) continue;
@@ -878,7 +878,7 @@ TEST(TriangleSetup, HandWorkedClockwiseTriangle) {
   sc_core::sc_start();
 
   ASSERT_EQ(bench->setup_packets.size(), 1u);
-  const RasterPrimitive& r = *bench->setup_packets[0].triangle;
+  const RasterPrimitive& r = *bench->setup_packets[0].primitive;
   EXPECT_EQ(r.x, (std::array<Subpixel, 3>{0, 1024, 0}));
   EXPECT_EQ(r.y, (std::array<Subpixel, 3>{0, 0, 1024}));
   EXPECT_EQ(r.z, (std::array<float, 3>{0.5f, 0.75f, 0.5f}));

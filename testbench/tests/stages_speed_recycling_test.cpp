@@ -30,7 +30,7 @@ void spawn(std::function<void()> body) {
 // Batch i of a stream: three stamps whose x values identify it.
 void fill(StampBatch& b, int i, const std::shared_ptr<const RasterPrimitive>& tri) {
   b.kind = PacketKind::work;
-  b.triangle = tri;
+  b.primitive = tri;
   b.stamps.clear();
   for (int k = 0; k < 3; ++k) b.stamps.push_back(Stamp{10 * i + k, 0, 1, {}});
 }
@@ -56,7 +56,7 @@ TEST(FifoRecycling, MovingWritesAndReadsIntoCirculateBuffers) {
     for (int i = 0; i < kItems; ++i) {
       f.read(r);
       ASSERT_EQ(r.stamps.size(), 3u);
-      EXPECT_EQ(r.triangle, tri);
+      EXPECT_EQ(r.primitive, tri);
       first_x.push_back(r.stamps[0].x);
       buffers.insert(r.stamps.data());
       wait(kCycle);

@@ -327,7 +327,7 @@ TEST(Interpolator, InterpolatesEveryVaryingPerspectiveCorrect) {
     p->x0 = p->y0 = 0;
     p->x1 = p->y1 = kSize - 1;
     StampBatch b;
-    b.triangle = p;
+    b.primitive = p;
     for (int sy = 0; sy < kSize; sy += 4) {
       for (int sx = 0; sx < kSize; sx += 4) {
         Stamp s;

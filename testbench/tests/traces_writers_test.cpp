@@ -75,7 +75,7 @@ TEST(TraceItems, StampBatchesAreInTheirFirstStampsTile) {
   auto tri = std::make_shared<RasterPrimitive>();
   tri->primitive_id = 7;
   StampBatch b;
-  b.triangle = tri;
+  b.primitive = tri;
   b.stamps.push_back(Stamp{36, 20, 0xF, {}});
   b.stamps.push_back(Stamp{40, 20, 0xF, {}});
   const ItemInfo i = ItemDescriber(f, 16).describe(b);
