@@ -16,7 +16,10 @@ nlohmann::ordered_json to_json(const NetlistTables& t) {
                       {"kind", s.kind},
                       {"unit", unit(s.unit)},
                       {"inputs", inputs},
-                      {"outputs", outputs}});
+                      {"outputs", outputs},
+                      {"item", s.item},
+                      {"drops", json(s.drops)},
+                      {"fragments", s.fragments.empty() ? json(nullptr) : json(s.fragments)}});
   }
   json fifos = json::array();
   for (size_t i = 0; i < t.fifos.size(); ++i) {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -17,6 +18,15 @@ struct NetlistTables {
     std::string kind;                  // the name without the unit suffix
     int unit = -1;                     // -1: front end
     std::vector<int> inputs, outputs;  // indices into fifos
+    // How a trace shows it (StageTrace, hw/stage_spec.h): what a record of
+    // it is ("draw", "batch", "primitive", "tile job", "stamp batch"), why a
+    // primitive ending here went no further by its kind ("point", "line",
+    // "triangle"; "" when it ended where it should), and whether the depth
+    // test's or the ROP's fragment records come from it ("", "depth_test",
+    // "rop").
+    std::string item = "primitive";
+    std::map<std::string, std::string> drops;
+    std::string fragments;
   };
   struct Fifo {
     std::string name;
@@ -30,7 +40,8 @@ struct NetlistTables {
   std::vector<Fifo> fifos;
 };
 
-// {"stages": [{index, name, kind, unit, inputs, outputs}], "fifos":
+// {"stages": [{index, name, kind, unit, inputs, outputs, item, drops,
+// fragments}], "fifos":
 // [{index, name, kind, depth, writer, reader, unit}]}: names for the
 // endpoints, null for a front-end unit, "host" for the host. The tables of
 // a trace's manifest.json and of stats.json's timing.netlist

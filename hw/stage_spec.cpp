@@ -28,6 +28,34 @@ const char* to_string(StagePlacement p) {
   return "?";
 }
 
+const char* to_string(TraceItem item) {
+  switch (item) {
+    case TraceItem::draw:
+      return "draw";
+    case TraceItem::slot_batch:
+      return "batch";
+    case TraceItem::primitive:
+      return "primitive";
+    case TraceItem::tile_job:
+      return "tile job";
+    case TraceItem::stamp_batch:
+      return "stamp batch";
+  }
+  return "primitive";
+}
+
+const char* to_string(FragmentSite site) {
+  switch (site) {
+    case FragmentSite::none:
+      return "";
+    case FragmentSite::depth_test:
+      return "depth_test";
+    case FragmentSite::rop:
+      return "rop";
+  }
+  return "";
+}
+
 void StageRegistry::add(const StageSpec& spec) {
   if (spec.kind.empty()) throw std::logic_error("StageRegistry: a spec without a kind");
   if (!registry().emplace(spec.kind, &spec).second) {

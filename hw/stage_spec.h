@@ -18,6 +18,7 @@
 // (stages/topology.h), the registry's is by kind.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -84,6 +85,27 @@ class ConservationLedger {
 // FIFOs', its neighbours' and the frame's when a run ends.
 using ConservationRule = void (*)(ConservationLedger&);
 
+// How a trace shows a stage (docs/traces.md): what one transactions.bin
+// record of it is, why a primitive whose last record is at it went no
+// further, and which fragment probe calls come from it.
+enum class TraceItem : uint8_t {
+  draw,         // a draw and the primitives it assembles
+  slot_batch,   // a batch of vertex slots and the primitives they assemble
+  primitive,    // one primitive after clipping
+  tile_job,     // a primitive in a unit: its record counts the stamps it produced
+  stamp_batch,  // the stamps one primitive covers in one tile
+};
+const char* to_string(TraceItem item);  // "draw", "batch", "primitive", "tile job", "stamp batch"
+enum class FragmentSite : uint8_t { none, depth_test, rop };
+const char* to_string(FragmentSite site);  // "", "depth_test", "rop"
+struct StageTrace {
+  TraceItem item = TraceItem::primitive;
+  // By the primitive's kind (point, line, triangle): nullptr says only that
+  // it left the pipeline here; "" that it ended where it should.
+  std::array<const char*, 3> drops{nullptr, nullptr, nullptr};
+  FragmentSite fragments = FragmentSite::none;
+};
+
 struct StageSpec {
   std::string kind;  // configuration key, stats.json and trace name: "tile_rasterizer"
   StagePlacement placement = StagePlacement::front_end;
@@ -101,6 +123,7 @@ struct StageSpec {
   // Its rules beyond the ones every stage obeys (tokens in and out equal its
   // FIFOs' items); none when it has no counters of its own to balance.
   ConservationRule conservation = nullptr;
+  StageTrace trace;
 };
 
 class StageRegistry {

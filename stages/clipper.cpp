@@ -32,6 +32,9 @@ ClippedPrimitive work_primitive(PrimitiveKind kind, uint32_t draw_id, int64_t pr
 
 namespace {
 
+// Why a primitive whose last record is here went no further (traces).
+constexpr const char* kDropped = "the clipper dropped it (a vertex not finite, or clipped away)";
+
 // Conservation (testbench/sim/conservation.h): how its counters balance.
 void conserve(ConservationLedger& l) {
   const ConservationLedger::Frame& f = l.frame();
@@ -81,18 +84,20 @@ void conserve(ConservationLedger& l) {
 }  // namespace
 
 const StageSpec& Clipper::spec() {
-  static const StageSpec s{"clipper",
-                           StagePlacement::front_end,
-                           /*optional=*/false,
-                           {/*ii=*/2, /*latency=*/8},
-                           "primitive",
-                           "primitive assembly, clip-code test, perspective divide and viewport "
-                           "transform; a triangle that needs clipping pays per output triangle, "
-                           "one in polygon mode per line or point it becomes",
-                           "batches and control tokens read",
-                           "primitives and control tokens written",
-                           {"shader_to_clipper"},
-                           &conserve};
+  static const StageSpec s{
+      "clipper",
+      StagePlacement::front_end,
+      /*optional=*/false,
+      {/*ii=*/2, /*latency=*/8},
+      "primitive",
+      "primitive assembly, clip-code test, perspective divide and viewport "
+      "transform; a triangle that needs clipping pays per output triangle, "
+      "one in polygon mode per line or point it becomes",
+      "batches and control tokens read",
+      "primitives and control tokens written",
+      {"shader_to_clipper"},
+      &conserve,
+      StageTrace{TraceItem::slot_batch, {kDropped, kDropped, kDropped}, FragmentSite::none}};
   return s;
 }
 GPUSIM_REGISTER_STAGE(Clipper);

@@ -128,6 +128,9 @@ __m128i depth_compare4(__m128i fragment, __m128i stored) {
 
 namespace {
 
+// Why a primitive whose last record is here went no further (traces).
+constexpr const char* kFailed = "every fragment failed the depth test";
+
 // Conservation (testbench/sim/conservation.h): how its counters balance.
 void conserve(ConservationLedger& l) {
   const ConservationLedger::Frame& f = l.frame();
@@ -147,16 +150,18 @@ void conserve(ConservationLedger& l) {
 }  // namespace
 
 const StageSpec& DepthTest::spec() {
-  static const StageSpec s{"depth_test",
-                           StagePlacement::per_unit,
-                           /*optional=*/false,
-                           {/*ii=*/1, /*latency=*/2},
-                           "stamp",
-                           "compare and merge; reading and writing depth go through the memory",
-                           "stamp batches and control tokens read",
-                           "stamp batches and control tokens forwarded",
-                           {"rasterizer_to_depth"},
-                           &conserve};
+  static const StageSpec s{
+      "depth_test",
+      StagePlacement::per_unit,
+      /*optional=*/false,
+      {/*ii=*/1, /*latency=*/2},
+      "stamp",
+      "compare and merge; reading and writing depth go through the memory",
+      "stamp batches and control tokens read",
+      "stamp batches and control tokens forwarded",
+      {"rasterizer_to_depth"},
+      &conserve,
+      StageTrace{TraceItem::stamp_batch, {kFailed, kFailed, kFailed}, FragmentSite::depth_test}};
   return s;
 }
 GPUSIM_REGISTER_STAGE(DepthTest);

@@ -16,6 +16,10 @@ namespace gpusim {
 
 namespace {
 
+// Why a primitive whose last record is here went no further (traces): the
+// depth test forwards a batch of stamps some of which passed.
+constexpr const char* kFailed = "every fragment failed the depth test";
+
 // Conservation (testbench/sim/conservation.h): how its counters balance.
 void conserve(ConservationLedger& l) {
   // Shades exactly the pixels that passed.
@@ -39,7 +43,8 @@ const StageSpec& Interpolator::spec() {
       "stamp batches and control tokens read",
       "shaded batches and control tokens written",
       {"depth_to_interpolator"},
-      &conserve};
+      &conserve,
+      StageTrace{TraceItem::stamp_batch, {kFailed, kFailed, kFailed}, FragmentSite::none}};
   return s;
 }
 GPUSIM_REGISTER_STAGE(Interpolator);

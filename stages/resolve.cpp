@@ -32,7 +32,8 @@ const StageSpec& Resolve::spec() {
                            "control tokens read (one per unit and token)",
                            "tokens forwarded (none)",
                            {"rop_to_resolve"},
-                           &conserve};
+                           &conserve,
+                           StageTrace{}};
   return s;
 }
 GPUSIM_REGISTER_STAGE(Resolve);

@@ -191,7 +191,8 @@ const StageSpec& Rop::spec() {
       "shaded batches and control tokens read",
       "tokens retired (their writes done or posted)",
       {"interpolator_to_rop"},
-      &conserve};
+      &conserve,
+      StageTrace{TraceItem::stamp_batch, {"", "", ""}, FragmentSite::rop}};
   return s;
 }
 GPUSIM_REGISTER_STAGE(Rop);

@@ -48,7 +48,8 @@ const StageSpec& TileDistributor::spec() {
                            "setup packets read",
                            "packets written, summed over units",
                            {"setup_to_distributor"},
-                           &conserve};
+                           &conserve,
+                           StageTrace{TraceItem::primitive, {}, FragmentSite::none}};
   return s;
 }
 GPUSIM_REGISTER_STAGE(TileDistributor);

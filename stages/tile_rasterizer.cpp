@@ -27,6 +27,9 @@ int stamp_pixels(const GpuConfig& c) {
 
 namespace {
 
+// Why a point or line whose last record is here went no further (traces).
+constexpr const char* kNoPixel = "no pixel of it was covered in any tile";
+
 // Conservation (testbench/sim/conservation.h): how its counters balance.
 void conserve(ConservationLedger& l) {
   const ConservationLedger::Frame& f = l.frame();
@@ -40,17 +43,21 @@ void conserve(ConservationLedger& l) {
 }  // namespace
 
 const StageSpec& TileRasterizer::spec() {
-  static const StageSpec s{"tile_rasterizer",
-                           StagePlacement::per_unit,
-                           /*optional=*/false,
-                           {/*ii=*/1, /*latency=*/2},
-                           "stamp",
-                           "one stamp of edge functions per cycle per unit (a Bresenham line: one "
-                           "step per cycle, docs/architecture.md)",
-                           "setup packets read",
-                           "stamp batches and control tokens written",
-                           {"distributor_to_rasterizer"},
-                           &conserve};
+  static const StageSpec s{
+      "tile_rasterizer",
+      StagePlacement::per_unit,
+      /*optional=*/false,
+      {/*ii=*/1, /*latency=*/2},
+      "stamp",
+      "one stamp of edge functions per cycle per unit (a Bresenham line: one "
+      "step per cycle, docs/architecture.md)",
+      "setup packets read",
+      "stamp batches and control tokens written",
+      {"distributor_to_rasterizer"},
+      &conserve,
+      StageTrace{TraceItem::tile_job,
+                 {kNoPixel, kNoPixel, "no pixel centre of it was covered in any tile"},
+                 FragmentSite::none}};
   return s;
 }
 GPUSIM_REGISTER_STAGE(TileRasterizer);

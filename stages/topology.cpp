@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <limits>
 #include <numeric>
+#include <sstream>
 #include <stdexcept>
 
 namespace gpusim {
@@ -204,6 +205,17 @@ NetlistTables Topology::trace_tables() const {
     s.unit = n.stage->unit();
     for (size_t f : n.inputs) s.inputs.push_back(static_cast<int>(f));
     for (size_t f : n.outputs) s.outputs.push_back(static_cast<int>(f));
+    const StageTrace& trace = n.stage->spec().trace;
+    s.item = to_string(trace.item);
+    for (PrimitiveKind k : {PrimitiveKind::point, PrimitiveKind::line, PrimitiveKind::triangle}) {
+      const char* why = trace.drops[static_cast<size_t>(k)];
+      if (why != nullptr) {
+        std::ostringstream word;
+        word << k;
+        s.drops[word.str()] = why;
+      }
+    }
+    s.fragments = to_string(trace.fragments);
     t.stages.push_back(std::move(s));
   }
   return t;

@@ -189,7 +189,12 @@ const StageSpec& TriangleSetup::spec() {
       "triangles and control tokens read",
       "setup packets written",
       {"clipper_to_setup"},
-      &conserve};
+      &conserve,
+      StageTrace{TraceItem::primitive,
+                 {"setup dropped it (nothing of it on screen)",
+                  "setup dropped it (zero length, or nothing of it on screen)",
+                  "setup dropped it (degenerate, culled, or no pixel centre on screen)"},
+                 FragmentSite::none}};
   return s;
 }
 GPUSIM_REGISTER_STAGE(TriangleSetup);

@@ -45,7 +45,8 @@ const StageSpec& VertexFetch::spec() {
       "commands read",
       "batches and control tokens written",
       {"command_to_fetch"},
-      &conserve};
+      &conserve,
+      StageTrace{TraceItem::draw, {}, FragmentSite::none}};
   return s;
 }
 GPUSIM_REGISTER_STAGE(VertexFetch);

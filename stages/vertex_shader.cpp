@@ -53,7 +53,8 @@ const StageSpec& VertexShader::spec() {
                            "batches and control tokens read",
                            "batches and control tokens written",
                            {"fetch_to_shader"},
-                           &conserve};
+                           &conserve,
+                           StageTrace{TraceItem::slot_batch, {}, FragmentSite::none}};
   return s;
 }
 GPUSIM_REGISTER_STAGE(VertexShader);

@@ -31,7 +31,8 @@ std::string kind_word(uint8_t prim_kind) {
   return "primitive";
 }
 
-// What a work item is at each stage (docs/traces.md, "Model").
+// What a work item is at its stage (docs/traces.md, "Model"), by what the
+// manifest says a record of the stage is.
 std::string item_text(const TraceStage& s, const TransactionRecord& r) {
   const std::string word = kind_word(r.prim_kind);
   const std::string prims =
@@ -40,17 +41,11 @@ std::string item_text(const TraceStage& s, const TransactionRecord& r) {
           : word + "s " + std::to_string(r.prim_first) + ".." + std::to_string(r.prim_last);
   const std::string n = std::to_string(r.count);
   const std::string stamps = n + (r.count == 1 ? " stamp" : " stamps");
-  if (s.kind == "command_processor" || s.kind == "vertex_fetch") {
-    return "draw " + std::to_string(r.draw) + ": " + prims;
-  }
-  if (s.kind == "vertex_shader" || s.kind == "clipper") {
-    return "batch of " + n + " slots: " + prims;
-  }
-  if (s.kind == "tile_rasterizer") return "tile job: " + stamps + " out";
-  if (s.kind == "depth_test" || s.kind == "interpolator" || s.kind == "rop") {
-    return "stamp batch: " + stamps;
-  }
-  return word;  // setup and the distributor: one primitive after clipping
+  if (s.item == "draw") return "draw " + std::to_string(r.draw) + ": " + prims;
+  if (s.item == "batch") return "batch of " + n + " slots: " + prims;
+  if (s.item == "tile job") return "tile job: " + stamps + " out";
+  if (s.item == "stamp batch") return "stamp batch: " + stamps;
+  return word;  // one primitive after clipping
 }
 
 std::string outcome_text(const FragmentRecord& f) {
@@ -85,27 +80,14 @@ std::string value_text(const FragmentRecord& f) {
   return buf;
 }
 
-// Why the last stage a primitive reached is the last, for an unfiltered trace.
-// `word` is what the draw assembles ("line", "point", "triangle"): lines and
-// points are never culled (docs/pipeline-spec.md 8b), and only a triangle's
-// coverage is decided by pixel centres.
-std::string stop_reason(const std::string& kind, const std::string& word) {
-  if (kind == "rop") return "";
-  if (kind == "clipper") return "the clipper dropped it (a vertex not finite, or clipped away)";
-  if (kind == "triangle_setup") {
-    if (word == "line") return "setup dropped it (zero length, or nothing of it on screen)";
-    if (word == "point") return "setup dropped it (nothing of it on screen)";
-    return "setup dropped it (degenerate, culled, or no pixel centre on screen)";
-  }
-  if (kind == "tile_rasterizer") {
-    return word == "triangle" || word == "primitive"
-               ? "no pixel centre of it was covered in any tile"
-               : "no pixel of it was covered in any tile";
-  }
-  if (kind == "depth_test" || kind == "interpolator") {
-    return "every fragment failed the depth test";
-  }
-  return "it left the pipeline after " + kind;
+// Why the last stage a primitive reached is the last, for an unfiltered
+// trace: the stage's own reason for `word` (what the draw assembles:
+// "line", "point", "triangle", or "primitive" in a trace without the field,
+// read as a triangle), "" when it ended where it should.
+std::string stop_reason(const TraceStage& stage, const std::string& word) {
+  const auto it = stage.drops.find(word == "primitive" ? "triangle" : word);
+  if (it != stage.drops.end()) return it->second;
+  return "it left the pipeline after " + stage.kind;
 }
 
 }  // namespace
@@ -209,7 +191,7 @@ std::string TraceFollow::prim_text(int64_t prim) const {
   if (f.window || f.stages) {
     out += "  (only what was recorded: " + f.describe() + ")\n";
   } else {
-    const std::string reason = stop_reason(steps.back().stage->kind, word);
+    const std::string reason = stop_reason(*steps.back().stage, word);
     if (!reason.empty()) out += "  ends at " + steps.back().stage->kind + ": " + reason + "\n";
   }
   return out;

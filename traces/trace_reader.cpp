@@ -109,6 +109,16 @@ void read_netlist(const ManifestParser& p, const nlohmann::json& j, const std::s
     for (size_t k = 0; k < outputs.size(); ++k) {
       st.outputs.push_back(p.string(outputs[k], w + ".outputs[" + std::to_string(k) + "]"));
     }
+    if (s.contains("item")) st.item = p.string(s["item"], w + ".item");
+    if (s.contains("drops")) {
+      if (!s["drops"].is_object()) p.fail(w + ".drops", "expected an object");
+      for (const auto& d : s["drops"].items()) {
+        st.drops[d.key()] = p.string(d.value(), w + ".drops." + d.key());
+      }
+    }
+    if (s.contains("fragments") && !s["fragments"].is_null()) {
+      st.fragments = p.string(s["fragments"], w + ".fragments");
+    }
     m.stages.push_back(std::move(st));
   }
   const nlohmann::json& fifos = p.array(j, where, "fifos");

@@ -13,6 +13,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -30,6 +31,13 @@ struct TraceStage {
   std::string kind;                          // "tile_rasterizer"
   int unit = -1;                             // -1: a front-end stage
   std::vector<std::string> inputs, outputs;  // FIFO names
+  // How the trace shows it (hw/netlist_tables.h): what a record of it is,
+  // why a primitive ending here went no further by its kind, and whose
+  // fragment records come from it. Traces written before the fields: a
+  // primitive, no reasons, none.
+  std::string item = "primitive";
+  std::map<std::string, std::string> drops;
+  std::string fragments;
 };
 
 // One entry of manifest.json's `fifos`.

@@ -90,13 +90,15 @@ TraceRecorder::TraceRecorder(const NetlistTables& tables, const GpuConfig& confi
     const NetlistTables::Stage& t = tables.stages[i];
     Stage& s = m_stages[i];
     s.kept = m_kept[i];
-    s.counts_outputs = t.kind == "tile_rasterizer";
-    s.names_draws = t.kind == "command_processor" || t.kind == "vertex_fetch";
+    // What a record of the stage is (its spec's StageTrace): a tile job
+    // counts the stamps it produced, a draw names its draw.
+    s.counts_outputs = t.item == "tile job";
+    s.names_draws = t.item == "draw";
     s.pid = t.unit < 0 ? 0 : 1 + t.unit;
     s.tid = static_cast<int>(i);
-    if (t.unit >= 0 && t.kind == "depth_test") m_depth_stage[t.unit] = static_cast<int>(i);
-    if (t.unit >= 0 && t.kind == "rop") m_rop_stage[t.unit] = static_cast<int>(i);
-    if (s.kept && !paths.fragments.empty() && (t.kind == "depth_test" || t.kind == "rop")) {
+    if (t.unit >= 0 && t.fragments == "depth_test") m_depth_stage[t.unit] = static_cast<int>(i);
+    if (t.unit >= 0 && t.fragments == "rop") m_rop_stage[t.unit] = static_cast<int>(i);
+    if (s.kept && !paths.fragments.empty() && !t.fragments.empty()) {
       m_fragments_traced = true;
     }
   }

@@ -54,13 +54,16 @@ class TraceReaderTest : public trace_test::TraceTest {
     nlohmann::json stages = nlohmann::json::array();
     const char* names[] = {"command_processor", "triangle_setup", "depth_test_0", "rop_0"};
     const char* kinds[] = {"command_processor", "triangle_setup", "depth_test", "rop"};
+    // What the stages' specs say of their records (docs/traces.md).
+    const char* items[] = {"draw", "primitive", "stamp batch", "stamp batch"};
     for (int i = 0; i < 4; ++i) {
       stages.push_back({{"index", i},
                         {"name", names[i]},
                         {"kind", kinds[i]},
                         {"unit", i >= 2 ? nlohmann::json(0) : nlohmann::json()},
                         {"inputs", {"in" + std::to_string(i)}},
-                        {"outputs", nlohmann::json::array()}});
+                        {"outputs", nlohmann::json::array()},
+                        {"item", items[i]}});
     }
     manifest_ = {
         {"format", "gpusim-trace"},
