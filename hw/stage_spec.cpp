@@ -16,18 +16,6 @@ std::map<std::string, const StageSpec*, std::less<>>& registry() {
 
 }  // namespace
 
-const char* to_string(StagePlacement p) {
-  switch (p) {
-    case StagePlacement::front_end:
-      return "front end";
-    case StagePlacement::per_unit:
-      return "per unit";
-    case StagePlacement::shared:
-      return "shared";
-  }
-  return "?";
-}
-
 const char* to_string(TraceItem item) {
   switch (item) {
     case TraceItem::draw:

@@ -33,7 +33,6 @@ enum class StagePlacement {
   per_unit,   // one instance per raster unit, named <kind>_<unit>
   shared,     // one instance the units feed (the resolve)
 };
-const char* to_string(StagePlacement p);
 
 // What a stage's conservation rule sees (testbench/sim/conservation.h
 // implements it over a run's statistics): its own counters and those of the

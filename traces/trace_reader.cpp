@@ -22,11 +22,6 @@ constexpr uint32_t kManifestVersion = 2;
 // Records per read: 48 KiB buffers keep streaming cheap and memory flat.
 constexpr size_t kChunkRecords = 1024;
 
-// A little-endian header field.
-uint32_t u32(const uint8_t* p) {
-  return uint32_t{p[0]} | uint32_t{p[1]} << 8 | uint32_t{p[2]} << 16 | uint32_t{p[3]} << 24;
-}
-
 // The manifest's fields, each failure naming the file and the JSON path.
 class ManifestParser {
  public:
@@ -63,6 +58,16 @@ class ManifestParser {
     const nlohmann::json& a = field(j, where, key);
     if (!a.is_array()) fail(where.empty() ? key : where + "." + key, "expected an array");
     return a;
+  }
+  // The strings of array `key` of `j`.
+  std::vector<std::string> strings(const nlohmann::json& j, const std::string& where,
+                                   const char* key) const {
+    const nlohmann::json& a = array(j, where, key);
+    std::vector<std::string> out;
+    for (size_t k = 0; k < a.size(); ++k) {
+      out.push_back(string(a[k], where + "." + key + "[" + std::to_string(k) + "]"));
+    }
+    return out;
   }
   // The `index` of entry i of a table the binary records index: it must be
   // the entry's position.
@@ -101,14 +106,8 @@ void read_netlist(const ManifestParser& p, const nlohmann::json& j, const std::s
     st.name = p.string(p.field(s, w, "name"), w + ".name");
     st.kind = p.string(p.field(s, w, "kind"), w + ".kind");
     st.unit = p.optional_unit(p.field(s, w, "unit"), w + ".unit");
-    const nlohmann::json& inputs = p.array(s, w, "inputs");
-    for (size_t k = 0; k < inputs.size(); ++k) {
-      st.inputs.push_back(p.string(inputs[k], w + ".inputs[" + std::to_string(k) + "]"));
-    }
-    const nlohmann::json& outputs = p.array(s, w, "outputs");
-    for (size_t k = 0; k < outputs.size(); ++k) {
-      st.outputs.push_back(p.string(outputs[k], w + ".outputs[" + std::to_string(k) + "]"));
-    }
+    st.inputs = p.strings(s, w, "inputs");
+    st.outputs = p.strings(s, w, "outputs");
     if (s.contains("item")) st.item = p.string(s["item"], w + ".item");
     if (s.contains("drops")) {
       if (!s["drops"].is_object()) p.fail(w + ".drops", "expected an object");
@@ -270,7 +269,10 @@ void check_record_file(const std::string& file, const char* magic, size_t record
     }
     throw InputError(file + ": bad magic \"" + got + "\", expected \"" + magic + "\"");
   }
-  const uint32_t version = u32(h.data() + 8), size = u32(h.data() + 12);
+  uint32_t version = 0, size = 0;
+  record_codec::Decoder d{h.data() + 8};
+  d(version);
+  d(size);
   if (version != kVersion) {
     throw InputError(file + ": version " + std::to_string(version) +
                      ", this reader knows version 1");

@@ -70,17 +70,16 @@ PipelineKinds pipeline_kinds() {
     Gpu gpu("gpu", config, frame, 1 << 16);
     const Topology& t = gpu.topology();
     k.stages = t.stage_kinds();
-    for (const std::string& kind : t.fifo_kinds()) {
-      for (const Topology::FifoNode& f : t.fifos()) {
-        if (f.kind != kind) continue;
-        k.fifos.push_back({kind,
-                           f.writer == Topology::kHost
-                               ? std::string("host")
-                               : t.stages()[static_cast<size_t>(f.writer)].stage->stage_kind(),
-                           t.stages()[static_cast<size_t>(f.reader)].stage->stage_kind(),
-                           f.unit >= 0});
-        break;
-      }
+    // Each kind by its first FIFO, in pipeline order.
+    for (const Topology::FifoNode& f : t.fifos()) {
+      const auto seen = [&f](const PipelineKinds::Fifo& g) { return g.kind == f.kind; };
+      if (std::any_of(k.fifos.begin(), k.fifos.end(), seen)) continue;
+      k.fifos.push_back({f.kind,
+                         f.writer == Topology::kHost
+                             ? std::string("host")
+                             : t.stages()[static_cast<size_t>(f.writer)].stage->stage_kind(),
+                         t.stages()[static_cast<size_t>(f.reader)].stage->stage_kind(),
+                         f.unit >= 0});
     }
   }
   fresh_simulation_context();

@@ -31,7 +31,9 @@ class PassThrough : public PipelineStage {
                              "a register stage: forwards what it reads",
                              "stamp batches and control tokens read",
                              "stamp batches and control tokens written",
-                             {"rasterizer_to_pass_through"}};
+                             {"rasterizer_to_pass_through"},
+                             /*conservation=*/nullptr,
+                             StageTrace{TraceItem::stamp_batch, {}, FragmentSite::none}};
     return s;
   }
 
