@@ -71,6 +71,26 @@ TX_FMT = "<QQqqIHBBhhI"      # cycle_in cycle_out prim_first prim_last draw stag
 FR_FMT = "<QqHHBBBBff4f"     # cycle prim x y stage unit outcome reserved depth old_depth value[4]
 
 
+def stage_roles(manifest, stats):
+    """The stages' roles as the trace records them, read here without the
+    scripts' code (and in the manifest's netlist order, where trace_plots
+    follows the FIFOs): the stages that make fragment records form two sites
+    (manifest `fragments`), the first in pipeline order tests fragments
+    (fragments.bin stage 0), the second writes them (stage 1), each
+    {"kind", "code", "names"}; "memory": the names of the stages that work on
+    stamp batches and are clients of the memory (stats.json)."""
+    sites = {}
+    for s in manifest["stages"]:
+        if s["fragments"]:
+            sites.setdefault(s["fragments"], []).append(s)
+    assert len(sites) == 2, f"manifest: fragment sites {list(sites)}"
+    tester, writer = ({"kind": stages[0]["kind"], "code": code, "names": {x["name"] for x in stages}}
+                      for code, stages in enumerate(sites.values()))
+    clients = stats["timing"]["memory"]["clients"]
+    memory = {s["name"] for s in manifest["stages"] if s["item"] == "stamp batch" and s["name"] in clients}
+    return {"tester": tester, "writer": writer, "memory": memory}
+
+
 def png_ok(path, name, min_w=200, min_h=150):
     import OpenImageIO as oiio
     inp = oiio.ImageInput.open(path)
@@ -129,22 +149,23 @@ def check_tiles(trace, plots, manifest, stats):
     check(np.array_equal(np.array(tiles["cycles"]), cycles),
           f"tiles_cycles: equals sum(cycle_out - cycle_in) of unit-stage records per tile (total {int(cycles.sum())})")
 
-    # Overdraw: depth-test fragments per tile.
+    # Overdraw: fragments per tile at the site that tests them.
+    tester = stage_roles(manifest, stats)["tester"]
     frag = np.zeros((ny, nx), dtype=np.int64)
     n_dt = 0
     for r in fr:
-        if r[4] == 0:
+        if r[4] == tester["code"]:
             n_dt += 1
             frag[r[3] // ts, r[2] // ts] += 1
     check(tiles["overdraw_source"] == "fragments", "tiles_overdraw: from fragments.bin")
-    check(np.array_equal(np.array(tiles["depth_test_fragments"]), frag),
+    check(np.array_equal(np.array(tiles[f"{tester['kind']}_fragments"]), frag),
           "tiles_overdraw: per-tile depth-test fragment counts equal fragments.bin's")
     pixels = np.array(tiles["pixels"])
     check(int(pixels.sum()) == fb["width"] * fb["height"], "tiles.json: tile pixels sum to the frame's")
     od_total = float((np.array(tiles["overdraw"]) * pixels).sum())
     check(abs(od_total - n_dt) < 1e-3 * max(1, n_dt),
           f"tiles_overdraw: overdraw x pixels sums to the {n_dt} depth-test fragments ({od_total:.1f})")
-    gen = sum(v.get("fragments_in", 0) for k, v in stats["timing"]["stages"].items() if k.startswith("depth_test_"))
+    gen = sum(v.get("fragments_in", 0) for k, v in stats["timing"]["stages"].items() if k in tester["names"])
     check(n_dt == gen and n_dt > 0, f"fragments.bin: {n_dt} depth-test fragments = stats.json depth tests' "
                                      f"fragments_in ({gen})")
 
@@ -201,6 +222,7 @@ def check_tile_split(trace, plots, manifest, stats):
     wires = raw_vcd_wires(os.path.join(trace, "signals.vcd"), manifest["cycle_ps"])
     stages = manifest["stages"]
     ii = {k: v["ii"] for k, v in manifest["config"]["stages"].items()}
+    waits = stage_roles(manifest, stats)["memory"]
     stalled = np.zeros((ny, nx), dtype=np.int64)
     memory = np.zeros((ny, nx), dtype=np.int64)
     waited = {}
@@ -212,7 +234,7 @@ def check_tile_split(trace, plots, manifest, stats):
         busy = time_at_one(wires[(scope, s["name"] + "_busy")], r[0], r[1])
         stall = time_at_one(wires[(scope, s["name"] + "_stalled")], r[0], r[1])
         wait = 0
-        if s["kind"] in ("depth_test", "rop"):
+        if s["name"] in waits:
             wait = max(0, busy - ii[s["kind"]] * (max(r[10], 1) if r[6] == 0 else 1))
             waited[s["name"]] = waited.get(s["name"], 0) + wait
         if r[8] >= 0 and r[9] >= 0:
@@ -553,9 +575,12 @@ def check_rop_only_overdraw(tmp, gpusim, scene):
     plots = os.path.join(tmp, "plots_rop")
     must([os.path.join(HERE, "trace_plots"), trace, "--out", plots])
     tiles = json.load(open(os.path.join(plots, "tiles.json")))
-    rop = [r for r in read_raw(os.path.join(trace, "fragments.bin"), b"GPUSIMFR", FR_FMT) if r[4] == 1]
-    check(tiles["overdraw_source"] == "rop fragments", f"rop only: overdraw from {tiles['overdraw_source']}")
-    total = sum(map(sum, tiles["rop_fragments"]))
+    writer = stage_roles(json.load(open(os.path.join(trace, "manifest.json"))),
+                         json.load(open(os.path.join(trace, "stats.json"))))["writer"]
+    rop = [r for r in read_raw(os.path.join(trace, "fragments.bin"), b"GPUSIMFR", FR_FMT) if r[4] == writer["code"]]
+    check(tiles["overdraw_source"] == f"{writer['kind']} fragments",
+          f"rop only: overdraw from {tiles['overdraw_source']}")
+    total = sum(map(sum, tiles[f"{writer['kind']}_fragments"]))
     check(len(rop) > 0 and total == len(rop), f"rop only: {total} ROP fragments in tiles.json, "
                                               f"{len(rop)} in fragments.bin")
     check(max(map(max, tiles["overdraw"])) > 0, "rop only: the overdraw map is not empty")
