@@ -23,30 +23,22 @@
 // latency: one thread switch per item instead of two, at the same instant
 // and in the same delta (see wait_for_item()).
 //
-// Statistics integrate in simulated time and are computed up to "now" on
-// demand, so they can be read at any point, including after sc_start()
-// returned with a stage still blocked. Blocked time is counted only in the
-// blocking read() and write(); a stage that polls with nb_read()/nb_write()
-// accounts for its own waiting. Mean occupancy is over [0, now].
+// Its parts, each in its own header: the ports' interfaces
+// (hw/fifo_ports.h); its statistics (hw/fifo_statistics.h: occupancy,
+// stall and starve integrals, reported as the channel's stat group); the
+// stall policy installed from outside (hw/random_stalls.h); the stamped
+// synchronisation of a temporally decoupled side (hw/fifo_stamped_sync.h).
+// Blocked time is counted only in the blocking read() and write(); a stage
+// that polls with nb_read()/nb_write() accounts for its own waiting.
 //
 // Tracing: set_probe() attaches a FifoProbe (hw/fifo_probe.h) that sees every
 // read, write, blocked interval and occupancy change; without one, each hook
 // is a single branch on a null pointer.
 //
-// Stamped mode (temporal decoupling, docs/architecture.md): a FIFO joining a
-// stage that runs ahead of the kernel's time (PipelineStage::set_decoupled)
-// is switched before the simulation starts to take reads and writes at
-// superdense times (SuperdenseTime: a time and a delta cycle within it). Every
-// operation is given the time at which the semantics above would perform
-// it, computed from the one operation of the other side it depends on: the
-// write of the item a read takes (readable from the delta after it, and not
-// before its ready time), or the read that freed the slot a write fills
-// (writable from the delta after it). A decoupled stage adopts that time as
-// its own; a stage in the kernel's time waits until it. A side sleeps in the
-// kernel only while that other operation has not happened at all. The
-// statistics integrate the logged operations in time order once neither
-// side can still log an earlier one, delta by delta as update() does, so
-// every figure equals the one the kernel-timed FIFO gives.
+// Stamped mode (temporal decoupling, hw/fifo_stamped_sync.h): a FIFO
+// joining a stage that runs ahead of the kernel's time is switched, before
+// the simulation starts, to take reads and writes at superdense times, with
+// the same results and statistics as the kernel-timed semantics above.
 #pragma once
 
 #include <algorithm>
@@ -61,128 +53,34 @@
 #include <utility>
 #include <vector>
 
+#include "hw/fifo_ports.h"
 #include "hw/fifo_probe.h"
+#include "hw/fifo_stamped_sync.h"
+#include "hw/fifo_statistics.h"
+#include "hw/random_stalls.h"
 #include "hw/stats.h"
 #include "hw/superdense_time.h"
 
 namespace gpusim {
-
-// The reader's side, for stages that reach their input through an sc_port.
-template <typename T>
-class FifoInIf : public virtual sc_core::sc_interface {
- public:
-  virtual T read() = 0;
-  // The same, into `item`: its previous value goes to the freed slot, for the
-  // next writer to reuse its buffers (a reader that reads into one packet
-  // object every time allocates nothing).
-  virtual void read(T& item) = 0;
-  virtual bool nb_read(T& item) = 0;
-  virtual size_t size() const = 0;
-  virtual const T& front() const = 0;
-  virtual const sc_core::sc_event& data_written_event() const = 0;
-  // Stamped mode only: the read a decoupled reader makes at its own time
-  // `call` (which may be ahead of the kernel's); returns the read's time.
-  virtual SuperdenseTime read_at(T& item, const SuperdenseTime& call) = 0;
-  // The same, moving the item out of its slot (no swap: cheaper for packets
-  // of fixed-size arrays); the read's time goes to `at`.
-  virtual T read_at(const SuperdenseTime& call, SuperdenseTime& at) = 0;
-};
-
-// The writer's side.
-template <typename T>
-class FifoOutIf : public virtual sc_core::sc_interface {
- public:
-  virtual void write(const T& item) = 0;
-  // Write, but the reader sees the item only from `ready_at` on: a stage's
-  // pipeline latency. The item holds its slot from when it enters; if the
-  // write had to wait for a slot, `ready_at` moves later by that wait.
-  // By value: a caller's sc_time_stamp() is a reference to the kernel's
-  // time, which the wait would move too (counting the wait twice).
-  virtual void write(const T& item, sc_core::sc_time ready_at) = 0;
-  // Moving writes: `item` is left holding the slot's previous contents (a
-  // stale packet whose buffers a writer may clear and refill).
-  virtual void write(T&& item) = 0;
-  virtual void write(T&& item, sc_core::sc_time ready_at) = 0;
-  virtual bool nb_write(const T& item) = 0;
-  virtual size_t num_free() const = 0;
-  virtual size_t depth() const = 0;
-  virtual const sc_core::sc_event& data_read_event() const = 0;
-  // Stamped mode only: the write a decoupled writer makes at its own time
-  // `call`; returns the write's time. `ready_at` (an sc_time value) moves
-  // later by the wait.
-  virtual SuperdenseTime write_at(const T& item, uint64_t ready_at, const SuperdenseTime& call) = 0;
-  virtual SuperdenseTime write_at(T&& item, uint64_t ready_at, const SuperdenseTime& call) = 0;
-};
-
-template <typename T>
-using FifoInPort = sc_core::sc_port<FifoInIf<T>>;
-template <typename T>
-using FifoOutPort = sc_core::sc_port<FifoOutIf<T>>;
-
-// Times are sc_time; *_cycles conversions use the cycle given to stats_json().
-struct FifoStats {
-  uint64_t written = 0;
-  uint64_t read = 0;
-  size_t max_occupancy = 0;
-  double mean_occupancy = 0.0;      // time-weighted over [0, now]
-  sc_core::sc_time full;            // time holding depth() items
-  sc_core::sc_time empty;           // time holding no item
-  sc_core::sc_time writer_blocked;  // summed over writers blocked in write(): stall
-  sc_core::sc_time reader_blocked;  // summed over readers blocked in read(): starve
-  uint64_t injected_stalls = 0;     // reads and writes delayed by inject_random_stalls
-  sc_core::sc_time injected_stall;  // total delay they added
-  sc_core::sc_time observed;        // now: the window of every time above
-};
-
-namespace fifo_detail {
-
-// Time integral of a level that changes at discrete instants: occupancy, or
-// the number of processes currently blocked. Values are in units of the
-// SystemC time resolution; 64 bits hold depth 65536 for 2^48 ps (~280 s).
-struct Integral {
-  uint64_t level = 0;
-  uint64_t since = 0;  // sc_time value of the last change
-  uint64_t area = 0;
-
-  void set(uint64_t new_level, uint64_t now) {
-    area += level * (now - since);
-    since = now;
-    level = new_level;
-  }
-  uint64_t area_at(uint64_t now) const { return area + level * (now - since); }
-};
-
-// splitmix64: tiny, fast and fully specified, so a seed gives the same stall
-// pattern with every compiler and standard library.
-struct SplitMix64 {
-  uint64_t state = 0;
-  uint64_t next() {
-    uint64_t z = (state += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
-  double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }  // [0, 1)
-};
-
-}  // namespace fifo_detail
 
 // A FIFO seen through its type-independent parts: what the netlist
 // (stages/topology.h), the statistics, the watchdog and stall injection need,
 // whatever packet the FIFO carries.
 class FifoChannel : public sc_core::sc_prim_channel {
  public:
-  explicit FifoChannel(const char* name) : sc_core::sc_prim_channel(name) {}
+  FifoChannel(const char* name, size_t depth);
   virtual size_t capacity() const = 0;
   // Items held, readable or not.
   virtual size_t occupancy() const = 0;
   virtual FifoStats stats() const = 0;
-  // Times in cycles of `cycle` (fractional if not whole cycles).
-  virtual nlohmann::json stats_json(sc_core::sc_time cycle) const = 0;
-  // The stats_json() fields: {name: {"unit", "description"}}.
-  static nlohmann::json descriptions();
-  virtual void inject_random_stalls(uint64_t seed, double probability, unsigned max_cycles,
-                                    sc_core::sc_time cycle) = 0;
+  // Its figures as a stat group named after it (its depth, items, occupancy,
+  // full and empty cycles, stall and starve cycles, injected stalls), times
+  // in cycles of set_cycle()'s period (null until it is set).
+  const StatGroup& stat_group() const { return m_stats; }
+  void set_cycle(sc_core::sc_time cycle) { m_cycle = cycle; }
+
+  // The stall policy (hw/random_stalls.h), from now on.
+  void set_stalls(const RandomStalls& stalls) { m_stalls = stalls; }
   // The events for an observer outside the pipeline (the watchdog, the
   // progress display), which waits on them only while nothing moves: they are
   // notified only between its watch(true) and watch(false) calls.
@@ -207,26 +105,13 @@ class FifoChannel : public sc_core::sc_prim_channel {
   bool m_withheld = false;
   bool m_stamped = false;
   int m_watchers = 0;  // observers now waiting on written_event() / read_event()
-};
+  FifoStatistics m_statistics;
+  RandomStalls m_stalls;
 
-inline nlohmann::json FifoChannel::descriptions() {
-  const auto& d = stat_description;
-  return {
-      {"depth", d("items", "slots")},
-      {"written", d("items", "items written")},
-      {"read", d("items", "items read")},
-      {"max_occupancy", d("items", "most items held at once")},
-      {"mean_occupancy", d("items", "items held, averaged over the frame")},
-      {"full_cycles", d("cycles", "cycles holding depth items")},
-      {"empty_cycles", d("cycles", "cycles holding no item")},
-      {"writer_blocked_cycles", d("cycles", "cycles its writer waited for a free slot (stall)")},
-      {"reader_blocked_cycles",
-       d("cycles", "cycles its reader waited for a readable item (starve)")},
-      {"injected_stalls", d("events", "reads and writes delayed by random stall injection")},
-      {"injected_stall_cycles", d("cycles", "delay added by random stall injection")},
-      {"observed_cycles", d("cycles", "the window every figure above covers")},
-  };
-}
+ private:
+  StatGroup m_stats;
+  sc_core::sc_time m_cycle;  // what the stat group's cycles count
+};
 
 template <typename T>
 class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
@@ -235,14 +120,12 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
   // holds `depth` values from construction on, so a write is one assignment
   // (or one swap).
   Fifo(const char* name, size_t depth)
-      : FifoChannel(name),
+      : FifoChannel(name, depth),
         m_buf(depth),
         m_ready(depth),
         m_data_written_event((std::string(name) + "_written").c_str()),
         m_data_read_event((std::string(name) + "_read").c_str()),
-        m_item_ready_event((std::string(name) + "_ready").c_str()) {
-    if (depth == 0) throw std::invalid_argument(std::string("Fifo ") + name + ": depth 0");
-  }
+        m_item_ready_event((std::string(name) + "_ready").c_str()) {}
 
   const char* kind() const override { return "gpusim::Fifo"; }
 
@@ -364,12 +247,7 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
     if (m_total_written > 0 || m_total_read > 0)
       throw std::logic_error(std::string(name()) + ": stamped mode is set before any item moves");
     m_stamped = true;
-    m_writer_clock = writer_clock;
-    m_reader_clock = reader_clock;
-    m_readable_from.assign(m_buf.size(), SuperdenseTime{});
-    m_free_from.assign(m_buf.size(), SuperdenseTime{});
-    m_write_log.reset(m_buf.size());
-    m_read_log.reset(m_buf.size());
+    m_sync.start(m_buf.size(), writer_clock, reader_clock);
   }
 
   // Items the reader can take now (written before this delta, not yet read).
@@ -379,7 +257,7 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
     const SuperdenseTime k = kernel_stamp();
     size_t n = 0;
     for (uint64_t i = m_total_read; i < m_total_written; ++i, ++n) {
-      if (k < m_readable_from[i % m_buf.size()]) break;
+      if (k < m_sync.readable_from[i % m_buf.size()]) break;
     }
     return n;
   }
@@ -389,7 +267,7 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
     const SuperdenseTime k = kernel_stamp();
     size_t n = 0;
     for (uint64_t i = m_total_written; i < m_total_read + m_buf.size(); ++i, ++n) {
-      if (k < m_free_from[i % m_buf.size()]) break;
+      if (k < m_sync.free_from[i % m_buf.size()]) break;
     }
     return n;
   }
@@ -412,25 +290,6 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
     return m_data_read_event;
   }
 
-  // From now on, every blocking read() and write() first waits, with
-  // `probability`, a uniformly drawn 1..max_cycles cycles. Readers and writers
-  // draw from separate streams derived from `seed`, so a run is reproducible.
-  // Used to prove that results do not depend on timing (as MatchLib does).
-  void inject_random_stalls(uint64_t seed, double probability, unsigned max_cycles,
-                            sc_core::sc_time cycle) override {
-    if (!(probability >= 0.0 && probability <= 1.0) || max_cycles == 0 ||
-        cycle == sc_core::SC_ZERO_TIME) {
-      throw std::invalid_argument(std::string("Fifo ") + name() +
-                                  ": inject_random_stalls needs probability in [0, 1], "
-                                  "max_cycles >= 1 and a non-zero cycle");
-    }
-    m_stall_probability = probability;
-    m_stall_max_cycles = max_cycles;
-    m_stall_cycle = cycle;
-    m_write_rng.state = seed;
-    m_read_rng.state = seed ^ 0xD1B54A32D192ED03ull;
-  }
-
   size_t capacity() const override { return m_buf.size(); }
   // As depth() - num_free(): a slot read in this delta is free only from the next.
   size_t occupancy() const override { return m_committed + m_num_written; }
@@ -442,42 +301,7 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
     // once the simulation has stopped; mid-run, decoupled sides may have
     // logged operations beyond now (their figures are then approximate).
     if (m_stamped) const_cast<Fifo*>(this)->settle_for_stats();
-    const uint64_t now = std::max(
-        {this->now(), m_occupancy.since, m_blocked_writers.since, m_blocked_readers.since});
-    const uint64_t dt = now - m_occupancy.since;
-    FifoStats s;
-    s.written = m_total_written;
-    s.read = m_total_read;
-    s.max_occupancy = m_max_occupancy;
-    s.mean_occupancy =
-        now == 0 ? 0.0 : static_cast<double>(m_occupancy.area_at(now)) / static_cast<double>(now);
-    s.full = sc_core::sc_time::from_value(m_full + (m_committed == depth() ? dt : 0));
-    s.empty = sc_core::sc_time::from_value(m_empty + (m_committed == 0 ? dt : 0));
-    s.writer_blocked = sc_core::sc_time::from_value(m_blocked_writers.area_at(now));
-    s.reader_blocked = sc_core::sc_time::from_value(m_blocked_readers.area_at(now));
-    s.injected_stalls = m_injected_stalls;
-    s.injected_stall = m_injected_stall;
-    s.observed = time_stamp();
-    return s;
-  }
-
-  nlohmann::json stats_json(sc_core::sc_time cycle) const override {
-    const FifoStats s = stats();
-    const auto cycles = [&](sc_core::sc_time t) { return t / cycle; };
-    return {
-        {"depth", depth()},
-        {"written", s.written},
-        {"read", s.read},
-        {"max_occupancy", s.max_occupancy},
-        {"mean_occupancy", s.mean_occupancy},
-        {"full_cycles", cycles(s.full)},
-        {"empty_cycles", cycles(s.empty)},
-        {"writer_blocked_cycles", cycles(s.writer_blocked)},
-        {"reader_blocked_cycles", cycles(s.reader_blocked)},
-        {"injected_stalls", s.injected_stalls},
-        {"injected_stall_cycles", cycles(s.injected_stall)},
-        {"observed_cycles", cycles(s.observed)},
-    };
+    return m_statistics.snapshot(m_total_written, m_total_read, time_stamp());
   }
 
  private:
@@ -490,51 +314,6 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
 
   // ---- Stamped mode (see the top of the file) ----
 
-  // Operations logged in order of their stamps, not yet integrated into the
-  // statistics. Neither side's log outgrows depth + 1 entries between two
-  // settlements (an operation is settled once both sides have passed it),
-  // but the ring grows if it must.
-  class StampLog {
-   public:
-    void reset(size_t depth) {
-      size_t n = 4;
-      while (n < 2 * depth + 4) n *= 2;
-      m_ring.assign(n, SuperdenseTime{});
-      m_mask = n - 1;
-      m_head = m_tail = 0;
-    }
-    size_t size() const { return m_tail - m_head; }
-    // The oldest entry if it precedes `limit`, else null.
-    const SuperdenseTime* oldest_before(const SuperdenseTime& limit) const {
-      if (m_head == m_tail) return nullptr;
-      const SuperdenseTime& s = m_ring[m_head & m_mask];
-      return s < limit ? &s : nullptr;
-    }
-    // Removes the oldest entries while they are at `at`; how many.
-    size_t take(const SuperdenseTime& at) {
-      size_t n = 0;
-      for (; m_head != m_tail && m_ring[m_head & m_mask] == at; ++m_head) ++n;
-      return n;
-    }
-    void push(const SuperdenseTime& s) {
-      if (m_tail - m_head == m_ring.size()) grow();
-      m_ring[m_tail++ & m_mask] = s;
-    }
-
-   private:
-    void grow() {
-      std::vector<SuperdenseTime> bigger(2 * m_ring.size());
-      for (uint64_t i = m_head; i != m_tail; ++i) bigger[i - m_head] = m_ring[i & m_mask];
-      m_tail -= m_head;
-      m_head = 0;
-      m_ring.swap(bigger);
-      m_mask = m_ring.size() - 1;
-    }
-    std::vector<SuperdenseTime> m_ring;
-    uint64_t m_mask = 0;  // ring size - 1 (a power of two)
-    uint64_t m_head = 0, m_tail = 0;
-  };
-
   void require_stamped() const {
     if (!m_stamped) {
       throw std::logic_error(std::string(name()) +
@@ -545,31 +324,17 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
   // Random stall injection at a stamp: the same draws as maybe_stall(), the
   // delay added to the operation's time (a process in the kernel's time
   // waits it, as maybe_stall() does).
-  SuperdenseTime stall_at(fifo_detail::SplitMix64& rng, const SuperdenseTime& call, bool kernel) {
-    if (m_stall_probability <= 0.0 || rng.uniform() >= m_stall_probability) return call;
-    const uint64_t n = 1 + rng.next() % m_stall_max_cycles;
-    const sc_core::sc_time t = sc_core::sc_time::from_value(m_stall_cycle.value() * n);
-    ++m_injected_stalls;
-    m_injected_stall += t;
+  SuperdenseTime stall_at(RandomStalls::Side side, const SuperdenseTime& call, bool kernel) {
+    const sc_core::sc_time t = m_stalls.draw(side);
+    if (t == sc_core::SC_ZERO_TIME) return call;
+    m_statistics.stalled(t);
     const SuperdenseTime stalled{call.t + t.value(), 0};
     if (kernel) {
       wait_until(stalled);
     } else {
-      keep_stall_end(stalled.t);
+      m_sync.keep_stall_end(stalled.t, now());
     }
     return stalled;
-  }
-
-  // A decoupled side does not wait its stall in the kernel, but the
-  // kernel-timed model does, and the kernel's last time is the "now" every
-  // statistic is observed up to: a stall drawn before a read that never
-  // comes (the ROP's after its end of frame) ends the simulation. An event
-  // at the latest stall end keeps that time.
-  void keep_stall_end(uint64_t t) {
-    if (t <= m_stall_end) return;
-    m_stall_end = t;
-    m_stall_end_event.cancel();  // an earlier pending time would keep this one out
-    m_stall_end_event.notify(sc_core::sc_time::from_value(t - now()));
   }
 
   // A process in the kernel's time: until the kernel reaches `s`. Reaching
@@ -581,28 +346,12 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
 
   [[noreturn]] void late(const char* what) const { report_behind_kernel(name(), what); }
 
-  // Wakes the other side sleeping on `event`: a decoupled stage at once, in
-  // this evaluation phase (it computes its own time, which is then at or
-  // after the kernel's), a process in the kernel's time at the time of the
-  // operation it waits to make, `at`.
-  void wake(sc_core::sc_event& event, const SuperdenseTime* sleeper_clock,
-            const SuperdenseTime& at) {
-    const uint64_t t = now();
-    if (sleeper_clock != nullptr) {
-      event.notify();  // runs in this evaluation phase: no delta cycle
-    } else if (at.t <= t) {
-      event.notify(sc_core::SC_ZERO_TIME);
-    } else {
-      event.notify(sc_core::sc_time::from_value(at.t - t));
-    }
-  }
-
   // The time at or after `call` at which one side's next operation can be
   // made: sleeps while `waits` (the other side has not made the operation it
   // depends on), then takes `from`, that operation's delta after (a slot's
   // entry, read once the wait is over). A process in the kernel's time
   // (`kernel`) waits until then.
-  SuperdenseTime stamped_wait(fifo_detail::Integral& blocked, bool& asleep, sc_core::sc_event& wake,
+  SuperdenseTime stamped_wait(TimeIntegral& blocked, bool& asleep, sc_core::sc_event& wake,
                               bool (Fifo::*waits)() const, const SuperdenseTime& from,
                               const SuperdenseTime& call, bool kernel) {
     blocked.set(1, call.t);
@@ -621,15 +370,15 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
 
   // The next write: after the read that emptied its slot.
   SuperdenseTime stamped_write_wait(const SuperdenseTime& call, bool kernel) {
-    return stamped_wait(m_blocked_writers, m_writer_asleep, m_writer_wake, &Fifo::no_slot_read,
-                        m_free_from[m_tail], call, kernel);
+    return stamped_wait(m_statistics.blocked_writers(), m_sync.writer_asleep, m_sync.writer_wake,
+                        &Fifo::no_slot_read, m_sync.free_from[m_tail], call, kernel);
   }
 
   // The next read: after the oldest item's write and its ready time (the
   // reader sleeps too while withheld).
   SuperdenseTime stamped_read_wait(const SuperdenseTime& call, bool kernel) {
-    return stamped_wait(m_blocked_readers, m_reader_asleep, m_reader_wake, &Fifo::no_item_written,
-                        m_readable_from[m_head], call, kernel);
+    return stamped_wait(m_statistics.blocked_readers(), m_sync.reader_asleep, m_sync.reader_wake,
+                        &Fifo::no_item_written, m_sync.readable_from[m_head], call, kernel);
   }
 
   // A stamped write made at `call` (a side in the kernel's time waits until
@@ -638,7 +387,8 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
   template <typename P>
   SuperdenseTime stamped_write(P&& item, uint64_t ready_at, const SuperdenseTime& call,
                                bool kernel) {
-    const SuperdenseTime s = stamped_write_wait(stall_at(m_write_rng, call, kernel), kernel);
+    const SuperdenseTime s =
+        stamped_write_wait(stall_at(RandomStalls::Side::writer, call, kernel), kernel);
     if constexpr (std::is_rvalue_reference_v<P&&>) {
       using std::swap;
       swap(m_buf[m_tail], item);
@@ -652,14 +402,15 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
   // A stamped read made at `call`: into `item` (swapped with the slot), or
   // returned with its time in `at`.
   SuperdenseTime stamped_read(T& item, const SuperdenseTime& call, bool kernel) {
-    const SuperdenseTime s = stamped_read_wait(stall_at(m_read_rng, call, kernel), kernel);
+    const SuperdenseTime s =
+        stamped_read_wait(stall_at(RandomStalls::Side::reader, call, kernel), kernel);
     using std::swap;
     swap(m_buf[m_head], item);
     stamped_pop(s);
     return s;
   }
   T stamped_read(const SuperdenseTime& call, bool kernel, SuperdenseTime& at) {
-    at = stamped_read_wait(stall_at(m_read_rng, call, kernel), kernel);
+    at = stamped_read_wait(stall_at(RandomStalls::Side::reader, call, kernel), kernel);
     T item = std::move(m_buf[m_head]);
     stamped_pop(at);
     return item;
@@ -667,64 +418,43 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
 
   // The item is in m_buf[m_tail], written at `s`, ready at `ready`.
   void stamped_push(const SuperdenseTime& s, uint64_t ready) {
-    m_readable_from[m_tail] = later(s.next_delta(), SuperdenseTime{ready, 0});
+    m_sync.readable_from[m_tail] = later(s.next_delta(), SuperdenseTime{ready, 0});
     m_tail = m_tail + 1 == m_buf.size() ? 0 : m_tail + 1;
     ++m_total_written;
-    m_write_log.push(s);
-    if (m_reader_asleep) wake(m_reader_wake, m_reader_clock, m_readable_from[m_head]);
+    m_sync.write_log.push(s);
+    if (m_sync.reader_asleep) {
+      FifoStampedSync::wake(m_sync.reader_wake, m_sync.reader_clock, m_sync.readable_from[m_head],
+                            now());
+    }
     if (m_events_handed_out || m_watchers > 0) m_data_written_event.notify(sc_core::SC_ZERO_TIME);
     settle_if_long();
   }
 
   // The item has been taken from m_buf[m_head] at `s`.
   void stamped_pop(const SuperdenseTime& s) {
-    m_free_from[m_head] = s.next_delta();
+    m_sync.free_from[m_head] = s.next_delta();
     const size_t freed = m_head;
     m_head = m_head + 1 == m_buf.size() ? 0 : m_head + 1;
     ++m_total_read;
-    m_read_log.push(s);
-    if (m_writer_asleep) wake(m_writer_wake, m_writer_clock, m_free_from[freed]);
+    m_sync.read_log.push(s);
+    if (m_sync.writer_asleep) {
+      FifoStampedSync::wake(m_sync.writer_wake, m_sync.writer_clock, m_sync.free_from[freed],
+                            now());
+    }
     if (m_events_handed_out || m_watchers > 0) m_data_read_event.notify(sc_core::SC_ZERO_TIME);
     settle_if_long();
   }
 
-  // Settling costs a comparison per logged operation, so it waits until a
-  // log holds more than the FIFO's depth (stats() settles what is left).
   void settle_if_long() {
-    if (m_write_log.size() > m_buf.size() || m_read_log.size() > m_buf.size()) settle(horizon());
+    if (m_sync.logs_long(m_buf.size())) settle(m_sync.horizon(kernel_stamp()));
   }
-
-  // No operation earlier than this can still be logged: a decoupled side's
-  // later operations are at or after its clock, the kernel's at or after now.
-  SuperdenseTime horizon() const {
-    const SuperdenseTime k = kernel_stamp();
-    const SuperdenseTime& w = m_writer_clock ? *m_writer_clock : k;
-    const SuperdenseTime& r = m_reader_clock ? *m_reader_clock : k;
-    return r < w ? r : w;
-  }
-
-  // Integrates the logged operations before `limit`, a delta at a time, as
-  // update() does for the kernel-timed FIFO.
   void settle(const SuperdenseTime& limit) {
-    for (;;) {
-      const SuperdenseTime* w = m_write_log.oldest_before(limit);
-      const SuperdenseTime* r = m_read_log.oldest_before(limit);
-      if (!w && !r) return;
-      const SuperdenseTime at = !r || (w && *w < *r) ? *w : *r;
-      if (at.t < m_occupancy.since) late("a logged operation");
-      const size_t written = m_write_log.take(at), read = m_read_log.take(at);
-      const uint64_t dt = at.t - m_occupancy.since;
-      if (m_committed == m_buf.size()) m_full += dt;
-      if (m_committed == 0) m_empty += dt;
-      m_committed = m_committed - read + written;
-      m_occupancy.set(m_committed, at.t);
-      m_max_occupancy = std::max(m_max_occupancy, m_committed);
-    }
+    m_sync.settle(limit, m_statistics, m_committed, name());
   }
 
   void settle_for_stats() {
     if (sc_core::sc_get_status() == sc_core::SC_RUNNING) {
-      settle(horizon());
+      settle(m_sync.horizon(kernel_stamp()));
     } else {
       settle(SuperdenseTime{now(), ~uint64_t{0}});
     }
@@ -734,13 +464,13 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
   // item's ready time (`ready_at`, later by the wait).
   sc_core::sc_time wait_for_slot(const sc_core::sc_time& ready_at) {
     const sc_core::sc_time called = time_stamp();
-    maybe_stall(m_write_rng);
+    maybe_stall(RandomStalls::Side::writer);
     if (num_free() == 0) {
-      begin_blocked(m_blocked_writers, true);
+      begin_blocked(m_statistics.blocked_writers(), true);
       do {
         sc_core::wait(m_data_read_event);
       } while (num_free() == 0);
-      end_blocked(m_blocked_writers, true);
+      end_blocked(m_statistics.blocked_writers(), true);
     }
     // The latency runs from when the item enters the FIFO: a result waiting
     // for a free slot has not started down the output's register chain.
@@ -757,24 +487,24 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
   // latency, so that the probe sees the item arrive (the two intervals
   // integrate to the same starve time).
   void wait_for_item() {
-    maybe_stall(m_read_rng);
+    maybe_stall(RandomStalls::Side::reader);
     if (size() == 0) {
-      begin_blocked(m_blocked_readers, false);
+      begin_blocked(m_statistics.blocked_readers(), false);
       const bool traced = kTraceHooks && m_probe != nullptr;
       m_reader_asleep = !traced;
       do {
         sc_core::wait(traced ? m_data_written_event : m_item_ready_event);
       } while (size() == 0);
       m_reader_asleep = false;
-      end_blocked(m_blocked_readers, false);
+      end_blocked(m_statistics.blocked_readers(), false);
     }
     // An item still in the writer's pipeline: waiting for it is starving too.
     const sc_core::sc_time& ready = m_ready[m_head];
     const sc_core::sc_time& now = time_stamp();
     if (ready > now) {
-      begin_blocked(m_blocked_readers, false);
+      begin_blocked(m_statistics.blocked_readers(), false);
       sc_core::wait(ready - now);
-      end_blocked(m_blocked_readers, false);
+      end_blocked(m_statistics.blocked_readers(), false);
     }
   }
 
@@ -808,12 +538,8 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
   // kernel triggers the other delta events in the same order.
   void update() override {
     const uint64_t now = this->now();
-    const uint64_t dt = now - m_occupancy.since;
-    if (m_committed == m_buf.size()) m_full += dt;
-    if (m_committed == 0) m_empty += dt;
     m_committed = m_committed - m_num_read + m_num_written;
-    m_occupancy.set(m_committed, now);
-    m_max_occupancy = std::max(m_max_occupancy, m_committed);
+    m_statistics.held(m_committed, now);
     if constexpr (kTraceHooks) {
       if (m_probe) m_probe->occupancy(m_committed, now);
     }
@@ -824,33 +550,32 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
       m_item_ready_event.notify(ready > now_t ? ready - now_t : sc_core::SC_ZERO_TIME);
     }
     const bool observed = m_events_handed_out || m_watchers > 0;
-    if (m_num_written && ((m_blocked_readers.level > 0 && !m_reader_asleep) || observed))
+    if (m_num_written &&
+        ((m_statistics.blocked_readers().level > 0 && !m_reader_asleep) || observed))
       m_data_written_event.notify(sc_core::SC_ZERO_TIME);
-    if (m_num_read && (m_blocked_writers.level > 0 || observed))
+    if (m_num_read && (m_statistics.blocked_writers().level > 0 || observed))
       m_data_read_event.notify(sc_core::SC_ZERO_TIME);
     m_num_written = 0;
     m_num_read = 0;
   }
 
-  void begin_blocked(fifo_detail::Integral& blocked, bool writer_side) {
+  void begin_blocked(TimeIntegral& blocked, bool writer_side) {
     blocked.set(blocked.level + 1, now());
     if constexpr (kTraceHooks) {
       if (m_probe) m_probe->blocked(writer_side, true, now());
     }
   }
-  void end_blocked(fifo_detail::Integral& blocked, bool writer_side) {
+  void end_blocked(TimeIntegral& blocked, bool writer_side) {
     blocked.set(blocked.level - 1, now());
     if constexpr (kTraceHooks) {
       if (m_probe) m_probe->blocked(writer_side, false, now());
     }
   }
 
-  void maybe_stall(fifo_detail::SplitMix64& rng) {
-    if (m_stall_probability <= 0.0 || rng.uniform() >= m_stall_probability) return;
-    const uint64_t n = 1 + rng.next() % m_stall_max_cycles;
-    const sc_core::sc_time t = sc_core::sc_time::from_value(m_stall_cycle.value() * n);
-    ++m_injected_stalls;
-    m_injected_stall += t;
+  void maybe_stall(RandomStalls::Side side) {
+    const sc_core::sc_time t = m_stalls.draw(side);
+    if (t == sc_core::SC_ZERO_TIME) return;
+    m_statistics.stalled(t);
     sc_core::wait(t);
   }
 
@@ -869,33 +594,8 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
 
   uint64_t m_total_written = 0;
   uint64_t m_total_read = 0;
-  size_t m_max_occupancy = 0;
-  fifo_detail::Integral m_occupancy;
-  uint64_t m_full = 0;  // sc_time values, closed at each update()
-  uint64_t m_empty = 0;
-  fifo_detail::Integral m_blocked_writers;
-  fifo_detail::Integral m_blocked_readers;
-
-  double m_stall_probability = 0.0;
-  unsigned m_stall_max_cycles = 0;
-  sc_core::sc_time m_stall_cycle;
-  fifo_detail::SplitMix64 m_write_rng;
-  fifo_detail::SplitMix64 m_read_rng;
-  uint64_t m_injected_stalls = 0;
-  sc_core::sc_time m_injected_stall;
   FifoProbe<T>* m_probe = nullptr;  // trace hooks; unused without them
-
-  // Stamped mode: per slot, when its item may be read and when it may be
-  // written again; the decoupled sides' clocks; the sleeping sides.
-  std::vector<SuperdenseTime> m_readable_from;
-  std::vector<SuperdenseTime> m_free_from;
-  const SuperdenseTime* m_writer_clock = nullptr;
-  const SuperdenseTime* m_reader_clock = nullptr;
-  StampLog m_write_log, m_read_log;
-  sc_core::sc_event m_writer_wake, m_reader_wake;
-  bool m_writer_asleep = false;
-  uint64_t m_stall_end = 0;  // the latest stall end of a decoupled side
-  sc_core::sc_event m_stall_end_event;
+  FifoStampedSync m_sync;           // stamped mode only
 };
 
 }  // namespace gpusim

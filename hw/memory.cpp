@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <functional>
 #include <stdexcept>
 
 #include "hw/stats.h"
@@ -153,6 +154,7 @@ Memory::Memory(sc_core::sc_module_name name, uint64_t size, unsigned latency_cyc
   while ((1u << m_interleave_shift) < interleave_bytes) ++m_interleave_shift;
   socket.register_b_transport(this, &Memory::b_transport);
   socket.register_transport_dbg(this, &Memory::transport_dbg);
+  declare_stats(channels);
 }
 
 unsigned Memory::add_client(const std::string& client_name) {
@@ -163,6 +165,7 @@ unsigned Memory::add_client(const std::string& client_name) {
     }
   }
   m_clients.push_back({client_name, {}});
+  declare_client_stats(num_clients() - 1);
   return m_arbiter.add_client();
 }
 
@@ -300,90 +303,85 @@ MemoryClientStats Memory::client_stats(unsigned index) const {
   return s;
 }
 
-nlohmann::json Memory::stats_json() const {
-  const double elapsed = sc_core::sc_time_stamp() / m_cycle;
-  nlohmann::json clients = nlohmann::json::object();
-  for (unsigned i = 0; i < num_clients(); ++i) {
-    const MemoryClientStats s = client_stats(i);
-    clients[client_name(i)] = {
-        {"requests", s.requests},
-        {"reads", s.reads},
-        {"writes", s.writes},
-        {"bytes_read", s.bytes_read},
-        {"bytes_written", s.bytes_written},
-        {"busy_cycles", s.busy_cycles},
-        {"queued_cycles", s.queued / m_cycle},
-        {"queued_cycles_mean", s.requests ? s.queued / m_cycle / s.requests : 0.0},
-        {"queued_cycles_max", s.queued_max / m_cycle},
-        {"errors", s.errors},
-    };
-  }
-  nlohmann::json channels = nlohmann::json::array();
-  for (unsigned i = 0; i < num_channels(); ++i) {
-    const MemoryArbiter::ChannelStats s = channel_stats(i);
-    channels.push_back({
-        {"channel", i},
-        {"requests", s.requests},
-        {"reads", s.reads},
-        {"writes", s.writes},
-        {"bytes_read", s.bytes_read},
-        {"bytes_written", s.bytes_written},
-        {"busy_cycles", s.busy_cycles},
-        {"utilization", elapsed > 0 ? static_cast<double>(s.busy_cycles) / elapsed : 0.0},
-        {"queued_cycles", s.queued / m_cycle},
-        {"queued_cycles_mean", s.requests ? s.queued / m_cycle / s.requests : 0.0},
-        {"queued_cycles_max", s.queued_max / m_cycle},
-    });
-  }
-  const uint64_t busy = busy_cycles();
-  const double bus_cycles = elapsed * num_channels();
-  return {
-      {"size_bytes", m_data.size()},
-      {"latency", m_latency},
-      {"bytes_per_cycle", m_bytes_per_cycle},
-      {"interleave_bytes", uint64_t{1} << m_interleave_shift},
-      {"busy_cycles", busy},
-      {"utilization", bus_cycles > 0 ? static_cast<double>(busy) / bus_cycles : 0.0},
-      {"clients", clients},
-      {"channels", channels},
-  };
+namespace {
+
+// The wait figures a client and a channel both report.
+template <typename Totals>
+void declare_waits(StatGroup& g, std::function<Totals()> totals, sc_core::sc_time cycle,
+                   const char* queued_description) {
+  g.formula("queued_cycles", "cycles", queued_description,
+            [totals, cycle] { return totals().queued / cycle; });
+  g.formula("queued_cycles_mean", "cycles", "queued_cycles over requests: the mean wait",
+            [totals, cycle] {
+              const Totals s = totals();
+              return s.requests ? s.queued / cycle / s.requests : 0.0;
+            });
+  g.formula("queued_cycles_max", "cycles", "the longest wait of one request",
+            [totals, cycle] { return totals().queued_max / cycle; });
 }
 
-nlohmann::json Memory::descriptions() {
-  const auto& d = stat_description;
-  return {
-      {"size_bytes", d("bytes", "memory size")},
-      {"latency", d("cycles", "from the end of a bus transfer to its completion")},
-      {"bytes_per_cycle", d("bytes", "data bus width of one channel")},
-      {"interleave_bytes", d("bytes", "consecutive bytes on one channel before the next")},
-      {"busy_cycles", d("cycles", "cycles the buses moved data, all channels added up")},
-      {"utilization",
-       d("ratio", "busy_cycles over the cycles elapsed times the channels: the mean channel's")},
-      {"clients",
-       {{"requests", d("requests", "successful reads and writes")},
-        {"reads", d("requests", "reads")},
-        {"writes", d("requests", "writes")},
-        {"bytes_read", d("bytes", "bytes read")},
-        {"bytes_written", d("bytes", "bytes written")},
-        {"busy_cycles", d("cycles", "bus cycles its requests occupied")},
-        {"queued_cycles",
-         d("cycles", "summed waits for the bus (arrival to start of transfer) of all requests")},
-        {"queued_cycles_mean", d("cycles", "queued_cycles over requests: the mean wait")},
-        {"queued_cycles_max", d("cycles", "the longest wait of one request")},
-        {"errors", d("requests", "requests answered with an error")}}},
-      {"channels",
-       {{"channel", d("index", "the channel: addresses a with (a / interleave_bytes) % channels")},
-        {"requests", d("requests", "requests and pieces of requests it moved")},
-        {"reads", d("requests", "reads among them")},
-        {"writes", d("requests", "writes among them")},
-        {"bytes_read", d("bytes", "bytes read through it")},
-        {"bytes_written", d("bytes", "bytes written through it")},
-        {"busy_cycles", d("cycles", "cycles its bus moved data")},
-        {"utilization", d("ratio", "busy_cycles over the cycles elapsed")},
-        {"queued_cycles", d("cycles", "summed waits for its bus (arrival to start of transfer)")},
-        {"queued_cycles_mean", d("cycles", "queued_cycles over requests: the mean wait")},
-        {"queued_cycles_max", d("cycles", "the longest wait of one request")}}},
-  };
+}  // namespace
+
+void Memory::declare_stats(unsigned channels) {
+  StatGroup& g = m_stats;
+  g.gauge("size_bytes", "bytes", "memory size", [this] { return size(); });
+  g.gauge("latency", "cycles", "from the end of a bus transfer to its completion",
+          [this] { return m_latency; });
+  g.gauge("bytes_per_cycle", "bytes", "data bus width of one channel",
+          [this] { return m_bytes_per_cycle; });
+  g.gauge("interleave_bytes", "bytes", "consecutive bytes on one channel before the next",
+          [this] { return uint64_t{1} << m_interleave_shift; });
+  g.gauge("busy_cycles", "cycles", "cycles the buses moved data, all channels added up",
+          [this] { return busy_cycles(); });
+  g.formula("utilization", "ratio",
+            "busy_cycles over the cycles elapsed times the channels: the mean channel's", [this] {
+              const double bus_cycles = sc_core::sc_time_stamp() / m_cycle * num_channels();
+              return bus_cycles > 0 ? static_cast<double>(busy_cycles()) / bus_cycles : 0.0;
+            });
+  m_client_stats = &g.collection("clients", StatGroup::Layout::object, StatGroup::Describe::merged);
+
+  StatCollection& list =
+      g.collection("channels", StatGroup::Layout::array, StatGroup::Describe::merged);
+  for (unsigned i = 0; i < channels; ++i) {
+    StatGroup& c = list.make("channel" + std::to_string(i));
+    const std::function<MemoryArbiter::ChannelStats()> totals = [this, i] {
+      return channel_stats(i);
+    };
+    c.gauge("channel", "index", "the channel: addresses a with (a / interleave_bytes) % channels",
+            [i] { return i; });
+    c.gauge("requests", "requests", "requests and pieces of requests it moved",
+            [totals] { return totals().requests; });
+    c.gauge("reads", "requests", "reads among them", [totals] { return totals().reads; });
+    c.gauge("writes", "requests", "writes among them", [totals] { return totals().writes; });
+    c.gauge("bytes_read", "bytes", "bytes read through it",
+            [totals] { return totals().bytes_read; });
+    c.gauge("bytes_written", "bytes", "bytes written through it",
+            [totals] { return totals().bytes_written; });
+    c.gauge("busy_cycles", "cycles", "cycles its bus moved data",
+            [totals] { return totals().busy_cycles; });
+    c.formula("utilization", "ratio", "busy_cycles over the cycles elapsed", [this, totals] {
+      const double elapsed = sc_core::sc_time_stamp() / m_cycle;
+      return elapsed > 0 ? static_cast<double>(totals().busy_cycles) / elapsed : 0.0;
+    });
+    declare_waits(c, totals, m_cycle, "summed waits for its bus (arrival to start of transfer)");
+  }
+}
+
+void Memory::declare_client_stats(unsigned index) {
+  StatGroup& c = m_client_stats->make(m_clients[index].name);
+  const std::function<MemoryClientStats()> totals = [this, index] { return client_stats(index); };
+  c.gauge("requests", "requests", "successful reads and writes",
+          [totals] { return totals().requests; });
+  c.gauge("reads", "requests", "reads", [totals] { return totals().reads; });
+  c.gauge("writes", "requests", "writes", [totals] { return totals().writes; });
+  c.gauge("bytes_read", "bytes", "bytes read", [totals] { return totals().bytes_read; });
+  c.gauge("bytes_written", "bytes", "bytes written", [totals] { return totals().bytes_written; });
+  c.gauge("busy_cycles", "cycles", "bus cycles its requests occupied",
+          [totals] { return totals().busy_cycles; });
+  declare_waits(c, totals, m_cycle,
+                "summed waits for the bus (arrival to start of transfer) of all requests");
+  c.gauge("errors", "requests", "requests answered with an error",
+          [totals] { return totals().errors; });
 }
 
 // --- MemoryPort ----------------------------------------------------------------

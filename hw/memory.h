@@ -79,6 +79,7 @@
 #include <tlm>
 #include <vector>
 
+#include "hw/stats.h"
 #include "hw/superdense_time.h"
 
 namespace gpusim {
@@ -264,18 +265,17 @@ class Memory : public sc_core::sc_module {
   // Every transfer from now on goes to `probe` too (nullptr: none).
   void set_probe(MemoryProbe* probe) { m_arbiter.set_probe(probe); }
 
-  // {"size_bytes", "latency", "bytes_per_cycle", "busy_cycles", "utilization",
-  //  "clients": {name: {requests, reads, writes, bytes_read, bytes_written,
-  //  busy_cycles, queued_cycles, queued_cycles_mean, queued_cycles_max,
-  //  errors}}, "channels": [{channel, requests, reads, writes, bytes_read,
-  //  bytes_written, busy_cycles, utilization, queued_cycles,
-  //  queued_cycles_mean, queued_cycles_max}]}; utilization is busy cycles
-  // over the cycles elapsed so far (the top-level one over the cycles of all
-  // channels); queued_cycles_mean is queued_cycles over requests (0 without
-  // requests). A client's requests count its issues, a channel's the pieces.
-  nlohmann::json stats_json() const;
-  // What each stats_json() field means: {name: {"unit", "description"}}.
-  static nlohmann::json descriptions();
+  // Its figures as the stat group "memory": its size, latency, bus width,
+  // interleave, busy cycles and utilization (busy cycles over the cycles of
+  // all channels so far: the mean channel's), "clients" {name: requests,
+  // reads, writes, bytes_read, bytes_written, busy_cycles, queued_cycles,
+  // queued_cycles_mean, queued_cycles_max, errors} and "channels"
+  // [{channel, requests, reads, writes, bytes_read, bytes_written,
+  // busy_cycles, utilization, queued_cycles, queued_cycles_mean,
+  // queued_cycles_max}]. queued_cycles_mean is queued_cycles over requests
+  // (0 without requests); a client's requests count its issues, a channel's
+  // the pieces.
+  const StatGroup& stat_group() const { return m_stats; }
 
  private:
   struct Client {
@@ -283,6 +283,8 @@ class Memory : public sc_core::sc_module {
     MemoryClientStats stats;  // the functional counts; timing is the arbiter's
   };
 
+  void declare_stats(unsigned channels);
+  void declare_client_stats(unsigned index);
   void end_of_elaboration() override;
   void b_transport(int id, tlm::tlm_generic_payload& trans, sc_core::sc_time& delay);
   unsigned int transport_dbg(int id, tlm::tlm_generic_payload& trans);
@@ -299,6 +301,8 @@ class Memory : public sc_core::sc_module {
   // Per socket initiator (multi-socket index): its client number.
   std::vector<int> m_socket_client;
   MemoryArbiter m_arbiter;
+  StatGroup m_stats{"memory"};
+  StatCollection* m_client_stats = nullptr;  // in m_stats
 };
 
 // A stage's connection to the memory. Construct it inside the owning module

@@ -95,7 +95,7 @@ class PipelineStage : public sc_core::sc_module {
         m_latency(clock_cycles(m_cost.latency)),
         m_unit(unit),
         m_spec(spec),
-        m_stats(basename()),
+        m_stats(basename(), spec.kind),
         m_busy_cycles(m_stats.counter("busy_cycles", "cycles", "cycles spent working")),
         m_tokens_in(m_stats.counter("tokens_in", "tokens", spec.tokens_in)),
         m_tokens_out(m_stats.counter("tokens_out", "tokens", spec.tokens_out)) {}

@@ -1,5 +1,6 @@
 #include "stages/gpu.h"
 
+#include <functional>
 #include <string>
 
 namespace gpusim {
@@ -76,6 +77,7 @@ Gpu::Gpu(sc_core::sc_module_name name, const GpuConfig& config, const FrameState
     m_done_events |= m_resolve->frame_done_event();
   }
   t.finish();
+  declare_stats();
 }
 
 bool Gpu::frame_done() const {
@@ -133,41 +135,60 @@ Gpu::FragmentCounts Gpu::fragment_counts() const {
   return n;
 }
 
-nlohmann::json Gpu::stats_json(uint64_t cycles) const {
-  nlohmann::json j = m_topology.stats_json();
+void Gpu::declare_stats() {
+  StatGroup& g = m_stats;
+  g.gauge("cycles", "cycles", "the frame's length", [this] { return m_frame_cycles; });
+  g.formula("simulated_seconds", "seconds", "cycles at the configured clock",
+            [this] { return static_cast<double>(m_frame_cycles) / (m_config.clock_mhz * 1e6); });
 
-  nlohmann::json units = nlohmann::json::array();
-  uint64_t fragments = 0;
-  for (unsigned i = 0; i < m_units.size(); ++i) {
-    const TileRasterizer& r = *m_units[i].rasterizer;
-    units.push_back({{"unit", i},
-                     {"tiles", r.tiles_visited()},
-                     {"stamps", r.stamps_emitted()},
-                     {"fragments", r.fragments()}});
-    fragments += r.fragments();
-  }
-
-  const double c = cycles ? static_cast<double>(cycles) : 1.0;
-  const double stamp_pixels = static_cast<double>(m_config.stamp[0]) * m_config.stamp[1];
-  const nlohmann::json rates = {
-      {"setup_triangles_per_clock", static_cast<double>(m_setup.tokens_in()) / c},
-      {"setup_triangles_per_clock_peak", 1.0 / m_setup.cost().ii},
-      {"raster_pixels_per_clock", static_cast<double>(fragments) / c},
-      {"raster_pixels_per_clock_peak",
-       m_config.units * stamp_pixels / m_units.front().rasterizer->cost().ii},
+  // Achieved over the frame (a frame of 0 cycles counts as 1) and the peak.
+  const auto per_clock = [this](std::function<uint64_t()> count) {
+    return [this, count] {
+      return static_cast<double>(count()) / (m_frame_cycles ? m_frame_cycles : 1.0);
+    };
   };
+  StatGroup& rates = g.group("rates");
+  rates.formula("setup_triangles_per_clock", "primitives/cycle",
+                "primitives set up per cycle over the frame",
+                per_clock([this] { return m_setup.tokens_in(); }));
+  rates.formula("setup_triangles_per_clock_peak", "primitives/cycle", "1 / the setup's ii",
+                [this] { return 1.0 / m_setup.cost().ii; });
+  rates.formula("raster_pixels_per_clock", "fragments/cycle",
+                "fragments rasterized per cycle over the frame, all units", per_clock([this] {
+                  uint64_t n = 0;
+                  for (const Unit& u : m_units) n += u.rasterizer->fragments();
+                  return n;
+                }));
+  rates.formula("raster_pixels_per_clock_peak", "fragments/cycle",
+                "units x stamp pixels / the rasterizer's ii", [this] {
+                  const double stamp_pixels =
+                      static_cast<double>(m_config.stamp[0]) * m_config.stamp[1];
+                  return m_config.units * stamp_pixels / m_units.front().rasterizer->cost().ii;
+                });
 
-  nlohmann::json descriptions = m_topology.descriptions();
-  descriptions["memory"] = Memory::descriptions();
-  return {{"cycles", cycles},
-          {"simulated_seconds", static_cast<double>(cycles) / (m_config.clock_mhz * 1e6)},
-          {"rates", rates},
-          {"stages", j["stages"]},
-          {"fifos", j["fifos"]},
-          {"units", units},
-          {"netlist", nlohmann::json::parse(to_json(m_topology.trace_tables()).dump())},
-          {"memory", m_memory.stats_json()},
-          {"descriptions", descriptions}};
+  m_topology.add_stats(g);
+
+  StatCollection& units =
+      g.collection("units", StatGroup::Layout::array, StatGroup::Describe::merged);
+  for (unsigned i = 0; i < m_units.size(); ++i) {
+    StatGroup& u = units.make("unit" + std::to_string(i));
+    const TileRasterizer& r = *m_units[i].rasterizer;
+    u.gauge("unit", "index", "the raster unit", [i] { return i; });
+    u.gauge("tiles", "tiles", "tiles its rasterizer visited", [&r] { return r.tiles_visited(); });
+    u.gauge("stamps", "stamps", "stamps its rasterizer emitted",
+            [&r] { return r.stamps_emitted(); });
+    u.gauge("fragments", "fragments", "fragments its rasterizer generated",
+            [&r] { return r.fragments(); });
+  }
+  g.attach(m_memory.stat_group());
+}
+
+nlohmann::json Gpu::stats_json(uint64_t cycles) {
+  m_frame_cycles = cycles;
+  nlohmann::json j = m_stats.to_json();
+  j["netlist"] = nlohmann::json::parse(to_json(m_topology.trace_tables()).dump());
+  j["descriptions"] = m_stats.descriptions();
+  return j;
 }
 
 }  // namespace gpusim

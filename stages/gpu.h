@@ -83,15 +83,19 @@ class Gpu : public sc_core::sc_module {
   };
   FragmentCounts fragment_counts() const;
 
-  // Everything stats.json reports about the run: per stage busy / stalled /
+  // Everything stats.json reports about the run: the GPU's stat group (the
+  // frame's length, achieved against peak rates, per stage busy / stalled /
   // starved cycles and its own counters, per FIFO occupancy, per unit work,
-  // memory traffic, achieved against peak rates, and what every counter
-  // means. `cycles` is the frame's length.
-  nlohmann::json stats_json(uint64_t cycles) const;
+  // memory traffic), the netlist's tables, and what every statistic means
+  // ("descriptions"). `cycles` is the frame's length.
+  nlohmann::json stats_json(uint64_t cycles);
+  const StatGroup& stat_group() const { return m_stats; }
   // Pipeline counters comparable with the golden model's statistics.
   PipelineCounts pipeline_counts() const;
 
  private:
+  void declare_stats();
+
   struct Unit {
     std::unique_ptr<TileRasterizer> rasterizer;
     std::unique_ptr<DepthTest> depth;
@@ -114,6 +118,8 @@ class Gpu : public sc_core::sc_module {
   std::unique_ptr<Resolve> m_resolve;  // only when the frame needs one
   Fifo<Command>* m_commands = nullptr;
   sc_core::sc_event_or_list m_done_events;
+  uint64_t m_frame_cycles = 0;  // stats_json()'s
+  StatGroup m_stats{"timing"};
 };
 
 }  // namespace gpusim

@@ -140,6 +140,7 @@ void Topology::finish() {
   // Stalled: blocked writing a full output; starved: blocked reading an
   // empty (or not yet ready) input. The FIFOs measure both.
   const sc_core::sc_time cycle = m_config.cycle();
+  for (FifoNode& f : m_fifos) f.channel->set_cycle(cycle);
   for (StageNode& s : m_stages) {
     std::vector<const FifoChannel*> outputs, inputs;
     for (size_t f : s.outputs) outputs.push_back(m_fifos[f].channel);
@@ -254,25 +255,13 @@ uint64_t Topology::items_moved() const {
   return n;
 }
 
-nlohmann::json Topology::stats_json() const {
-  const sc_core::sc_time cycle = m_config.cycle();
-  nlohmann::json stages = nlohmann::json::object();
-  for (const StageNode& s : m_stages) stages[s.stage->basename()] = s.stage->stats().to_json();
-  nlohmann::json fifos = nlohmann::json::object();
-  for (const FifoNode& f : m_fifos) fifos[f.name] = f.channel->stats_json(cycle);
-  return {{"stages", stages}, {"fifos", fifos}};
-}
-
-nlohmann::json Topology::descriptions() const {
-  nlohmann::json stages = nlohmann::json::object();
-  for (const StageNode& s : m_stages) {
-    nlohmann::json& d = stages[s.stage->stage_kind()];
-    // A unit's stages of one kind declare the same counters, but the
-    // distributor declares one per unit: merge them all.
-    const nlohmann::json own = s.stage->stats().descriptions();
-    for (const auto& item : own.items()) d[item.key()] = item.value();
-  }
-  return {{"stages", stages}, {"fifos", FifoChannel::descriptions()}};
+void Topology::add_stats(StatGroup& root) const {
+  StatCollection& stages =
+      root.collection("stages", StatGroup::Layout::object, StatGroup::Describe::by_kind);
+  for (const StageNode& s : m_stages) stages.add(s.stage->stats());
+  StatCollection& fifos =
+      root.collection("fifos", StatGroup::Layout::object, StatGroup::Describe::merged);
+  for (const FifoNode& f : m_fifos) fifos.add(f.channel->stat_group());
 }
 
 }  // namespace gpusim

@@ -1,7 +1,7 @@
 // The GPU's netlist as data: every stage and every FIFO is registered once,
 // by Topology::connect(), with its kind, its unit and its endpoints. Whatever
 // needs the pipeline's shape walks this instead of a list of its own:
-// stats.json (stats_json), trace tables and probes (trace_tables,
+// stats.json (add_stats), trace tables and probes (trace_tables,
 // attach_trace), the testbench's random stalls and fault injection (fifos(),
 // find_fifo), the watchdog and its hang report, the progress count, and the
 // conservation rules that follow from producer -> FIFO -> consumer edges
@@ -162,11 +162,10 @@ class Topology {
   // Items written and read so far over every FIFO.
   uint64_t items_moved() const;
 
-  // {"stages": {name: counters}, "fifos": {name: figures}}, times in cycles.
-  nlohmann::json stats_json() const;
-  // What every counter means: {"stages": {kind: {counter: {unit,
-  // description}}}, "fifos": {field: {unit, description}}}.
-  nlohmann::json descriptions() const;
+  // Adds the collections "stages" (each stage's group by its name,
+  // described by kind) and "fifos" (each FIFO's group, times in cycles) to
+  // `root`, in pipeline order. After finish().
+  void add_stats(StatGroup& root) const;
 
  private:
   template <typename T>

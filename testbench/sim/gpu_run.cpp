@@ -132,7 +132,9 @@ void inject_faults(const Topology& netlist, const GpuRunOptions& options, const 
     fifo(options.fault_disconnected_fifo)->withhold_from_reader();
   }
   if (!options.fault_stalled_fifo.empty()) {
-    fifo(options.fault_stalled_fifo)->inject_random_stalls(0x5EED, 1.0, UINT_MAX, config.cycle());
+    fifo(options.fault_stalled_fifo)
+        ->set_stalls(
+            RandomStalls(options.fault_stalled_fifo, 0x5EED, 1.0, UINT_MAX, config.cycle()));
   }
 }
 
@@ -277,16 +279,6 @@ LoadedFrame load_frame(const Scene& scene) {
   return out;
 }
 
-uint64_t stall_seed_of(const std::string& fifo, uint64_t seed) {
-  // FNV-1a over the name, then splitmix64's finalizer over it and the seed.
-  uint64_t h = 0xCBF29CE484222325ull;
-  for (const char c : fifo) h = (h ^ static_cast<unsigned char>(c)) * 0x100000001B3ull;
-  uint64_t z = h + seed * 0x9E3779B97F4A7C15ull;
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
-
 GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOptions& options) {
   static_assert(sizeof(glm::vec4) == 16 && sizeof(glm::vec3) == 12, "packed attributes");
   const bool tracing = !options.trace_dir.empty();
@@ -333,9 +325,9 @@ GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOp
     // Every FIFO its own stream, seeded by its name (MatchLib's rand_stall):
     // a stage added elsewhere in the netlist changes no other FIFO's stalls.
     for (const Topology::FifoNode& f : netlist.fifos()) {
-      f.channel->inject_random_stalls(stall_seed_of(f.name, options.stall_seed),
-                                      options.stall_probability, options.stall_max_cycles,
-                                      config.cycle());
+      f.channel->set_stalls(RandomStalls(f.name, stall_seed_of(f.name, options.stall_seed),
+                                         options.stall_probability, options.stall_max_cycles,
+                                         config.cycle()));
     }
   }
   // Declared after the GPU, so destroyed before it: nothing calls a probe

@@ -127,8 +127,4 @@ struct GpuRunResult {
 // Throws SimulationError when the frame does not complete cleanly.
 GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOptions& options);
 
-// The seed of FIFO `fifo`'s random stalls in a run seeded `seed`: a function
-// of the name alone, not of the FIFO's place in the netlist.
-uint64_t stall_seed_of(const std::string& fifo, uint64_t seed);
-
 }  // namespace gpusim

@@ -108,7 +108,10 @@ TEST(Fifo, BackpressureDepth1Vs2Vs16) {
   EXPECT_EQ(in_cycles(s16.reader_blocked), 0);
   EXPECT_EQ(in_cycles(s16.observed), 30);
 
-  const nlohmann::json j = f2.stats_json(kCycle);
+  // The stat group: null cycles until the period is set.
+  EXPECT_TRUE(f2.stat_group().to_json()["full_cycles"].is_null());
+  f2.set_cycle(kCycle);
+  const nlohmann::json j = f2.stat_group().to_json();
   EXPECT_EQ(j["depth"], 2);
   EXPECT_EQ(j["written"], 6);
   EXPECT_EQ(j["read"], 6);
@@ -120,7 +123,12 @@ TEST(Fifo, BackpressureDepth1Vs2Vs16) {
   EXPECT_EQ(j["reader_blocked_cycles"], 0.0);
   EXPECT_EQ(j["observed_cycles"], 30.0);
   // Cycles follow the given period: at 2 ns a cycle, 25 ns full is 12.5.
-  EXPECT_EQ(f2.stats_json(cycles(2))["full_cycles"], 12.5);
+  f2.set_cycle(cycles(2));
+  EXPECT_EQ(f2.stat_group().to_json()["full_cycles"], 12.5);
+  // Every figure is described.
+  for (const auto& field : j.items()) {
+    EXPECT_TRUE(f2.stat_group().descriptions().contains(field.key())) << field.key();
+  }
 }
 
 // Stamped mode (temporal decoupling): the backpressure schedule above with
@@ -438,7 +446,7 @@ TEST(Fifo, PortsAndEventDrivenConsumer) {
 // injected stalls and no blocking.
 TEST(Fifo, CertainStallsAreExact) {
   Fifo<int> f("f", 4);
-  f.inject_random_stalls(1, 1.0, 1, kCycle);
+  f.set_stalls(RandomStalls(f.basename(), 1, 1.0, 1, kCycle));
   std::vector<double> times;
   spawn([&f] {
     for (int i = 0; i < 10; ++i) f.write(i);
@@ -469,9 +477,9 @@ TEST(Fifo, RandomStallsKeepSequenceAndAreDeterministic) {
     explicit Chain(const char* name) : fifo(name, 2) {}
   };
   Chain plain("plain"), a("a"), b("b"), c("c");
-  a.fifo.inject_random_stalls(42, 0.3, 4, kCycle);
-  b.fifo.inject_random_stalls(42, 0.3, 4, kCycle);
-  c.fifo.inject_random_stalls(43, 0.3, 4, kCycle);
+  a.fifo.set_stalls(RandomStalls(a.fifo.basename(), 42, 0.3, 4, kCycle));
+  b.fifo.set_stalls(RandomStalls(b.fifo.basename(), 42, 0.3, 4, kCycle));
+  c.fifo.set_stalls(RandomStalls(c.fifo.basename(), 43, 0.3, 4, kCycle));
   for (Chain* ch : {&plain, &a, &b, &c}) {
     spawn([ch] {
       for (int i = 0; i < kItems; ++i) ch->fifo.write(i);
@@ -509,9 +517,10 @@ TEST(Fifo, RandomStallsKeepSequenceAndAreDeterministic) {
 TEST(Fifo, RejectsBadParameters) {
   EXPECT_THROW(Fifo<int>("zero", 0), std::invalid_argument);
   Fifo<int> f("f", 1);
-  EXPECT_THROW(f.inject_random_stalls(1, 1.5, 1, kCycle), std::invalid_argument);
-  EXPECT_THROW(f.inject_random_stalls(1, 0.5, 0, kCycle), std::invalid_argument);
-  EXPECT_THROW(f.inject_random_stalls(1, 0.5, 1, sc_core::SC_ZERO_TIME), std::invalid_argument);
+  EXPECT_THROW(f.set_stalls(RandomStalls(f.basename(), 1, 1.5, 1, kCycle)), std::invalid_argument);
+  EXPECT_THROW(f.set_stalls(RandomStalls(f.basename(), 1, 0.5, 0, kCycle)), std::invalid_argument);
+  EXPECT_THROW(f.set_stalls(RandomStalls(f.basename(), 1, 0.5, 1, sc_core::SC_ZERO_TIME)),
+               std::invalid_argument);
 }
 
 }  // namespace

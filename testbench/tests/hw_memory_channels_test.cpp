@@ -71,7 +71,7 @@ TEST(MemoryChannels, TwoChannelsServeTwoClientsInParallel) {
   EXPECT_EQ(a_done, 64 + kLatency);
   EXPECT_EQ(b_done, 64 + kLatency);
   EXPECT_EQ(in_cycles(mem.bus_free()), 64);
-  const nlohmann::json j = mem.stats_json();
+  const nlohmann::json j = mem.stat_group().to_json();
   ASSERT_EQ(j["channels"].size(), 2u);
   for (unsigned ch = 0; ch < 2; ++ch) {
     const nlohmann::json& c = j["channels"][ch];
@@ -114,7 +114,7 @@ TEST(MemoryChannels, RequestIsSplitAtInterleaveBoundaries) {
   sc_core::sc_start();
   EXPECT_EQ(first, 2 + kLatency);
   EXPECT_EQ(second, 8 + kLatency);
-  const nlohmann::json j = mem.stats_json();
+  const nlohmann::json j = mem.stat_group().to_json();
   const nlohmann::json& ch = j["channels"];
   // 4096 is a multiple of 4 blocks: the write's pieces fall as listed above.
   EXPECT_EQ(ch[0]["requests"], 1u + 2u);

@@ -93,7 +93,7 @@ TEST(Memory, BackToBackRequestsQueueOnTheBus) {
   EXPECT_EQ(in_cycles(mem.bus_free()), 14);
   EXPECT_EQ(mem.client_stats(0).busy_cycles, 10u);
   EXPECT_EQ(in_cycles(mem.client_stats(0).queued), 2 + 3 + 11);
-  EXPECT_EQ(mem.stats_json()["clients"]["a"]["queued_cycles"], 16.0);
+  EXPECT_EQ(mem.stat_group().to_json()["clients"]["a"]["queued_cycles"], 16.0);
 }
 
 // Two clients at the same instant share the bus in round-robin order, the
@@ -147,7 +147,7 @@ TEST(Memory, QueueingMeanAndMaximumPerRequest) {
   Client b("b", mem, four_reads(buf_b, 512));
   Client idle("idle", mem, [](Client&) {});
   sc_core::sc_start();
-  const nlohmann::json clients = mem.stats_json()["clients"];
+  const nlohmann::json clients = mem.stat_group().to_json()["clients"];
   EXPECT_EQ(clients["a"]["requests"], 4u);
   EXPECT_EQ(clients["a"]["queued_cycles"], 6.0);
   EXPECT_EQ(clients["a"]["queued_cycles_mean"], 1.5);
@@ -160,7 +160,7 @@ TEST(Memory, QueueingMeanAndMaximumPerRequest) {
   EXPECT_EQ(in_cycles(mem.client_stats(1).queued_max), 7);
   // Every stats field is described.
   for (const auto& [key, value] : clients["a"].items())
-    EXPECT_TRUE(Memory::descriptions()["clients"].contains(key)) << key;
+    EXPECT_TRUE(mem.stat_group().descriptions()["clients"].contains(key)) << key;
 }
 
 // Per-client traffic: a writes 100 B (4 bus cycles) and reads 64 B (2);
@@ -200,7 +200,7 @@ TEST(Memory, PerClientStatistics) {
   EXPECT_EQ(sb.busy_cycles, 2u);
 
   // Whatever the order of grants, the bus was busy 4 + 2 + 1 + 1 cycles.
-  const nlohmann::json j = mem.stats_json();
+  const nlohmann::json j = mem.stat_group().to_json();
   EXPECT_EQ(j["busy_cycles"], 8);
   EXPECT_EQ(j["size_bytes"], kSize);
   EXPECT_EQ(j["latency"], 20);

@@ -115,12 +115,12 @@ struct Bench {
 
   void stall_everything(uint64_t seed) {
     const sc_core::sc_time c = config.cycle();
-    input.inject_random_stalls(seed + 1, 0.3, 7, c);
-    setup_out.inject_random_stalls(seed + 2, 0.3, 7, c);
-    tapped.inject_random_stalls(seed + 3, 0.3, 7, c);
+    input.set_stalls(RandomStalls(input.basename(), seed + 1, 0.3, 7, c));
+    setup_out.set_stalls(RandomStalls(setup_out.basename(), seed + 2, 0.3, 7, c));
+    tapped.set_stalls(RandomStalls(tapped.basename(), seed + 3, 0.3, 7, c));
     for (unsigned u = 0; u < config.units; ++u) {
-      jobs[u]->inject_random_stalls(seed + 10 + u, 0.3, 9, c);
-      stamps[u]->inject_random_stalls(seed + 100 + u, 0.4, 13, c);
+      jobs[u]->set_stalls(RandomStalls(jobs[u]->basename(), seed + 10 + u, 0.3, 9, c));
+      stamps[u]->set_stalls(RandomStalls(stamps[u]->basename(), seed + 100 + u, 0.4, 13, c));
     }
   }
 };

@@ -379,9 +379,11 @@ class BackEnd : public sc_core::sc_module {
       unit.rop->set_last_writer(&last_writer);
       if (stalls) {
         const uint64_t s = seed * 1000 + 3 * u;
-        unit.in->inject_random_stalls(s, 0.3, 7, config.cycle());
-        unit.visible->inject_random_stalls(s + 1, 0.3, 7, config.cycle());
-        unit.shaded->inject_random_stalls(s + 2, 0.3, 7, config.cycle());
+        unit.in->set_stalls(RandomStalls(unit.in->basename(), s, 0.3, 7, config.cycle()));
+        unit.visible->set_stalls(
+            RandomStalls(unit.visible->basename(), s + 1, 0.3, 7, config.cycle()));
+        unit.shaded->set_stalls(
+            RandomStalls(unit.shaded->basename(), s + 2, 0.3, 7, config.cycle()));
       }
       units.push_back(std::move(unit));
       sc_core::sc_spawn(

@@ -136,11 +136,12 @@ struct Bench : sc_core::sc_module {
 
   void inject_stalls(uint64_t seed, const GpuConfig& config) {
     const sc_time cycle = config.cycle();
-    commands.inject_random_stalls(seed + 1, 0.3, 7, cycle);
-    command_to_fetch.inject_random_stalls(seed + 2, 0.3, 7, cycle);
-    fetch_to_shader.inject_random_stalls(seed + 3, 0.3, 7, cycle);
-    shader_to_clipper.inject_random_stalls(seed + 4, 0.3, 7, cycle);
-    results.inject_random_stalls(seed + 5, 0.3, 7, cycle);
+    commands.set_stalls(RandomStalls(commands.basename(), seed + 1, 0.3, 7, cycle));
+    command_to_fetch.set_stalls(RandomStalls(command_to_fetch.basename(), seed + 2, 0.3, 7, cycle));
+    fetch_to_shader.set_stalls(RandomStalls(fetch_to_shader.basename(), seed + 3, 0.3, 7, cycle));
+    shader_to_clipper.set_stalls(
+        RandomStalls(shader_to_clipper.basename(), seed + 4, 0.3, 7, cycle));
+    results.set_stalls(RandomStalls(results.basename(), seed + 5, 0.3, 7, cycle));
   }
 
   void source() {
@@ -673,7 +674,7 @@ TEST(VertexFetch, CacheHitsFollowFifoReplacement) {
   EXPECT_EQ(bench.stat(bench.clipper.stats(), "cache_writes"), 18u);
   EXPECT_EQ(bench.stat(bench.clipper.stats(), "cache_reads"), 6u);
   // The memory saw the same traffic.
-  const nlohmann::json m = bench.memory.stats_json().at("clients").at("vertex_fetch");
+  const nlohmann::json m = bench.memory.stat_group().to_json().at("clients").at("vertex_fetch");
   EXPECT_EQ(m.at("bytes_read").get<uint64_t>(), 2u * (48u + 9u * 16u));
   EXPECT_EQ(m.at("reads").get<uint64_t>(), 6u);
 }
