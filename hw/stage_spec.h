@@ -105,6 +105,14 @@ struct StageTrace {
   FragmentSite fragments = FragmentSite::none;
 };
 
+// A row of docs/architecture.md's "Cost of each stage" (`gpusim config
+// --markdown costs`): what a token costs the stage, in what case.
+struct StageCostRow {
+  std::string when;   // the case ("Bresenham line"); empty: every token
+  std::string busy;   // busy cycles per token: "`ii` × stamps + memory stall"
+  std::string notes;  // how, and what it leaves out
+};
+
 struct StageSpec {
   std::string kind;  // configuration key, stats.json and trace name: "tile_rasterizer"
   StagePlacement placement = StagePlacement::front_end;
@@ -123,6 +131,7 @@ struct StageSpec {
   // FIFOs' items); none when it has no counters of its own to balance.
   ConservationRule conservation = nullptr;
   StageTrace trace;
+  std::vector<StageCostRow> cost_table;
 };
 
 class StageRegistry {

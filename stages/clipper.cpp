@@ -97,7 +97,10 @@ const StageSpec& Clipper::spec() {
       "primitives and control tokens written",
       {"shader_to_clipper"},
       &conserve,
-      StageTrace{TraceItem::slot_batch, {kDropped, kDropped, kDropped}, FragmentSite::none}};
+      StageTrace{TraceItem::slot_batch, {kDropped, kDropped, kDropped}, FragmentSite::none},
+      {{"", "`ii` × (assembled primitives + extra primitives)",
+        "A clipped triangle split into n triangles adds n − 1; a polygon-mode triangle drawn as n "
+        "> 1 lines or points adds n − 1. A line or a point costs one, clipped or not."}}};
   return s;
 }
 GPUSIM_REGISTER_STAGE(Clipper);

@@ -21,17 +21,19 @@ void conserve(ConservationLedger& l) {
 }  // namespace
 
 const StageSpec& CommandProcessor::spec() {
-  static const StageSpec s{"command_processor",
-                           StagePlacement::front_end,
-                           /*optional=*/false,
-                           {/*ii=*/1, /*latency=*/2},
-                           "command",
-                           "decode one command word",
-                           "commands read",
-                           "commands forwarded to vertex fetch",
-                           {"commands"},
-                           &conserve,
-                           StageTrace{TraceItem::draw, {}, FragmentSite::none}};
+  static const StageSpec s{
+      "command_processor",
+      StagePlacement::front_end,
+      /*optional=*/false,
+      {/*ii=*/1, /*latency=*/2},
+      "command",
+      "decode one command word",
+      "commands read",
+      "commands forwarded to vertex fetch",
+      {"commands"},
+      &conserve,
+      StageTrace{TraceItem::draw, {}, FragmentSite::none},
+      {{"", "`ii` per command", "A clear is one command, whatever it clears."}}};
   return s;
 }
 GPUSIM_REGISTER_STAGE(CommandProcessor);

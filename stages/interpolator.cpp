@@ -44,7 +44,16 @@ const StageSpec& Interpolator::spec() {
       "shaded batches and control tokens written",
       {"depth_to_interpolator"},
       &conserve,
-      StageTrace{TraceItem::stamp_batch, {kFailed, kFailed, kFailed}, FragmentSite::none}};
+      StageTrace{TraceItem::stamp_batch, {kFailed, kFailed, kFailed}, FragmentSite::none},
+      {{"",
+        "`ii` × stamps + lit pixels × (`lighting_cycles_per_pixel` + `lighting_cycles_per_light` × "
+        "lights)",
+        "Every kind; points and flat-shaded primitives take the flat varyings. The second term is "
+        "the per-pixel lighting unit (Phong draws' triangles and lines only, spec 9b): it takes "
+        "one pixel at a time after the interpolation lanes, paying per pixel for the "
+        "renormalisation and clamp and per light for direction, attenuation, half vector and `pow` "
+        "(defaults 1 and 2: 5 cycles a pixel under 2 lights). A frame without Phong draws pays "
+        "nothing."}}};
   return s;
 }
 GPUSIM_REGISTER_STAGE(Interpolator);

@@ -21,19 +21,25 @@ void conserve(ConservationLedger& l) {
 }  // namespace
 
 const StageSpec& Resolve::spec() {
-  static const StageSpec s{"resolve",
-                           StagePlacement::shared,
-                           /*optional=*/true,
-                           {/*ii=*/1, /*latency=*/4},
-                           "output stamp",
-                           "multisampled or supersampled frames only: the box filter at the end of "
-                           "the frame, one output stamp per pass of `samples_per_pass` samples; "
-                           "reading the samples and writing the image go through the memory",
-                           "control tokens read (one per unit and token)",
-                           "tokens forwarded (none)",
-                           {"rop_to_resolve"},
-                           &conserve,
-                           StageTrace{}};
+  static const StageSpec s{
+      "resolve",
+      StagePlacement::shared,
+      /*optional=*/true,
+      {/*ii=*/1, /*latency=*/4},
+      "output stamp",
+      "multisampled or supersampled frames only: the box filter at the end of "
+      "the frame, one output stamp per pass of `samples_per_pass` samples; "
+      "reading the samples and writing the image go through the memory",
+      "control tokens read (one per unit and token)",
+      "tokens forwarded (none)",
+      {"rop_to_resolve"},
+      &conserve,
+      StageTrace{},
+      {{"",
+        "per output tile: read stall + `ii` × output stamps × passes; at the end, the last writes",
+        "Multisampled or supersampled frames only: starts when every unit's `end_of_frame` has "
+        "arrived, filters the output tile by tile (below), and reports the frame done when its "
+        "last write completes. A clear costs `ii`."}}};
   return s;
 }
 GPUSIM_REGISTER_STAGE(Resolve);

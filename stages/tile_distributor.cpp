@@ -39,17 +39,21 @@ void conserve(ConservationLedger& l) {
 }  // namespace
 
 const StageSpec& TileDistributor::spec() {
-  static const StageSpec s{"tile_distributor",
-                           StagePlacement::front_end,
-                           /*optional=*/false,
-                           {/*ii=*/1, /*latency=*/2},
-                           "primitive sent to a unit",
-                           "one unit's FIFO written per cycle; a control token is broadcast in one",
-                           "setup packets read",
-                           "packets written, summed over units",
-                           {"setup_to_distributor"},
-                           &conserve,
-                           StageTrace{TraceItem::primitive, {}, FragmentSite::none}};
+  static const StageSpec s{
+      "tile_distributor",
+      StagePlacement::front_end,
+      /*optional=*/false,
+      {/*ii=*/1, /*latency=*/2},
+      "primitive sent to a unit",
+      "one unit's FIFO written per cycle; a control token is broadcast in one",
+      "setup packets read",
+      "packets written, summed over units",
+      {"setup_to_distributor"},
+      &conserve,
+      StageTrace{TraceItem::primitive, {}, FragmentSite::none},
+      {{"", "`ii` × units the primitive goes to",
+        "A unit gets a primitive when its box touches a tile the unit owns. Units are written in "
+        "order; a full unit FIFO blocks it (head of line)."}}};
   return s;
 }
 GPUSIM_REGISTER_STAGE(TileDistributor);

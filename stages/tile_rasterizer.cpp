@@ -57,7 +57,22 @@ const StageSpec& TileRasterizer::spec() {
       &conserve,
       StageTrace{TraceItem::tile_job,
                  {kNoPixel, kNoPixel, "no pixel centre of it was covered in any tile"},
-                 FragmentSite::none}};
+                 FragmentSite::none},
+      {{"",
+        "1 per tile visited + `ii` per stamp evaluated or emitted; with `tile_test_overlap` (the "
+        "default) the test of a tile that evaluates any stamp is hidden behind its stamps",
+        "Per tile, one test of the coverage edges (a triangle's three, a diamond-exit line's two, "
+        "a point's none) at the tile's extreme pixel centres rejects or accepts it whole; an "
+        "accepted tile emits its stamps at `ii` each without per-pixel tests; a partial tile "
+        "evaluates every stamp inside the box at `ii` each, all pixels of the stamp against all "
+        "edges at once. The unit waits the cycles walked since its last output and then writes "
+        "that tile's batch, so large triangles stream tile by tile."},
+       {"Bresenham line",
+        "1 to enter + 1 per span tested + 1 per step walked + `ii` per stamp emitted",
+        "The line walker (below): a span is the line's steps in one tile column (x-major) or row "
+        "(y-major); a span reaching none of the unit's tiles is jumped for its test cycle alone; "
+        "the steps of the others cost a cycle each, all `w` replicated pixels at once. A span's "
+        "batches (one per tile) leave after its steps."}}};
   return s;
 }
 GPUSIM_REGISTER_STAGE(TileRasterizer);

@@ -194,7 +194,10 @@ const StageSpec& TriangleSetup::spec() {
                  {"setup dropped it (nothing of it on screen)",
                   "setup dropped it (zero length, or nothing of it on screen)",
                   "setup dropped it (degenerate, culled, or no pixel centre on screen)"},
-                 FragmentSite::none}};
+                 FragmentSite::none},
+      {{"", "`ii` per input token",
+        "Every kind: a triangle whether or not it survives culling, a line (its end tests "
+        "included), a point."}}};
   return s;
 }
 GPUSIM_REGISTER_STAGE(TriangleSetup);

@@ -46,7 +46,12 @@ const StageSpec& VertexFetch::spec() {
       "batches and control tokens written",
       {"command_to_fetch"},
       &conserve,
-      StageTrace{TraceItem::draw, {}, FragmentSite::none}};
+      StageTrace{TraceItem::draw, {}, FragmentSite::none},
+      {{"", "`ii` × slots, per batch of up to 32 slots",
+        "Reads indices (one request per batch, 4 B each) and, per cache miss or non-indexed slot, "
+        "the attributes (bursts over consecutive indices, one request per array). The reads stay "
+        "in flight: the batch is readable `max(ii × slots, memory time) + latency` after it "
+        "started, where memory time runs to the last read's completion."}}};
   return s;
 }
 GPUSIM_REGISTER_STAGE(VertexFetch);

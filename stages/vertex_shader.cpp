@@ -43,18 +43,20 @@ void conserve(ConservationLedger& l) {
 }  // namespace
 
 const StageSpec& VertexShader::spec() {
-  static const StageSpec s{"vertex_shader",
-                           StagePlacement::front_end,
-                           /*optional=*/false,
-                           {/*ii=*/4, /*latency=*/24},
-                           "vertex",
-                           "transform and lighting: 4×4 position and normal transforms plus "
-                           "lighting on one rank of multiply-adds shared 4 ways, deeply pipelined",
-                           "batches and control tokens read",
-                           "batches and control tokens written",
-                           {"fetch_to_shader"},
-                           &conserve,
-                           StageTrace{TraceItem::slot_batch, {}, FragmentSite::none}};
+  static const StageSpec s{
+      "vertex_shader",
+      StagePlacement::front_end,
+      /*optional=*/false,
+      {/*ii=*/4, /*latency=*/24},
+      "vertex",
+      "transform and lighting: 4×4 position and normal transforms plus "
+      "lighting on one rank of multiply-adds shared 4 ways, deeply pipelined",
+      "batches and control tokens read",
+      "batches and control tokens written",
+      {"fetch_to_shader"},
+      &conserve,
+      StageTrace{TraceItem::slot_batch, {}, FragmentSite::none},
+      {{"", "`ii` × new vertices", "Lights add no cost (the datapath is sized for the scene)."}}};
   return s;
 }
 GPUSIM_REGISTER_STAGE(VertexShader);

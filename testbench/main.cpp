@@ -953,8 +953,9 @@ int main_with_errors(int argc, char** argv) {
   config_cmd->add_flag("--defaults", "The default configuration file (the default)");
   config_cmd
       ->add_option("--markdown", config_table,
-                   "A generated table of docs/gpu-config.md instead: stages or fifos")
-      ->check(CLI::IsMember({"stages", "fifos"}));
+                   "A generated table of the docs instead: stages or fifos (docs/gpu-config.md), "
+                   "costs (docs/architecture.md)")
+      ->check(CLI::IsMember({"stages", "fifos", "costs"}));
 
   try {
     app.parse(argc, argv);

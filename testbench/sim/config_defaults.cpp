@@ -151,8 +151,16 @@ std::string markdown_table(const PipelineKinds& kinds, const std::string& name) 
       out += "| `" + f.kind + "` | " + writer + " → `" + f.reader + "` | " +
              (f.per_unit ? "yes" : "no") + " |\n";
     }
+  } else if (name == "costs") {
+    out = "| stage | busy per token | notes |\n|---|---|---|\n";
+    for (const std::string& kind : kinds.stages) {
+      for (const StageCostRow& r : spec_of(kind).cost_table) {
+        out += "| `" + kind + "`" + (r.when.empty() ? "" : ", " + r.when) + " | " + r.busy + " | " +
+               r.notes + " |\n";
+      }
+    }
   } else {
-    throw std::invalid_argument("no generated table '" + name + "' (stages, fifos)");
+    throw std::invalid_argument("no generated table '" + name + "' (stages, fifos, costs)");
   }
   return out;
 }

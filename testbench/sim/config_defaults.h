@@ -30,7 +30,8 @@ PipelineKinds pipeline_kinds();
 std::string default_config_text(const PipelineKinds& kinds);
 
 // docs/gpu-config.md's tables: "stages" (stage, item, ii, latency, why) or
-// "fifos" (FIFO, from → to, per unit). std::invalid_argument for another name.
+// "fifos" (FIFO, from → to, per unit); docs/architecture.md's "costs" (stage,
+// busy per token, notes). std::invalid_argument for another name.
 std::string markdown_table(const PipelineKinds& kinds, const std::string& name);
 
 }  // namespace gpusim
