@@ -325,10 +325,11 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
   // delay added to the operation's time (a process in the kernel's time
   // waits it, as maybe_stall() does).
   SuperdenseTime stall_at(RandomStalls::Side side, const SuperdenseTime& call, bool kernel) {
-    const sc_core::sc_time t = m_stalls.draw(side);
-    if (t == sc_core::SC_ZERO_TIME) return call;
-    m_statistics.stalled(t);
-    const SuperdenseTime stalled{call.t + t.value(), 0};
+    if (!m_stalls.active()) return call;
+    const uint64_t t = m_stalls.draw(side);
+    if (t == 0) return call;
+    m_statistics.stalled(sc_core::sc_time::from_value(t));
+    const SuperdenseTime stalled{call.t + t, 0};
     if (kernel) {
       wait_until(stalled);
     } else {
@@ -573,10 +574,12 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
   }
 
   void maybe_stall(RandomStalls::Side side) {
-    const sc_core::sc_time t = m_stalls.draw(side);
-    if (t == sc_core::SC_ZERO_TIME) return;
-    m_statistics.stalled(t);
-    sc_core::wait(t);
+    if (!m_stalls.active()) return;
+    const uint64_t t = m_stalls.draw(side);
+    if (t == 0) return;
+    const sc_core::sc_time delay = sc_core::sc_time::from_value(t);
+    m_statistics.stalled(delay);
+    sc_core::wait(delay);
   }
 
   std::vector<T> m_buf;

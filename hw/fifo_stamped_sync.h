@@ -49,7 +49,9 @@ class StampLog {
     for (; m_head != m_tail && m_ring[m_head & m_mask] == at; ++m_head) ++n;
     return n;
   }
-  void push(const SuperdenseTime& s) {
+  // On every stamped read and write: kept inline (GCC otherwise calls it,
+  // +1.6% instructions on the 1M-triangle grid).
+  [[gnu::always_inline]] void push(const SuperdenseTime& s) {
     if (m_tail - m_head == m_ring.size()) grow();
     m_ring[m_tail++ & m_mask] = s;
   }

@@ -40,14 +40,17 @@ class RandomStalls {
   RandomStalls(const std::string& fifo, uint64_t seed, double probability, unsigned max_cycles,
                sc_core::sc_time cycle);
 
+  // Whether any operation can stall: the FIFO's one test per operation
+  // when none can.
+  bool active() const { return m_probability > 0.0; }
+
   enum class Side { writer, reader };
-  // The next operation's stall on `side`: zero (most often) or a delay.
-  sc_core::sc_time draw(Side side) {
-    if (m_probability <= 0.0) return sc_core::SC_ZERO_TIME;
+  // The next operation's stall on `side`, an sc_time value: 0 (most often)
+  // or a delay. Only when active().
+  uint64_t draw(Side side) {
     SplitMix64& rng = side == Side::writer ? m_writer : m_reader;
-    if (rng.uniform() >= m_probability) return sc_core::SC_ZERO_TIME;
-    const uint64_t n = 1 + rng.next() % m_max_cycles;
-    return sc_core::sc_time::from_value(m_cycle.value() * n);
+    if (rng.uniform() >= m_probability) return 0;
+    return m_cycle.value() * (1 + rng.next() % m_max_cycles);
   }
 
  private:

@@ -22,7 +22,8 @@ nlohmann::json stat_description(const std::string& unit, const std::string& desc
 
 StatGroup::~StatGroup() = default;
 
-StatGroup::Stat& StatGroup::add(const std::string& name, Kind kind) {
+StatGroup::Stat& StatGroup::add(const std::string& name, Kind kind, const std::string& unit,
+                                const std::string& description) {
   for (const auto& s : m_stats) {
     if (s.name == name) {
       throw std::invalid_argument("StatGroup " + m_name + ": stat '" + name + "' declared twice");
@@ -31,47 +32,40 @@ StatGroup::Stat& StatGroup::add(const std::string& name, Kind kind) {
   Stat& s = m_stats.emplace_back();
   s.name = name;
   s.kind = kind;
+  s.unit = unit;
+  s.description = description;
   return s;
 }
 
 uint64_t& StatGroup::counter(const std::string& name, const std::string& unit,
                              const std::string& description) {
-  Stat& s = add(name, Kind::counter);
-  s.unit = unit;
-  s.description = description;
-  return s.value;
+  return add(name, Kind::counter, unit, description).value;
 }
 
 void StatGroup::gauge(const std::string& name, const std::string& unit,
                       const std::string& description, std::function<uint64_t()> read) {
   if (!read) throw std::invalid_argument("StatGroup " + m_name + ": empty gauge " + name);
-  Stat& s = add(name, Kind::gauge);
-  s.unit = unit;
-  s.description = description;
-  s.read = std::move(read);
+  add(name, Kind::gauge, unit, description).read = std::move(read);
 }
 
 void StatGroup::formula(const std::string& name, const std::string& unit,
                         const std::string& description, std::function<double()> compute) {
   if (!compute) throw std::invalid_argument("StatGroup " + m_name + ": empty formula " + name);
-  Stat& s = add(name, Kind::formula);
-  s.unit = unit;
-  s.description = description;
-  s.compute = std::move(compute);
+  add(name, Kind::formula, unit, description).compute = std::move(compute);
 }
 
 StatGroup& StatGroup::group(const std::string& name) {
-  Stat& s = add(name, Kind::group);
+  Stat& s = add(name, Kind::group, {}, {});
   s.group = m_owned_groups.emplace_back(std::make_unique<StatGroup>(name)).get();
   return *m_owned_groups.back();
 }
 
 void StatGroup::attach(const StatGroup& group) {
-  add(group.name(), Kind::group).group = &group;
+  add(group.name(), Kind::group, {}, {}).group = &group;
 }
 
 StatCollection& StatGroup::collection(const std::string& name, Layout layout, Describe describe) {
-  Stat& s = add(name, Kind::collection);
+  Stat& s = add(name, Kind::collection, {}, {});
   s.collection =
       m_collections.emplace_back(std::make_unique<StatCollection>(name, layout, describe)).get();
   return *s.collection;

@@ -99,7 +99,8 @@ class StatGroup {
     const StatGroup* group = nullptr;  // Kind::group
     StatCollection* collection = nullptr;
   };
-  Stat& add(const std::string& name, Kind kind);
+  Stat& add(const std::string& name, Kind kind, const std::string& unit,
+            const std::string& description);
 
   std::string m_name;
   std::string m_kind;

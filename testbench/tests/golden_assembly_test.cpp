@@ -11,20 +11,15 @@
 #include <vector>
 
 #include "testbench/golden/golden_model.h"
+#include "testbench/tests/golden_support.h"
 
 namespace gpusim {
 namespace {
 
+using namespace golden_support;
+
 using Triple = std::array<uint32_t, 3>;
 using Triples = std::vector<Triple>;
-
-Scene make_scene(int w, int h) {
-  Scene s;
-  s.framebuffer.width = w;
-  s.framebuffer.height = h;
-  s.framebuffer.clear_color = {0.0f, 0.0f, 0.0f, 0.0f};
-  return s;
-}
 
 // Window pixel position -> clip (w = 1) in a 32 x 32 framebuffer: x / 16 - 1,
 // exact for the quarter-pixel values used here.

@@ -12,9 +12,12 @@
 #include <vector>
 
 #include "testbench/golden/golden_model.h"
+#include "testbench/tests/golden_support.h"
 
 namespace gpusim {
 namespace {
+
+using namespace golden_support;
 
 using golden::ShadedVertex;
 
@@ -23,14 +26,6 @@ ShadedVertex sv(glm::vec4 clip, glm::vec4 color = glm::vec4(1.0f)) {
   v.clip = clip;
   v.color = color;
   return v;
-}
-
-Scene make_scene(int w, int h) {
-  Scene s;
-  s.framebuffer.width = w;
-  s.framebuffer.height = h;
-  s.framebuffer.clear_color = {0.0f, 0.0f, 0.0f, 0.0f};
-  return s;
 }
 
 Draw draw_of(const std::vector<glm::vec4>& positions, const std::vector<glm::vec4>& colors = {}) {
@@ -46,18 +41,6 @@ bool same_bits(const glm::vec4& a, const glm::vec4& b) {
 }
 
 // --- Reference coverage (exact, subpixel integers; see golden_raster_test.cpp).
-struct Pt {
-  int64_t x, y;
-};
-int sgn(int64_t v) {
-  return (v > 0) - (v < 0);
-}
-int perturbed_side(Pt a, Pt b, Pt p) {
-  const int64_t cross = (a.x - p.x) * (b.y - p.y) - (a.y - p.y) * (b.x - p.x);
-  if (cross != 0) return sgn(cross);
-  if (b.y != a.y) return sgn(a.y - b.y);
-  return sgn(b.x - a.x);
-}
 std::vector<int> ref_coverage(const std::vector<Pt>& t, int W, int H) {
   const int64_t area =
       (t[1].x - t[0].x) * (t[2].y - t[0].y) - (t[1].y - t[0].y) * (t[2].x - t[0].x);

@@ -20,9 +20,12 @@
 
 #include "hw/fixed_point.h"
 #include "testbench/golden/golden_model.h"
+#include "testbench/tests/golden_support.h"
 
 namespace gpusim {
 namespace {
+
+using namespace golden_support;
 
 using golden::Pixel;
 using PixelSet = std::set<Pixel>;
@@ -42,18 +45,6 @@ glm::vec4 at_subpixel(int64_t X, int64_t Y, int W, int H, float z = 0.0f) {
 constexpr int64_t sp(double pixels) {
   return static_cast<int64_t>(pixels * 256.0);
 }
-
-Scene make_scene(int w, int h) {
-  Scene s;
-  s.framebuffer.width = w;
-  s.framebuffer.height = h;
-  s.framebuffer.clear_color = {0.0f, 0.0f, 0.0f, 0.0f};
-  return s;
-}
-
-struct Pt {
-  int64_t x, y;  // subpixels
-};
 
 Draw draw_at(PrimitiveType prim, const std::vector<Pt>& pts, int W, int H) {
   Draw d;

@@ -16,9 +16,12 @@
 
 #include "hw/fixed_point.h"
 #include "testbench/golden/golden_model.h"
+#include "testbench/tests/golden_support.h"
 
 namespace gpusim {
 namespace {
+
+using namespace golden_support;
 
 // ---------------------------------------------------------------------------
 // Scene helpers. With identity matrices, positions are clip space. For a
@@ -31,18 +34,6 @@ glm::vec4 at_subpixel(int64_t X, int64_t Y, int W, int H, float z = 0.0f) {
   return {static_cast<float>(X) / (128.0f * static_cast<float>(W)) - 1.0f,
           static_cast<float>(Y) / (128.0f * static_cast<float>(H)) - 1.0f, z, 1.0f};
 }
-
-Scene make_scene(int w, int h) {
-  Scene s;
-  s.framebuffer.width = w;
-  s.framebuffer.height = h;
-  s.framebuffer.clear_color = {0.0f, 0.0f, 0.0f, 0.0f};
-  return s;
-}
-
-struct Pt {
-  int64_t x, y;
-};
 
 Draw triangle_draw(const std::vector<Pt>& v, int W, int H) {
   Draw d;
@@ -82,17 +73,7 @@ std::vector<int> render_one(const std::vector<Pt>& tri, int W, int H,
 // the edge is horizontal, then second order. This formulation needs neither
 // the CW -> CCW swap nor the owner table, so it is an independent check.
 
-int sgn(int64_t v) {
-  return (v > 0) - (v < 0);
-}
-
-// +1 when p + (e, e^2) is strictly left of the directed line a -> b, -1 right.
-int perturbed_side(Pt a, Pt b, Pt p) {
-  const int64_t cross = (a.x - p.x) * (b.y - p.y) - (a.y - p.y) * (b.x - p.x);
-  if (cross != 0) return sgn(cross);
-  if (b.y != a.y) return sgn(a.y - b.y);  // d/de of the cross product is -(b.y - a.y)
-  return sgn(b.x - a.x);                  // d/d(e^2) is +(b.x - a.x)
-}
+// perturbed_side() (golden_support.h) is that test.
 
 int64_t twice_area(const std::vector<Pt>& poly) {
   int64_t s = 0;

@@ -10,22 +10,13 @@
 #include <vector>
 
 #include "testbench/golden/golden_model.h"
+#include "testbench/tests/golden_support.h"
 
 namespace gpusim {
 namespace {
 
-struct Pt {
-  int64_t x, y;
-};
-int sgn(int64_t v) {
-  return (v > 0) - (v < 0);
-}
-int perturbed_side(Pt a, Pt b, Pt p) {
-  const int64_t cross = (a.x - p.x) * (b.y - p.y) - (a.y - p.y) * (b.x - p.x);
-  if (cross != 0) return sgn(cross);
-  if (b.y != a.y) return sgn(a.y - b.y);
-  return sgn(b.x - a.x);
-}
+using namespace golden_support;
+
 // Pixels of a W x H framebuffer covered by the convex polygon (pixels).
 int ref_count(const std::vector<std::array<double, 2>>& poly_px, int W, int H) {
   std::vector<Pt> poly;
