@@ -233,8 +233,21 @@ GpuConfig gpu_config_from_json(const nlohmann::json& j, const std::string& sourc
     }
   }
   if (j.contains("stages")) {
-    const auto& st = j["stages"];
-    r.expect_object(st, "stages");
+    r.expect_object(j["stages"], "stages");
+    // A renamed stage's former key is read as its current one.
+    nlohmann::json st = nlohmann::json::object();
+    for (const auto& item : j["stages"].items()) {
+      std::string key = item.key();
+      const std::string current = StageRegistry::current_name(key);
+      if (!current.empty()) {
+        if (j["stages"].contains(current)) {
+          r.fail("stages." + key, "given together with stages." + current + ", its new name");
+        }
+        warn_former_name(source_name + ": stages", key, current);
+        key = current;
+      }
+      st[key] = item.value();
+    }
     r.check_keys(st, "stages", GpuConfig::stage_names());
     for (const auto& item : st.items()) {
       const std::string path = "stages." + item.key();
@@ -444,14 +457,14 @@ void apply_config_override(nlohmann::json& j, const std::string& assignment,
                            const std::string& source) {
   const size_t eq = assignment.find('=');
   if (eq == std::string::npos) {
-    throw InputError(source + ": expected KEY=VALUE, e.g. stages.triangle_setup.ii=2");
+    throw InputError(source + ": expected KEY=VALUE, e.g. stages.primitive_setup.ii=2");
   }
   const std::string key = assignment.substr(0, eq);
   const std::string text = assignment.substr(eq + 1);
   const std::vector<std::string> parts = override_key(key);
   if (parts.empty()) {
     throw InputError(source + ": expected KEY=VALUE with KEY a dotted configuration key, e.g. " +
-                     "stages.triangle_setup.ii=2");
+                     "stages.primitive_setup.ii=2");
   }
   nlohmann::json value = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
   if (value.is_discarded()) value = text;  // not JSON: a string

@@ -173,7 +173,7 @@ GpuConfig load_gpu_config(const std::string& path);
 nlohmann::json load_gpu_config_json(const std::string& path);
 
 // One command-line override, `KEY=VALUE` (gpusim run --set): KEY is a dotted
-// path into the configuration object (stages.triangle_setup.ii), VALUE is
+// path into the configuration object (stages.primitive_setup.ii), VALUE is
 // JSON when it parses as JSON, else a string. Sets the value in `j`, creating
 // the objects on the way (an intermediate value that is not an object is
 // replaced by one; validation then reports it). A malformed assignment (no

@@ -14,7 +14,7 @@ namespace gpusim {
 struct NetlistTables {
   static constexpr int kHost = -1;  // the writer of "commands"
   struct Stage {
-    std::string name;                  // "triangle_setup", "depth_test_2"
+    std::string name;                  // "primitive_setup", "depth_test_2"
     std::string kind;                  // the name without the unit suffix
     int unit = -1;                     // -1: front end
     std::vector<int> inputs, outputs;  // indices into fifos

@@ -77,7 +77,7 @@ struct ClippedVertex {
   }
 };
 
-// Clipper -> triangle setup: one primitive, v[0, vertex_count) in use.
+// Clipper -> primitive setup: one primitive, v[0, vertex_count) in use.
 struct ClippedPrimitive {
   PacketKind kind = PacketKind::work;
   PrimitiveKind primitive_kind = PrimitiveKind::triangle;
@@ -116,7 +116,7 @@ enum class LineRule : uint8_t {
   rectangle,     // multisampled (section 14): four coverage edges
 };
 
-// Triangle setup's result, for every primitive kind. Two sets of equations:
+// Primitive setup's result, for every primitive kind. Two sets of equations:
 //
 // - `edge` and `area2` are the *interpolation* functions the depth test and
 //   interpolator use (docs/pipeline-spec.md, section 9), with the vertices in
@@ -171,7 +171,7 @@ struct RasterPrimitive {
 };
 std::ostream& operator<<(std::ostream& os, const RasterPrimitive& t);
 
-// Triangle setup -> tile distributor -> each tile rasterizer unit.
+// Primitive setup -> tile distributor -> each tile rasterizer unit.
 struct SetupPacket {
   PacketKind kind = PacketKind::work;
   std::shared_ptr<const RasterPrimitive> primitive;  // work only

@@ -1,7 +1,11 @@
 #include "hw/stage_spec.h"
 
 #include <algorithm>
+#include <cctype>
+#include <iostream>
 #include <map>
+#include <mutex>
+#include <set>
 #include <stdexcept>
 
 namespace gpusim {
@@ -16,32 +20,15 @@ std::map<std::string, const StageSpec*, std::less<>>& registry() {
 
 }  // namespace
 
+// Indexed by the enumerators, in their order (hw/stage_spec.h).
 const char* to_string(TraceItem item) {
-  switch (item) {
-    case TraceItem::draw:
-      return "draw";
-    case TraceItem::slot_batch:
-      return "batch";
-    case TraceItem::primitive:
-      return "primitive";
-    case TraceItem::tile_job:
-      return "tile job";
-    case TraceItem::stamp_batch:
-      return "stamp batch";
-  }
-  return "primitive";
+  static constexpr const char* kNames[] = {"draw", "batch", "primitive", "tile job", "stamp batch"};
+  return kNames[static_cast<size_t>(item)];
 }
 
 const char* to_string(FragmentSite site) {
-  switch (site) {
-    case FragmentSite::none:
-      return "";
-    case FragmentSite::depth_test:
-      return "depth_test";
-    case FragmentSite::rop:
-      return "rop";
-  }
-  return "";
+  static constexpr const char* kNames[] = {"", "depth_test", "rop"};
+  return kNames[static_cast<size_t>(site)];
 }
 
 void StageRegistry::add(const StageSpec& spec) {
@@ -88,6 +75,32 @@ std::vector<std::string> StageRegistry::optional_kinds() {
   }
   std::sort(v.begin(), v.end());
   return v;
+}
+
+std::string StageRegistry::current_name(std::string_view name) {
+  for (const auto& [kind, spec] : registry()) {
+    for (const std::string& former : spec->former_kinds) {
+      if (name == former) return kind;
+      // A unit's instance: <former>_<digits>.
+      const std::string_view rest = name.substr(std::min(name.size(), former.size()));
+      if (name.size() > former.size() + 1 && name.compare(0, former.size(), former) == 0 &&
+          rest[0] == '_' &&
+          std::all_of(rest.begin() + 1, rest.end(), [](char c) { return std::isdigit(c); })) {
+        return kind + std::string(rest);
+      }
+    }
+  }
+  return {};
+}
+
+void warn_former_name(const std::string& where, const std::string& former,
+                      const std::string& current) {
+  static std::mutex lock;
+  static std::set<std::string> warned;
+  const std::lock_guard<std::mutex> hold(lock);
+  if (!warned.insert(where + "\n" + former).second) return;
+  std::cerr << "gpusim: warning: " << where << ": '" << former << "' is deprecated, read as '"
+            << current << "' (the stage was renamed; the old name goes in the next release)\n";
 }
 
 }  // namespace gpusim

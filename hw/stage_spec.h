@@ -94,7 +94,9 @@ enum class TraceItem : uint8_t {
   tile_job,     // a primitive in a unit: its record counts the stamps it produced
   stamp_batch,  // the stamps one primitive covers in one tile
 };
-const char* to_string(TraceItem item);  // "draw", "batch", "primitive", "tile job", "stamp batch"
+// "draw", "batch", "primitive", "tile job", "stamp batch"; a new enumerator
+// adds its name there.
+const char* to_string(TraceItem item);
 enum class FragmentSite : uint8_t { none, depth_test, rop };
 const char* to_string(FragmentSite site);  // "", "depth_test", "rop"
 struct StageTrace {
@@ -132,6 +134,10 @@ struct StageSpec {
   ConservationRule conservation = nullptr;
   StageTrace trace;
   std::vector<StageCostRow> cost_table;
+  // Kinds it was called before ("triangle_setup"): read for one release in
+  // configuration keys, --trace-stages and stats diff, with a deprecation
+  // warning (StageRegistry::current_name).
+  std::vector<std::string> former_kinds = {};
 };
 
 class StageRegistry {
@@ -148,7 +154,17 @@ class StageRegistry {
   // Stage kinds and FIFO kinds that a frame may leave out: the optional
   // stages and the FIFOs they read. Sorted.
   static std::vector<std::string> optional_kinds();
+  // A stage kind or instance name under a renamed stage's former kind
+  // ("triangle_setup", or a unit's "<former>_2") under its current one;
+  // empty when `name` is no former name.
+  static std::string current_name(std::string_view name);
 };
+
+// The one-line warning that `where` ("stages", "--trace-stages") gave a
+// former stage name and the current one was read instead, on stderr once
+// per former name and place in a process.
+void warn_former_name(const std::string& where, const std::string& former,
+                      const std::string& current);
 
 // Registers a stage's spec when the program starts.
 struct StageRegistration {

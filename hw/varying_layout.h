@@ -2,7 +2,7 @@
 // carried from the vertex shader to the interpolator as one fixed-capacity
 // array of float32 components per vertex (Varyings). The stages in between
 // do not know what the components mean: the clipper interpolates all of a
-// draw's components at a cut and multiplies them by 1/w, triangle setup passes
+// draw's components at a cut and multiplies them by 1/w, primitive setup passes
 // them on, the interpolator interpolates them per pixel, each with one loop
 // over the draw's component count. Only the draw's VaryingLayout says which varying
 // occupies which components; the vertex shader writes them by it and the

@@ -97,8 +97,32 @@ def set_dotted(tree, dotted, value):
     node[parts[-1]] = value
 
 
-def load_sweep(path):
-    """Validates a sweep file; returns (spec, points). Raises SweepError."""
+def renamed_stages(gpusim):
+    """{former kind: current kind} of the stages gpusim renamed (`gpusim config
+    --renamed`), whose former names a sweep file may still use; {} when gpusim
+    cannot tell."""
+    try:
+        out = subprocess.run([gpusim, "config", "--renamed"], capture_output=True, text=True,
+                             env=dict(os.environ, SC_COPYRIGHT_MESSAGE="DISABLE"), check=True).stdout
+        renamed = json.loads(out)
+        return renamed if isinstance(renamed, dict) else {}
+    except (OSError, subprocess.CalledProcessError, ValueError):
+        return {}
+
+
+def current_key(key, renamed):
+    """`key` with a renamed stage's former kind under its current one
+    (stages.<former>.ii), or `key` itself."""
+    parts = key.split(".")
+    if len(parts) >= 2 and parts[0] == "stages" and parts[1] in renamed:
+        return ".".join([parts[0], renamed[parts[1]]] + parts[2:])
+    return key
+
+
+def load_sweep(path, gpusim=None):
+    """Validates a sweep file; returns (spec, points). Raises SweepError. A
+    parameter naming a renamed stage by its former kind is read under the
+    current one, with a warning (`gpusim`, the binary, tells the renames)."""
     spec = load_json(path, "the sweep file", comments=True)
     if not isinstance(spec, dict):
         raise SweepError(f"{path}: the sweep file must be a JSON object")
@@ -123,6 +147,19 @@ def load_sweep(path):
     if not isinstance(params, dict) or not params:
         raise SweepError(f"{path}: parameters must be a non-empty object: dotted config key -> list of values")
     defaults = load_json(DEFAULT_CONFIG, "the default configuration", comments=True)
+    renamed = None
+    for key in list(params):
+        if key_exists(defaults, key) or gpusim is None:
+            continue
+        renamed = renamed_stages(gpusim) if renamed is None else renamed
+        current = current_key(key, renamed)
+        if current != key:
+            if current in params:
+                raise SweepError(f"{path}: parameter '{key}' is given together with '{current}', its new name")
+            sys.stderr.write(f"sweep: warning: {path}: parameter '{key}' is deprecated, read as "
+                             f"'{current}' (the stage was renamed; the old name goes in the next release)\n")
+            params = {current if k == key else k: v for k, v in params.items()}
+            spec["parameters"] = params
     for key, values in params.items():
         if not key_exists(defaults, key):
             raise SweepError(f"{path}: parameter '{key}' is not a GPU configuration key (docs/gpu-config.md)")
@@ -717,7 +754,7 @@ def main(argv):
             raise SweepError("--detach needs --slurm; see gpusim sweep --help")
     elif a.jobs or a.timeout:
         raise SweepError("-j and --timeout are for local runs; with --slurm use --throttle and --time")
-    spec, points = load_sweep(a.sweep)
+    spec, points = load_sweep(a.sweep, gpusim)
     check_out_dir(a.out, spec)
     if a.slurm and not os.access(gpusim, os.X_OK):
         raise SweepError(f"{gpusim}: not an executable gpusim")

@@ -296,7 +296,7 @@ class Signal:
     """
 
     def __init__(self, scope, name, width, code):
-        self.scope = scope      # ("gpu", "triangle_setup")
+        self.scope = scope      # ("gpu", "primitive_setup")
         self.name = name        # "busy"
         self.width = width
         self.code = code

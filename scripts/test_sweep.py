@@ -127,9 +127,9 @@ def test_local(gpusim, tmp):
         rop_busy = sum(s["busy_cycles"] for s in rops) / len(rops) / cyc
         check(abs(float(row["rop.busy"]) - rop_busy) <= 1e-5 * max(rop_busy, 1e-9) + 1e-12,
               f"{tag}: rop.busy {row['rop.busy']} == mean ROP busy_cycles / cycles {rop_busy:.6g}")
-        setup = t["stages"]["triangle_setup"]
-        check(abs(float(row["triangle_setup.stalled"]) - setup["stalled_cycles"] / cyc) < 1e-6,
-              f"{tag}: triangle_setup.stalled == stalled_cycles / cycles")
+        setup = t["stages"]["primitive_setup"]
+        check(abs(float(row["primitive_setup.stalled"]) - setup["stalled_cycles"] / cyc) < 1e-6,
+              f"{tag}: primitive_setup.stalled == stalled_cycles / cycles")
         util = t["memory"]["utilization"]
         check(abs(float(row["memory_utilization"]) - util) < 1e-5, f"{tag}: memory_utilization")
         check(float(row["raster_pixels_per_clock_peak"]) == 16 * units,
@@ -235,19 +235,22 @@ def test_local(gpusim, tmp):
     check(r.returncode == 1 and rows[0]["status"] == "failed" and rows[0]["error"] == "timed out after 0.001 s (--timeout)",
           f"--timeout: the point failed as timed out ({rows[0]['error']})")
 
-    # zip: the i-th values together.
+    # zip: the i-th values together. The setup stage is named by its former
+    # kind (triangle_setup), which is read as the current one with a warning.
     zip_sweep = write_sweep(os.path.join(tmp, "zip.json"), {
         "scenes": [SCENES[1]], "combine": "zip",
         "parameters": {"units": [1, 4], "stages.triangle_setup.ii": [4, 1]}})
     z = os.path.join(tmp, "z")
     r = run([gpusim, "sweep", zip_sweep, "--out", z])
+    check("parameter 'stages.triangle_setup.ii' is deprecated, read as 'stages.primitive_setup.ii'"
+          in r.stderr, f"a renamed stage's former key: one warning ({r.stderr.strip()[:200]})")
     rows = rows_of(os.path.join(z, "results.csv"))
-    check(r.returncode == 0 and [(x["units"], x["stages.triangle_setup.ii"]) for x in rows] ==
+    check(r.returncode == 0 and [(x["units"], x["stages.primitive_setup.ii"]) for x in rows] ==
           [("1", "4"), ("4", "1")], "zip: 2 points, the values paired")
     with open(os.path.join(z, "points", "0001", "stats.json")) as f:
         cfg = json.load(f)["config"]
-    check(cfg["stages"]["triangle_setup"]["ii"] == 1 and cfg["units"] == 4,
-          "zip: point 1's run used units 4 and triangle_setup.ii 1")
+    check(cfg["stages"]["primitive_setup"]["ii"] == 1 and cfg["units"] == 4,
+          "zip: point 1's run used units 4 and primitive_setup.ii 1")
 
     # Bad sweep files: one line, exit 2, nothing written, nothing submitted.
     fake_bin = os.path.join(tmp, "fakebin")

@@ -566,12 +566,12 @@ def check_report_in_chromium(tmp, out_html, artifacts):
 
 
 def check_rop_only_overdraw(tmp, gpusim, scene):
-    """Issue #16 item 5: with --trace-stages triangle_setup,rop the overdraw
+    """Issue #16 item 5: with --trace-stages primitive_setup,rop the overdraw
     plot was empty and captioned "fragments not recorded" although the ROP's
     fragments were; it now draws those, and the report says so."""
     trace = os.path.join(tmp, "trace_rop")
     must([gpusim, "run", scene, "--out", os.path.join(tmp, "out"), "--trace", trace,
-          "--trace-stages", "triangle_setup,rop"])
+          "--trace-stages", "primitive_setup,rop"])
     plots = os.path.join(tmp, "plots_rop")
     must([os.path.join(HERE, "trace_plots"), trace, "--out", plots])
     tiles = json.load(open(os.path.join(plots, "tiles.json")))
@@ -705,7 +705,7 @@ def main():
         cycles = manifest["cycles"]
         ftrace = os.path.join(tmp, "trace_filtered")
         must([gpusim, "run", args.scene, "--out", os.path.join(tmp, "out"), "--trace", ftrace, "--trace-window", f"{cycles // 4}:{cycles // 2}",
-              "--trace-stages", "triangle_setup,tile_rasterizer,rop"])
+              "--trace-stages", "primitive_setup,tile_rasterizer,rop"])
         fplots = os.path.join(tmp, "plots_filtered")
         must([os.path.join(HERE, "trace_plots"), ftrace, "--out", fplots])
         check_plots(ftrace, fplots, manifest, "filtered (window, stages)")

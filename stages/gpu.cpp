@@ -16,7 +16,7 @@ Gpu::Gpu(sc_core::sc_module_name name, const GpuConfig& config, const FrameState
       m_fetch("vertex_fetch", config, frame),
       m_shader("vertex_shader", config, frame),
       m_clipper("clipper", config, frame),
-      m_setup("triangle_setup", config, frame),
+      m_setup("primitive_setup", config, frame),
       m_distributor("tile_distributor", config, frame) {
   Topology& t = m_topology;
   m_commands = &t.connect<Command>("commands", -1, nullptr, nullptr, m_command_processor,

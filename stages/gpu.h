@@ -3,7 +3,7 @@
 // one memory shared by every client.
 //
 //   commands -> CommandProcessor -> VertexFetch -> VertexShader -> Clipper
-//            -> TriangleSetup -> TileDistributor -+-> unit 0: TileRasterizer -> DepthTest
+//            -> PrimitiveSetup -> TileDistributor -+-> unit 0: TileRasterizer -> DepthTest
 //                                                 |            -> Interpolator -> Rop
 //                                                 +-> unit 1 ...
 //   VertexFetch, every DepthTest and Rop -> Memory
@@ -30,12 +30,12 @@
 #include "stages/command_processor.h"
 #include "stages/depth_test.h"
 #include "stages/interpolator.h"
+#include "stages/primitive_setup.h"
 #include "stages/resolve.h"
 #include "stages/rop.h"
 #include "stages/tile_distributor.h"
 #include "stages/tile_rasterizer.h"
 #include "stages/topology.h"
-#include "stages/triangle_setup.h"
 #include "stages/vertex_fetch.h"
 #include "stages/vertex_shader.h"
 
@@ -112,7 +112,7 @@ class Gpu : public sc_core::sc_module {
   VertexFetch m_fetch;
   VertexShader m_shader;
   Clipper m_clipper;
-  TriangleSetup m_setup;
+  PrimitiveSetup m_setup;
   TileDistributor m_distributor;
   std::vector<Unit> m_units;
   std::unique_ptr<Resolve> m_resolve;  // only when the frame needs one

@@ -1,4 +1,4 @@
-#include "stages/triangle_setup.h"
+#include "stages/primitive_setup.h"
 
 #include <algorithm>
 #include <cmath>
@@ -20,7 +20,7 @@ namespace {
 // setup takes it from there: past the first few hundred primitives (as many
 // as the FIFOs and the units hold at once) setup allocates nothing, where
 // make_shared cost a malloc and a free per primitive. The list is one per
-// block type, shared by every TriangleSetup of the process (single-threaded
+// block type, shared by every PrimitiveSetup of the process (single-threaded
 // like the simulation), and lives as long as the process: a primitive may
 // outlive the stage that made it (a packet still in a FIFO at teardown).
 template <typename T>
@@ -116,7 +116,7 @@ struct MajorLine {
     for (int64_t n = n0 - 3; n <= n0 + 3; ++n) {
       if (in_band1(cm, 256 * n + 128)) return n;
     }
-    SC_REPORT_ERROR("gpusim/triangle_setup", "diamond-exit line: no band pixel near its end");
+    SC_REPORT_ERROR("gpusim/primitive_setup", "diamond-exit line: no band pixel near its end");
     return n0;
   }
   // Whether the offset end point (pm, pn) perturbed by -(eps, eps^2) lies in
@@ -177,16 +177,16 @@ void conserve(ConservationLedger& l) {
 
 }  // namespace
 
-const StageSpec& TriangleSetup::spec() {
+const StageSpec& PrimitiveSetup::spec() {
   static const StageSpec s{
-      "triangle_setup",
+      "primitive_setup",
       StagePlacement::front_end,
       /*optional=*/false,
       {/*ii=*/4, /*latency=*/16},
       "primitive",
       "edge equations, fill-rule bias, attribute plane equations (one reciprocal of the area); a "
       "line's band edges and end tests, a point's square",
-      "triangles and control tokens read",
+      "primitives and control tokens read",
       "setup packets written",
       {"clipper_to_setup"},
       &conserve,
@@ -197,25 +197,26 @@ const StageSpec& TriangleSetup::spec() {
                  FragmentSite::none},
       {{"", "`ii` per input token",
         "Every kind: a triangle whether or not it survives culling, a line (its end tests "
-        "included), a point."}}};
+        "included), a point."}},
+      {"triangle_setup"}};
   return s;
 }
-GPUSIM_REGISTER_STAGE(TriangleSetup);
+GPUSIM_REGISTER_STAGE(PrimitiveSetup);
 
-TriangleSetup::TriangleSetup(sc_core::sc_module_name name, const GpuConfig& config,
-                             const FrameState& frame)
+PrimitiveSetup::PrimitiveSetup(sc_core::sc_module_name name, const GpuConfig& config,
+                               const FrameState& frame)
     : PipelineStage(name, spec(), -1, config, frame), in("in"), out("out") {
-  SC_HAS_PROCESS(TriangleSetup);
+  SC_HAS_PROCESS(PrimitiveSetup);
   SC_THREAD(run);
 }
 
-std::shared_ptr<RasterPrimitive> TriangleSetup::setup(const ClippedPrimitive& in) {
+std::shared_ptr<RasterPrimitive> PrimitiveSetup::setup(const ClippedPrimitive& in) {
   const uint8_t n = vertex_count_of(in.primitive_kind);
   if (in.vertex_count != n) {
     std::ostringstream msg;
     msg << name() << ": cannot set up a " << in.primitive_kind << " of "
         << unsigned{in.vertex_count} << " vertices (primitive " << in.primitive_id << ")";
-    SC_REPORT_ERROR("gpusim/triangle_setup", msg.str().c_str());
+    SC_REPORT_ERROR("gpusim/primitive_setup", msg.str().c_str());
     return nullptr;
   }
   switch (in.primitive_kind) {
@@ -229,7 +230,7 @@ std::shared_ptr<RasterPrimitive> TriangleSetup::setup(const ClippedPrimitive& in
   return nullptr;
 }
 
-std::shared_ptr<RasterPrimitive> TriangleSetup::setup_triangle(const ClippedPrimitive& in_tri) {
+std::shared_ptr<RasterPrimitive> PrimitiveSetup::setup_triangle(const ClippedPrimitive& in_tri) {
   std::array<Subpixel, 3> x, y;
   for (int i = 0; i < 3; ++i) {
     x[i] = snap_to_subpixel(in_tri.v[i].x);
@@ -302,8 +303,8 @@ std::shared_ptr<RasterPrimitive> TriangleSetup::setup_triangle(const ClippedPrim
   return t;
 }
 
-void TriangleSetup::set_sample_box(RasterPrimitive& t, int64_t x0, int64_t x1, int64_t y0,
-                                   int64_t y1) const {
+void PrimitiveSetup::set_sample_box(RasterPrimitive& t, int64_t x0, int64_t x1, int64_t y0,
+                                    int64_t y1) const {
   const PixelBounds r = bounds_of(t.draw_id);
   // Pixel i has a sample at 256 i + 128 + d for each offset d of the pattern.
   t.x0 = std::max(r.x0, -floor_div_subpixel(-(x0 - kSubpixelHalf - m_reach_x1)));
@@ -312,12 +313,12 @@ void TriangleSetup::set_sample_box(RasterPrimitive& t, int64_t x0, int64_t x1, i
   t.y1 = std::min(r.y1, floor_div_subpixel(y1 - kSubpixelHalf - m_reach_y0));
 }
 
-EdgeEquation TriangleSetup::edge_between(int64_t xa, int64_t ya, int64_t xb, int64_t yb) {
+EdgeEquation PrimitiveSetup::edge_between(int64_t xa, int64_t ya, int64_t xb, int64_t yb) {
   const EdgeValue dx = xb - xa, dy = yb - ya;
   return EdgeEquation{-dy, dx, dy * xa - dx * ya, (dy < 0 || (dy == 0 && dx > 0)) ? 0 : 1};
 }
 
-void TriangleSetup::setup_line_rectangle(RasterPrimitive& t, float width) const {
+void PrimitiveSetup::setup_line_rectangle(RasterPrimitive& t, float width) const {
   // Half the width along the left normal (-dy, dx), in float, snapped:
   // corners A - o, B - o, B + o, A + o, counter-clockwise.
   const int64_t xa = t.x[0], ya = t.y[0], xb = t.x[1], yb = t.y[1];
@@ -335,7 +336,7 @@ void TriangleSetup::setup_line_rectangle(RasterPrimitive& t, float width) const 
                  std::min({cy[0], cy[1], cy[2], cy[3]}), std::max({cy[0], cy[1], cy[2], cy[3]}));
 }
 
-std::shared_ptr<RasterPrimitive> TriangleSetup::setup_line(const ClippedPrimitive& in) {
+std::shared_ptr<RasterPrimitive> PrimitiveSetup::setup_line(const ClippedPrimitive& in) {
   const RenderState& st = m_frame.draws.at(in.draw_id).state;
   const Subpixel xa = snap_to_subpixel(in.v[0].x), ya = snap_to_subpixel(in.v[0].y);
   const Subpixel xb = snap_to_subpixel(in.v[1].x), yb = snap_to_subpixel(in.v[1].y);
@@ -468,7 +469,7 @@ std::shared_ptr<RasterPrimitive> TriangleSetup::setup_line(const ClippedPrimitiv
   return t;
 }
 
-std::shared_ptr<RasterPrimitive> TriangleSetup::setup_point(const ClippedPrimitive& in) {
+std::shared_ptr<RasterPrimitive> PrimitiveSetup::setup_point(const ClippedPrimitive& in) {
   const RenderState& st = m_frame.draws.at(in.draw_id).state;
   ++m_points_rasterized;
   const ClippedVertex& v = in.v[0];
@@ -515,7 +516,7 @@ std::shared_ptr<RasterPrimitive> TriangleSetup::setup_point(const ClippedPrimiti
   return t;
 }
 
-void TriangleSetup::run() {
+void PrimitiveSetup::run() {
   // The frame's registers are final once the simulation runs.
   m_samples = m_frame.framebuffer.samples;
   for (unsigned i = 0; i < m_samples; ++i) {

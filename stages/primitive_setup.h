@@ -39,9 +39,9 @@
 // from zero), and a point's square is four axis-aligned edges.
 //
 // Cost model: every input token (primitive of any kind, or control token)
-// read at time t occupies the stage for ii(triangle_setup) cycles, whether or
+// read at time t occupies the stage for ii(primitive_setup) cycles, whether or
 // not it survives; its output, if any, is written at t + ii and readable from
-// t + ii + latency(triangle_setup). A line's end tests (a handful of
+// t + ii + latency(primitive_setup). A line's end tests (a handful of
 // multiply-adds per end) are part of that ii. No memory traffic.
 //
 // Primitives whose clamped box is empty (entirely off screen or outside the
@@ -64,7 +64,7 @@
 
 namespace gpusim {
 
-class TriangleSetup : public PipelineStage {
+class PrimitiveSetup : public PipelineStage {
  public:
   // Its kind, cost and FIFOs (hw/stage_spec.h).
   static const StageSpec& spec();
@@ -72,7 +72,7 @@ class TriangleSetup : public PipelineStage {
   FifoInPort<ClippedPrimitive> in;
   FifoOutPort<SetupPacket> out;
 
-  TriangleSetup(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame);
+  PrimitiveSetup(sc_core::sc_module_name name, const GpuConfig& config, const FrameState& frame);
   // Its only inputs and outputs are its FIFOs (PipelineStage: temporal decoupling).
   bool decouplable() const override { return true; }
 

@@ -777,7 +777,7 @@ int main_with_errors(int argc, char** argv) {
   run_cmd
       ->add_option("--set", run.sets,
                    "Set one configuration key by its dotted path, after --config: KEY=VALUE, "
-                   "VALUE JSON or else a string (stages.triangle_setup.ii=2, stamp=[8,8]); "
+                   "VALUE JSON or else a string (stages.primitive_setup.ii=2, stamp=[8,8]); "
                    "repeatable, in order")
       ->allow_extra_args(false)
       ->take_all()
@@ -951,6 +951,10 @@ int main_with_errors(int argc, char** argv) {
       "Print the default GPU configuration (every key, stages and FIFOs in pipeline order, each "
       "stage's cost with its reason) or a table of docs/gpu-config.md");
   config_cmd->add_flag("--defaults", "The default configuration file (the default)");
+  bool config_renamed = false;
+  config_cmd->add_flag("--renamed", config_renamed,
+                       "The renamed stages' former kinds, still read with a warning: JSON "
+                       "{former: current}");
   config_cmd
       ->add_option("--markdown", config_table,
                    "A generated table of the docs instead: stages or fifos (docs/gpu-config.md), "
@@ -976,6 +980,14 @@ int main_with_errors(int argc, char** argv) {
   if (replay_cmd->parsed()) return run_replay(replay, progress_args);
   if (info->parsed()) return run_info(info_scene);
   if (config_cmd->parsed()) {
+    if (config_renamed) {
+      nlohmann::json renamed = nlohmann::json::object();
+      for (const StageSpec* s : StageRegistry::all()) {
+        for (const std::string& former : s->former_kinds) renamed[former] = s->kind;
+      }
+      std::cout << renamed.dump() << "\n";
+      return 0;
+    }
     const PipelineKinds kinds = pipeline_kinds();
     std::cout << (config_table.empty() ? default_config_text(kinds)
                                        : markdown_table(kinds, config_table));

@@ -9,6 +9,7 @@
 #include <limits>
 
 #include "hw/input_error.h"
+#include "hw/stage_spec.h"
 
 namespace gpusim {
 namespace {
@@ -258,9 +259,32 @@ nlohmann::json StatsSummary::json() const {
 
 // ---------------------------------------------------------------- diff
 
-StatsDiff::StatsDiff(const nlohmann::json& a, const std::string& path_a, const nlohmann::json& b,
-                     const std::string& path_b)
+namespace {
+
+// `j` with every object key that is a renamed stage's former name
+// ("triangle_setup") under the current one, so that a file written before
+// the rename compares with one written after.
+nlohmann::json current_stage_names(const nlohmann::json& j) {
+  if (j.is_array()) {
+    nlohmann::json out = nlohmann::json::array();
+    for (const auto& v : j) out.push_back(current_stage_names(v));
+    return out;
+  }
+  if (!j.is_object()) return j;
+  nlohmann::json out = nlohmann::json::object();
+  for (const auto& item : j.items()) {
+    const std::string current = StageRegistry::current_name(item.key());
+    out[current.empty() ? item.key() : current] = current_stage_names(item.value());
+  }
+  return out;
+}
+
+}  // namespace
+
+StatsDiff::StatsDiff(const nlohmann::json& a_file, const std::string& path_a,
+                     const nlohmann::json& b_file, const std::string& path_b)
     : m_a(path_a), m_b(path_b) {
+  const nlohmann::json a = current_stage_names(a_file), b = current_stage_names(b_file);
   for (const char* key : {"stats", "timing", "config"}) {
     const auto ia = a.find(key), ib = b.find(key);
     walk(ia != a.end() ? &*ia : nullptr, ib != b.end() ? &*ib : nullptr, key);

@@ -4,6 +4,7 @@
 #include <cctype>
 
 #include "hw/input_error.h"
+#include "hw/stage_spec.h"
 
 namespace gpusim {
 namespace {
@@ -79,9 +80,11 @@ TraceFilter TraceFilter::parse(const std::string& stages, const std::string& win
       if (name.empty()) {
         throw InputError("--trace-stages " + stages +
                          ": expected comma-separated stage names or kinds, e.g. "
-                         "triangle_setup,depth_test");
+                         "primitive_setup,depth_test");
       }
-      f.m_stages.push_back(name);
+      const std::string current = StageRegistry::current_name(name);
+      if (!current.empty()) warn_former_name("--trace-stages", name, current);
+      f.m_stages.push_back(current.empty() ? name : current);
     }
   }
   if (!window.empty()) {

@@ -59,7 +59,7 @@ struct TraceFilters {
   std::optional<std::pair<int64_t, int64_t>> prims;  // [a, b], inclusive
 
   bool any() const { return stages || window || prims; }
-  // "--trace-stages triangle_setup,rop --trace-window 1000:", or "none".
+  // "--trace-stages primitive_setup,rop --trace-window 1000:", or "none".
   std::string describe() const;
   bool keeps_stage(const std::string& name) const;
 };

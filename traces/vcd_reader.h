@@ -20,7 +20,7 @@
 namespace gpusim {
 
 struct VcdSignal {
-  std::string scope;  // dotted path of enclosing scopes: "gpu.triangle_setup"
+  std::string scope;  // dotted path of enclosing scopes: "gpu.primitive_setup"
   std::string name;   // "busy"
   unsigned width = 1;
 };

@@ -21,7 +21,7 @@ class VcdWriter {
   // $dumpvars. cycle_ps: the clock period in picoseconds.
   VcdWriter(const std::string& path, uint64_t cycle_ps, uint64_t start, uint64_t end);
   // Declaration, before begin(): a signal of `width` bits in scope `scope`
-  // (scopes as "gpu.triangle_setup"; consecutive signals of one scope share
+  // (scopes as "gpu.primitive_setup"; consecutive signals of one scope share
   // it). Returns the signal's handle.
   size_t add(const std::string& scope, const std::string& name, unsigned width, uint64_t initial);
   // Writes the header.

@@ -1,4 +1,4 @@
-// Fuzz target 2: triangle setup and rasterization, differential
+// Fuzz target 2: primitive setup and rasterization, differential
 // (docs/robustness.md, "Fuzzing"). The input bytes decode into a frame of up
 // to four raw draws in clip space (mvp = identity, no lighting): vertex
 // coordinates from a grid of exact values, from a table of special values

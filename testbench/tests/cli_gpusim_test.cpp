@@ -776,14 +776,15 @@ TEST_F(Cli, RunSetOverridesConfigurationKeys) {
   const std::string out = (dir_ / "out").string();
   const CommandResult r =
       run("run " + kScenes + "/quad_clipspace.json --out " + out +
-          " --set stages.triangle_setup.ii=1 --set fifo_depths.clipper_to_setup=4"
+          " --set stages.primitive_setup.ii=1 --set fifo_depths.clipper_to_setup=4"
           " --set 'stamp=[8,8]' --set memory.bytes_per_cycle=64 --units 2 --set units=8");
   ASSERT_EQ(r.status, 0) << r.out;
   EXPECT_NE(r.out.find("quad_clipspace.json on 2 units: "), std::string::npos) << r.out;
   const nlohmann::json stats = nlohmann::json::parse(slurp(dir_ / "out/stats.json"));
   const nlohmann::json& c = stats.at("config");
-  // The values given; triangle_setup keeps its default latency (16).
-  EXPECT_EQ(c.at("stages").at("triangle_setup"), nlohmann::json::parse(R"({"ii":1,"latency":16})"));
+  // The values given; primitive_setup keeps its default latency (16).
+  EXPECT_EQ(c.at("stages").at("primitive_setup"),
+            nlohmann::json::parse(R"({"ii":1,"latency":16})"));
   EXPECT_EQ(c.at("fifo_depths").at("clipper_to_setup"), 4);
   EXPECT_EQ(c.at("fifo_depths").at("setup_to_distributor"), 16);
   EXPECT_EQ(c.at("stamp"), nlohmann::json::parse("[8,8]"));
@@ -803,8 +804,8 @@ TEST_F(Cli, RunSetErrorsNameTheOption) {
     EXPECT_EQ(r.status, 2) << options << "\n" << r.out;
     EXPECT_EQ(r.out, "gpusim: " + want + "\n") << options;
   };
-  expect_message("--set stages.triangle_setup.ii=0",
-                 "--set stages.triangle_setup.ii=0: stages.triangle_setup.ii: 0 is out of range "
+  expect_message("--set stages.primitive_setup.ii=0",
+                 "--set stages.primitive_setup.ii=0: stages.primitive_setup.ii: 0 is out of range "
                  "1..1000000");
   expect_message("--set units=2 --set fifo_depths.clipper_to_setp=4",
                  "--set fifo_depths.clipper_to_setp=4: fifo_depths.clipper_to_setp: unknown key "
@@ -820,7 +821,8 @@ TEST_F(Cli, RunSetErrorsNameTheOption) {
                  "lighting_cycles_per_pixel, lighting_cycles_per_light, watchdog_cycles)");
   expect_message("--set units=four", "--set units=four: units: expected an integer, got string");
   expect_message("--set 'stamp=[8,3]'", "--set stamp=[8,3]: stamp[1]: 3 is not a power of two");
-  expect_message("--set units", "--set units: expected KEY=VALUE, e.g. stages.triangle_setup.ii=2");
+  expect_message("--set units",
+                 "--set units: expected KEY=VALUE, e.g. stages.primitive_setup.ii=2");
   expect_message("--units 0", "--units 0: units: 0 is out of range 1..64");
   EXPECT_FALSE(fs::exists(dir_ / "out"));
 }

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <string>
@@ -82,8 +83,8 @@ TEST(GpuConfig, Defaults) {
   // The registered stages' kinds (hw/stage_spec.h), by name.
   EXPECT_EQ(GpuConfig::stage_names(),
             (std::vector<std::string>{"clipper", "command_processor", "depth_test", "interpolator",
-                                      "resolve", "rop", "tile_distributor", "tile_rasterizer",
-                                      "triangle_setup", "vertex_fetch", "vertex_shader"}));
+                                      "primitive_setup", "resolve", "rop", "tile_distributor",
+                                      "tile_rasterizer", "vertex_fetch", "vertex_shader"}));
   EXPECT_EQ(
       GpuConfig::fifo_names(),
       (std::vector<std::string>{"clipper_to_setup", "command_to_fetch", "commands",
@@ -95,7 +96,7 @@ TEST(GpuConfig, Defaults) {
   for (const auto& n : GpuConfig::stage_names()) EXPECT_GE(c.stage(n).ii, 1u) << n;
   EXPECT_EQ(c.stage("tile_rasterizer"), (StageCost{1, 2}));
   EXPECT_EQ(c.stage("vertex_shader"), (StageCost{4, 24}));
-  EXPECT_EQ(c.stage("triangle_setup"), (StageCost{4, 16}));
+  EXPECT_EQ(c.stage("primitive_setup"), (StageCost{4, 16}));
 
   EXPECT_THROW(c.stage("rasterizr"), std::invalid_argument);
   EXPECT_THROW(c.fifo_depth_of("nowhere"), std::invalid_argument);
@@ -204,8 +205,8 @@ TEST(GpuConfig, UnknownKeysNameTheirPathAndTheAllowedKeys) {
   // The old name of the tile rasterizer is refused with the list of stages.
   EXPECT_EQ(error_of(json::parse(R"({"stages": {"rasterizer": {"ii": 1}}})")),
             "gpu.json: stages.rasterizer: unknown key (allowed: clipper, command_processor, "
-            "depth_test, interpolator, resolve, rop, tile_distributor, tile_rasterizer, "
-            "triangle_setup, vertex_fetch, vertex_shader)");
+            "depth_test, interpolator, primitive_setup, resolve, rop, tile_distributor, "
+            "tile_rasterizer, vertex_fetch, vertex_shader)");
   EXPECT_EQ(error_of(json::parse(R"({"stages": {"tile_rasterizer": {"iii": 1}}})")),
             "gpu.json: stages.tile_rasterizer.iii: unknown key (allowed: ii, latency)");
   EXPECT_EQ(error_of(json::parse(R"({"fifo_depths": {"fetch_to_shadr": 4}})")),
@@ -414,17 +415,17 @@ TEST(GpuConfig, SurfacesAndCompression) {
 TEST(GpuConfigOverrides, SetNestedKeysOnTheDefaults) {
   const GpuConfig c = gpu_config_with_overrides(
       json::object(),
-      sets({"units=8", "stages.triangle_setup.ii=1", "fifo_depths.clipper_to_setup=4",
+      sets({"units=8", "stages.primitive_setup.ii=1", "fifo_depths.clipper_to_setup=4",
             "memory.bytes_per_cycle=64", "stamp=[8,8]"}));
   // Expected: the defaults with exactly these five values changed.
   GpuConfig want;
   want.units = 8;
-  want.stages["triangle_setup"].ii = 1;  // latency keeps its default, 16
+  want.stages["primitive_setup"].ii = 1;  // latency keeps its default, 16
   want.fifo_depths["clipper_to_setup"] = 4;
   want.memory.bytes_per_cycle = 64;
   want.stamp = {8, 8};
   EXPECT_EQ(c, want);
-  EXPECT_EQ(c.stage("triangle_setup").latency, 16u);
+  EXPECT_EQ(c.stage("primitive_setup").latency, 16u);
   EXPECT_EQ(c.fifo_depth_of("clipper_to_setup"), 4u);
   EXPECT_EQ(c.fifo_depth_of("setup_to_distributor"), 16u);
 }
@@ -455,8 +456,8 @@ TEST(GpuConfigOverrides, AppliedOnTheFileInOrder) {
 }
 
 TEST(GpuConfigOverrides, ErrorsNameTheOverride) {
-  EXPECT_EQ(override_error(json::object(), sets({"units=4", "stages.triangle_setup.ii=0"})),
-            "--set stages.triangle_setup.ii=0: stages.triangle_setup.ii: 0 is out of range "
+  EXPECT_EQ(override_error(json::object(), sets({"units=4", "stages.primitive_setup.ii=0"})),
+            "--set stages.primitive_setup.ii=0: stages.primitive_setup.ii: 0 is out of range "
             "1..1000000");
   EXPECT_EQ(override_error(json::object(), sets({"units=eight"})),
             "--set units=eight: units: expected an integer, got string");
@@ -466,11 +467,28 @@ TEST(GpuConfigOverrides, ErrorsNameTheOverride) {
             "vertex_cache_entries, "
             "tile_cache_entries, samples_per_pass, tile_test_overlap, lighting_cycles_per_pixel, "
             "lighting_cycles_per_light, watchdog_cycles)");
+  // A renamed stage's former key is read as the new one, with one warning;
+  // both at once is an error.
+  testing::internal::CaptureStderr();
+  const GpuConfig renamed =
+      gpu_config_with_overrides(json::object(), sets({"stages.triangle_setup.ii=2"}));
+  const std::string warned = testing::internal::GetCapturedStderr();
+  EXPECT_EQ(renamed.stage("primitive_setup").ii, 2u);
+  EXPECT_EQ(renamed.stage("primitive_setup").latency, 16u);
+  EXPECT_NE(warned.find("warning: overrides: stages: 'triangle_setup' is deprecated, read as "
+                        "'primitive_setup'"),
+            std::string::npos)
+      << warned;
+  EXPECT_EQ(std::count(warned.begin(), warned.end(), '\n'), 1) << warned;
+  EXPECT_EQ(override_error(json::object(),
+                           sets({"stages.triangle_setup.ii=2", "stages.primitive_setup.ii=3"})),
+            "--set stages.triangle_setup.ii=2: stages.triangle_setup: given together with "
+            "stages.primitive_setup, its new name");
   // An unknown stage is reported at the stage, which the key leads through.
   EXPECT_EQ(override_error(json::object(), sets({"stages.setup.ii=1"})),
             "--set stages.setup.ii=1: stages.setup: unknown key (allowed: clipper, "
-            "command_processor, depth_test, interpolator, resolve, rop, tile_distributor, "
-            "tile_rasterizer, triangle_setup, vertex_fetch, vertex_shader)");
+            "command_processor, depth_test, interpolator, primitive_setup, resolve, rop, "
+            "tile_distributor, tile_rasterizer, vertex_fetch, vertex_shader)");
   // A key below a value that is not an object.
   EXPECT_EQ(override_error(json::object(), sets({"units.x=1"})),
             "--set units.x=1: units: expected an integer, got object");
@@ -487,13 +505,13 @@ TEST(GpuConfigOverrides, ErrorsNameTheOverride) {
       "--units 0: units: 0 is out of range 1..64");
   // Malformed assignments.
   EXPECT_EQ(override_error(json::object(), sets({"units"})),
-            "--set units: expected KEY=VALUE, e.g. stages.triangle_setup.ii=2");
+            "--set units: expected KEY=VALUE, e.g. stages.primitive_setup.ii=2");
   EXPECT_EQ(override_error(json::object(), sets({"=4"})),
             "--set =4: expected KEY=VALUE with KEY a dotted configuration key, e.g. "
-            "stages.triangle_setup.ii=2");
+            "stages.primitive_setup.ii=2");
   EXPECT_EQ(override_error(json::object(), sets({"stages..ii=4"})),
             "--set stages..ii=4: expected KEY=VALUE with KEY a dotted configuration key, e.g. "
-            "stages.triangle_setup.ii=2");
+            "stages.primitive_setup.ii=2");
 }
 
 }  // namespace

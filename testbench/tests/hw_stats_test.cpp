@@ -74,7 +74,7 @@ TEST(StatGroup, NestedGroupsAndCollections) {
 
   // Members owned elsewhere, described by kind: two units of one kind whose
   // statistics differ are described together.
-  StatGroup r0("rop_0", "rop"), r1("rop_1", "rop"), setup("triangle_setup");
+  StatGroup r0("rop_0", "rop"), r1("rop_1", "rop"), setup("primitive_setup");
   r0.counter("stamps", "stamps", "stamps blended") = 4;
   r1.counter("stamps", "stamps", "stamps blended") = 6;
   r1.counter("clears", "commands", "clears");
@@ -98,17 +98,17 @@ TEST(StatGroup, NestedGroupsAndCollections) {
   EXPECT_EQ(j["rates"]["per_clock"], 0.5);
   EXPECT_EQ(j["stages"]["rop_0"]["stamps"], 4);
   EXPECT_EQ(j["stages"]["rop_1"]["stamps"], 6);
-  EXPECT_EQ(j["stages"]["triangle_setup"]["culled"], 0);
+  EXPECT_EQ(j["stages"]["primitive_setup"]["culled"], 0);
   ASSERT_TRUE(j["channels"].is_array());
   ASSERT_EQ(j["channels"].size(), 3u);
   EXPECT_EQ(j["channels"][2], json({{"channel", 2}, {"bytes", 20}}));
 
   const json d = root.descriptions();
   EXPECT_EQ(d["rates"]["per_clock"]["unit"], "items/cycle");
-  EXPECT_EQ(d["stages"].size(), 2u);  // by kind: rop, triangle_setup
+  EXPECT_EQ(d["stages"].size(), 2u);  // by kind: rop, primitive_setup
   EXPECT_TRUE(d["stages"]["rop"].contains("stamps"));
   EXPECT_TRUE(d["stages"]["rop"].contains("clears"));
-  EXPECT_TRUE(d["stages"]["triangle_setup"].contains("culled"));
+  EXPECT_TRUE(d["stages"]["primitive_setup"].contains("culled"));
   EXPECT_EQ(d["channels"], json({{"channel", {{"unit", "index"}, {"description", "which"}}},
                                  {"bytes", {{"unit", "bytes"}, {"description", "moved"}}}}));
 

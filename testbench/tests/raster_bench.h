@@ -14,13 +14,13 @@
 #include "hw/fifo.h"
 #include "hw/gpu_config.h"
 #include "hw/packets.h"
+#include "stages/primitive_setup.h"
 #include "stages/tile_distributor.h"
 #include "stages/tile_rasterizer.h"
-#include "stages/triangle_setup.h"
 
 namespace gpusim {
 
-// Testbench: source -> Fifo -> TriangleSetup -> Fifo [-> tap -> Fifo] ->
+// Testbench: source -> Fifo -> PrimitiveSetup -> Fifo [-> tap -> Fifo] ->
 // TileDistributor -> Fifo per unit -> TileRasterizer -> Fifo -> sink. The
 // tap records every setup packet and forwards it in the same instant (it adds
 // no time, but one delta; timing tests run without it).
@@ -29,7 +29,7 @@ struct Bench {
   GpuConfig config = GpuConfig::baseline();
   FrameState frame;
   Fifo<ClippedPrimitive> input;
-  TriangleSetup setup;
+  PrimitiveSetup setup;
   Fifo<SetupPacket> setup_out;
   Fifo<SetupPacket> tapped;
   TileDistributor distributor;

@@ -98,7 +98,7 @@ TEST_F(Doctored, TheRealCountersBalance) {
   EXPECT_EQ(check(stats()), "");
   // The scene exercises the drop paths the rules account for.
   const nlohmann::json& st = stats().at("stages");
-  EXPECT_GT(st.at("triangle_setup").at("triangles_culled").get<uint64_t>(), 0u);
+  EXPECT_GT(st.at("primitive_setup").at("triangles_culled").get<uint64_t>(), 0u);
   EXPECT_GT(st.at("depth_test_0").at("fragments_in").get<uint64_t>(),
             st.at("depth_test_0").at("fragments_passed").get<uint64_t>());
 }
@@ -128,10 +128,10 @@ TEST_F(Doctored, EveryMismatchIsCaught) {
       {"stages", "clipper", "lines_out", +1, "clipper: lines_out"},
       {"stages", "clipper", "unfilled_points", +1, "clipper: points_out"},
       {"stages", "clipper", "triangles_culled", +1000000, "clipper: polygon-mode triangles"},
-      {"stages", "triangle_setup", "triangles_culled", +1,
-       "triangle_setup: clipper.triangles_after_clip"},
-      {"stages", "triangle_setup", "triangles_degenerate", -1, "triangle_setup"},
-      {"stages", "triangle_setup", "tokens_out", -1, "triangle_setup: tokens_out"},
+      {"stages", "primitive_setup", "triangles_culled", +1,
+       "primitive_setup: clipper.triangles_after_clip"},
+      {"stages", "primitive_setup", "triangles_degenerate", -1, "primitive_setup"},
+      {"stages", "primitive_setup", "tokens_out", -1, "primitive_setup: tokens_out"},
       {"stages", "tile_distributor", "triangles_sent_unit1", +1, "tile_distributor"},
       {"stages", "tile_rasterizer_0", "triangles", -1, "tile_rasterizer_0: triangles"},
       {"stages", "tile_rasterizer_1", "fragments", +1, "depth_test_1: fragments_in"},

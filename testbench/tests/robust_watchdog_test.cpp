@@ -62,7 +62,7 @@ bool has(const std::string& report, const std::string& text) {
 // Every stage and every FIFO has a line in the report.
 void expect_complete_report(const std::string& report, unsigned units) {
   for (const char* stage : {"command_processor:", "vertex_fetch:", "vertex_shader:", "clipper:",
-                            "triangle_setup:", "tile_distributor:"}) {
+                            "primitive_setup:", "tile_distributor:"}) {
     EXPECT_TRUE(has(report, std::string("\n    ") + stage)) << stage << "\n" << report;
   }
   for (const char* fifo : {"commands:", "command_to_fetch:", "fetch_to_shader:",
@@ -108,7 +108,7 @@ TEST(Watchdog, DisconnectedFifoIsReportedAsADeadlock) {
   // The clipper cannot write into the full FIFO; setup waits on the stand-in
   // that nobody writes; everything after it starves.
   EXPECT_TRUE(has(r, "clipper: waiting on output clipper_to_setup (2/2, withheld)")) << r;
-  EXPECT_TRUE(has(r, "triangle_setup: waiting on input clipper_to_setup (2/2, withheld)")) << r;
+  EXPECT_TRUE(has(r, "primitive_setup: waiting on input clipper_to_setup (2/2, withheld)")) << r;
   EXPECT_TRUE(has(r, "withheld from its reader (test fault)")) << r;
   EXPECT_TRUE(has(r, "rop_1: waiting on input interpolator_to_rop_1 (0/2)")) << r;
   EXPECT_TRUE(has(r, "clipper_to_setup: 2/2; 2 written, 0 read")) << r;

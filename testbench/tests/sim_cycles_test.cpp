@@ -286,7 +286,7 @@ Scene tiny_triangles(int count) {
   return s;
 }
 
-// Every stage but triangle setup (ii 4 per triangle) keeps up with one tiny
+// Every stage but primitive setup (ii 4 per triangle) keeps up with one tiny
 // triangle per 4 cycles: fetch 3 slots x 1, the shader (set to ii 1 here)
 // 3 vertices x 1, the clipper 2, the distributor 1, the rasterizer 1 tile
 // test + 1 stamp, the back end 1 stamp each; 3 vertices of fetch traffic are
@@ -303,12 +303,12 @@ TEST(Cycles, TinyTrianglesRunAtSetupInitiationInterval) {
   // 320 and 960 triangles: slots are multiples of the 32-slot fetch batch.
   // Setup always has a backlog, so each extra triangle adds exactly its ii.
   const GpuConfig c = setup_bound(16);
-  const int64_t ii = c.stage("triangle_setup").ii;
+  const int64_t ii = c.stage("primitive_setup").ii;
   const GpuRunResult a = run(tiny_triangles(320), c);
   const GpuRunResult b = run(tiny_triangles(960), c);
   EXPECT_EQ(cycles(b) - cycles(a), 640 * ii);
-  EXPECT_EQ(stage_counter(b, "triangle_setup", "busy_cycles") -
-                stage_counter(a, "triangle_setup", "busy_cycles"),
+  EXPECT_EQ(stage_counter(b, "primitive_setup", "busy_cycles") -
+                stage_counter(a, "primitive_setup", "busy_cycles"),
             static_cast<uint64_t>(640 * ii));
 }
 
@@ -319,8 +319,8 @@ TEST(Cycles, FifoDepthOneExposesSetupLatency) {
   // max(ii, latency) = 16 cycles instead of ii = 4 with deep FIFOs (depth
   // 16 holds the 16 / 4 results in flight).
   const GpuConfig c = setup_bound(1);
-  const int64_t latency = c.stage("triangle_setup").latency;
-  ASSERT_GT(latency, c.stage("triangle_setup").ii);
+  const int64_t latency = c.stage("primitive_setup").latency;
+  ASSERT_GT(latency, c.stage("primitive_setup").ii);
   const GpuRunResult a = run(tiny_triangles(320), c);
   const GpuRunResult b = run(tiny_triangles(960), c);
   EXPECT_EQ(cycles(b) - cycles(a), 640 * latency);
@@ -363,7 +363,7 @@ TEST(Cycles, TinyLinesAndPointsRunAtSetupInitiationInterval) {
   // setup fed.
   for (const PrimitiveType type : {PrimitiveType::lines, PrimitiveType::points}) {
     const GpuConfig c = setup_bound(type == PrimitiveType::lines ? 16 : 32);
-    const int64_t ii = c.stage("triangle_setup").ii;
+    const int64_t ii = c.stage("primitive_setup").ii;
     const GpuRunResult a = run(tiny_primitives(type, 640), c);
     const GpuRunResult b = run(tiny_primitives(type, 1920), c);
     EXPECT_EQ(cycles(b) - cycles(a), 1280 * ii) << to_string(type);

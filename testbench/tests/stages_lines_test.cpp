@@ -1,4 +1,4 @@
-// Lines and points through the raster core: TriangleSetup -> TileDistributor
+// Lines and points through the raster core: PrimitiveSetup -> TileDistributor
 // -> N TileRasterizers.
 //
 // Expected pixels come from rules written out here from
@@ -8,7 +8,7 @@
 // closed formula P_i of section 8b (ceil of a quotient, where the walker
 // steps a decision variable); points by section 8c's inequalities per pixel.
 // Cycle counts are derived by hand from the cost models in
-// stages/tile_rasterizer.h and stages/triangle_setup.h, in the comments.
+// stages/tile_rasterizer.h and stages/primitive_setup.h, in the comments.
 // A SystemC model elaborates once per process: ctest runs each TEST alone.
 #define SC_INCLUDE_DYNAMIC_PROCESSES
 #include <gtest/gtest.h>
@@ -31,9 +31,9 @@
 #include "hw/trace_probe.h"
 #include "stages/depth_test.h"
 #include "stages/interpolator.h"
+#include "stages/primitive_setup.h"
 #include "stages/tile_distributor.h"
 #include "stages/tile_rasterizer.h"
-#include "stages/triangle_setup.h"
 #include "testbench/tests/raster_bench.h"
 
 namespace gpusim {
@@ -572,7 +572,7 @@ struct BackBench {
   FrameState frame;
   Memory memory;
   Fifo<ClippedPrimitive> input;
-  TriangleSetup setup;
+  PrimitiveSetup setup;
   Fifo<SetupPacket> setup_out;
   TileDistributor distributor;
   Fifo<SetupPacket> jobs;

@@ -1,4 +1,4 @@
-// The raster core: TriangleSetup -> TileDistributor -> N TileRasterizers.
+// The raster core: PrimitiveSetup -> TileDistributor -> N TileRasterizers.
 //
 // Expected values come from the golden model's free functions (snapped
 // vertices, signed_area2, edge_function, edge_owns_boundary) applied per
@@ -25,9 +25,9 @@
 #include "hw/fifo.h"
 #include "hw/fixed_point.h"
 #include "hw/pixel_formats.h"
+#include "stages/primitive_setup.h"
 #include "stages/tile_distributor.h"
 #include "stages/tile_rasterizer.h"
-#include "stages/triangle_setup.h"
 #include "testbench/golden/golden_model.h"
 #include "testbench/tests/raster_bench.h"
 
@@ -578,7 +578,7 @@ std::vector<Expect> expectations(const std::vector<ClippedPrimitive>& tokens, co
 void check_costs(const Bench& b, const std::vector<ClippedPrimitive>& tokens,
                  const std::vector<Expect>& ex) {
   const GpuConfig& c = b.config;
-  const unsigned setup_ii = c.stage("triangle_setup").ii;
+  const unsigned setup_ii = c.stage("primitive_setup").ii;
   const unsigned dist_ii = c.stage("tile_distributor").ii;
   const unsigned rast_ii = c.stage("tile_rasterizer").ii;
   uint64_t controls = 0, dist_cycles = 0;
@@ -652,7 +652,7 @@ TEST_P(RasterCore, MatchesGoldenRuleAndCosts) {
   cfg.stamp = stamp;
   cfg.fifo_depth = 2;
   // Distinct costs so every term of each formula is visible.
-  cfg.stages["triangle_setup"] = {5, 7};
+  cfg.stages["primitive_setup"] = {5, 7};
   cfg.stages["tile_distributor"] = {2, 3};
   cfg.stages["tile_rasterizer"] = {3, 4};
   const int W = 203, H = 157;  // no multiple of any tile or stamp size
@@ -858,7 +858,7 @@ INSTANTIATE_TEST_SUITE_P(Formats, RasterVsRender,
 // swap): dzdx = (0.25 * 4 - 0 * 0) / 16 = 0.0625, dzdy = (0 * 4 - 0.25 * 0) / 16 = 0,
 // m = 0.0625; offset = 1 * 0.0625 + 2 * float(1 / 65535).
 // Covered: the 6 pixels with x + y <= 2 (x + y = 3 lies on E0, not owned).
-TEST(TriangleSetup, HandWorkedClockwiseTriangle) {
+TEST(PrimitiveSetup, HandWorkedClockwiseTriangle) {
   GpuConfig cfg = GpuConfig::baseline();
   cfg.units = 1;
   FrameState frame;
@@ -904,7 +904,7 @@ TEST(TriangleSetup, HandWorkedClockwiseTriangle) {
 
 // Triangles counted rasterized whose box holds no pixel centre are not sent:
 // a sliver between centres, one left of the screen, one above it.
-TEST(TriangleSetup, EmptyBoxCountsRasterizedButSendsNothing) {
+TEST(PrimitiveSetup, EmptyBoxCountsRasterizedButSendsNothing) {
   GpuConfig cfg = GpuConfig::baseline();
   cfg.units = 2;
   FrameState frame;

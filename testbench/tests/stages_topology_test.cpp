@@ -100,7 +100,7 @@ TEST(Topology, NamesAreKindAndUnitAndStatsUseThem) {
   for (const auto& s : t.stages()) names.push_back(s.stage->basename());
   EXPECT_EQ(names,
             (std::vector<std::string>{
-                "command_processor", "vertex_fetch", "vertex_shader", "clipper", "triangle_setup",
+                "command_processor", "vertex_fetch", "vertex_shader", "clipper", "primitive_setup",
                 "tile_distributor", "tile_rasterizer_0", "depth_test_0", "interpolator_0", "rop_0",
                 "tile_rasterizer_1", "depth_test_1", "interpolator_1", "rop_1"}));
 

@@ -1,6 +1,6 @@
 // Varyings beyond the colour through the stages that carry them without
 // knowing what they mean: the clipper (interpolation at clip-plane cuts,
-// division by w), triangle setup (the primitive kind it accepts) and the
+// division by w), primitive setup (the primitive kind it accepts) and the
 // interpolator (perspective-correct, per pixel). The layouts hold a made-up
 // varying next to the colour, before or after it, and one that fills the
 // whole capacity.
@@ -31,7 +31,7 @@
 #include "hw/vertex_packets.h"
 #include "stages/clipper.h"
 #include "stages/interpolator.h"
-#include "stages/triangle_setup.h"
+#include "stages/primitive_setup.h"
 #include "testbench/golden/golden_model.h"
 
 namespace gpusim {
@@ -221,16 +221,16 @@ TEST(Clipper, CarriesAndInterpolatesEveryVaryingOfTheLayout) {
 }
 
 // ---------------------------------------------------------------------------
-// Triangle setup sets up every kind, but a vertex count that does not match
+// Primitive setup sets up every kind, but a vertex count that does not match
 // the kind is a model error.
 
-TEST(TriangleSetup, RejectsAVertexCountThatDoesNotMatchTheKind) {
+TEST(PrimitiveSetup, RejectsAVertexCountThatDoesNotMatchTheKind) {
   FrameState frame;
   frame.draws.resize(1);
   const GpuConfig config;
   Fifo<ClippedPrimitive> in("in", 4);
   Fifo<SetupPacket> out("out", 4);
-  TriangleSetup setup("setup", config, frame);
+  PrimitiveSetup setup("setup", config, frame);
   setup.in(in);
   setup.out(out);
   ClippedPrimitive line;

@@ -70,7 +70,7 @@ TEST_F(TraceFollowTest, PrimitiveCyclesMatchTheCostModel) {
   //    vertices = 12: 28..40 (readable 64).
   //  clipper: clear 34..36 (readable 44); the batch at 64, ii x 1 triangle:
   //    64..66, the triangle readable at 74.
-  //  triangle_setup: clear 44..48 (readable 64); the triangle 74..78
+  //  primitive_setup: clear 44..48 (readable 64); the triangle 74..78
   //    (readable 94).
   //  tile_distributor: clear 64..65 (readable 67); the triangle at 94, one
   //    unit: 94..95 (readable 97). With 4 units it still goes to unit 0 only
@@ -92,7 +92,7 @@ TEST_F(TraceFollowTest, PrimitiveCyclesMatchTheCostModel) {
   const Expected expected[] = {
       {"command_processor", 1, 2, 1},     {"vertex_fetch", 4, 7, 1},
       {"vertex_shader", 28, 40, 3},       {"clipper", 64, 66, 3},
-      {"triangle_setup", 74, 78, 1},      {"tile_distributor", 94, 95, 1},
+      {"primitive_setup", 74, 78, 1},     {"tile_distributor", 94, 95, 1},
       {"tile_rasterizer_0", 97, 113, 10}, {"depth_test_0", 120, 130, 10},
       {"interpolator_0", 132, 142, 10},   {"rop_0", 148, 158, 10},
   };
@@ -334,7 +334,7 @@ TEST_F(TraceFollowTest, FollowsALineAndAPoint) {
     // Through every stage to the ROP, as a triangle goes.
     EXPECT_EQ(kinds,
               (std::vector<std::string>{"command_processor", "vertex_fetch", "vertex_shader",
-                                        "clipper", "triangle_setup", "tile_distributor",
+                                        "clipper", "primitive_setup", "tile_distributor",
                                         "tile_rasterizer", "depth_test", "interpolator", "rop"}));
     EXPECT_GE(stamps_in_rop, 1u);
     EXPECT_LE(stamps_in_rop, want.fragments);

@@ -142,7 +142,7 @@ nlohmann::json manifest(const fs::path& dir) {
 struct Vcd {
   std::string timescale;
   struct Var {
-    std::string scope, name;  // scope: "gpu.triangle_setup", "gpu.fifos"
+    std::string scope, name;  // scope: "gpu.primitive_setup", "gpu.fifos"
     unsigned width = 1;
   };
   std::map<std::string, Var> vars;  // by identifier
@@ -303,7 +303,7 @@ TEST_F(TraceRecord, VcdStatesIntegrateToTheStageCounters) {
            {"command_to_fetch", "vertex_fetch"},
            {"fetch_to_shader", "vertex_shader"},
            {"shader_to_clipper", "clipper"},
-           {"clipper_to_setup", "triangle_setup"},
+           {"clipper_to_setup", "primitive_setup"},
            {"setup_to_distributor", "tile_distributor"}}) {
     want.push_back("gpu.front_end." + fifo);
     stage("front_end", next);
@@ -326,7 +326,7 @@ TEST_F(TraceRecord, VcdStatesIntegrateToTheStageCounters) {
   EXPECT_EQ(vcd.order, want);
 
   // Something happened: the setup stage worked, and some FIFO filled up.
-  EXPECT_GT(integral["triangle_setup"]["busy"], 0u);
+  EXPECT_GT(integral["primitive_setup"]["busy"], 0u);
   EXPECT_EQ(manifest(dir_)["records"]["vcd_changes"].get<uint64_t>() > 0, true);
 }
 
@@ -627,12 +627,12 @@ TEST_F(TraceRecord, PrimsKeepOnlyTheirItemsAndControlTokens) {
 }
 
 TEST_F(TraceRecord, StagesKeepOnlyThose) {
-  traced_run(scene_path("default"), dir_, {"triangle_setup,depth_test_1,rop", "", ""});
+  traced_run(scene_path("default"), dir_, {"primitive_setup,depth_test_1,rop", "", ""});
   const nlohmann::json m = manifest(dir_);
   std::vector<std::string> kept;
   for (const nlohmann::json& s : m["filters"]["stages"]) kept.push_back(s);
   // In stage order: unit 0's stages come before unit 1's.
-  EXPECT_EQ(kept, (std::vector<std::string>{"triangle_setup", "rop_0", "depth_test_1", "rop_1",
+  EXPECT_EQ(kept, (std::vector<std::string>{"primitive_setup", "rop_0", "depth_test_1", "rop_1",
                                             "rop_2", "rop_3"}));
   std::map<std::string, uint16_t> index;
   for (const nlohmann::json& s : m["stages"]) index[s["name"]] = s["index"];
@@ -647,7 +647,7 @@ TEST_F(TraceRecord, StagesKeepOnlyThose) {
   std::set<std::string> scopes;
   for (const auto& [id, var] : vcd.vars) scopes.insert(var.scope);
   EXPECT_EQ(scopes,
-            (std::set<std::string>{"gpu.front_end", "gpu.front_end.triangle_setup", "gpu.memory",
+            (std::set<std::string>{"gpu.front_end", "gpu.front_end.primitive_setup", "gpu.memory",
                                    "gpu.unit_0", "gpu.unit_0.rop_0", "gpu.unit_1",
                                    "gpu.unit_1.depth_test_1", "gpu.unit_1.rop_1", "gpu.unit_2",
                                    "gpu.unit_2.rop_2", "gpu.unit_3", "gpu.unit_3.rop_3"}));

@@ -146,7 +146,7 @@ TEST_F(StatsSummaryTest, FiguresAreTheStatsJsonNumbers) {
 nlohmann::json made_up(double utilization) {
   nlohmann::json stages = nlohmann::json::object();
   for (const char* k : {"command_processor", "vertex_fetch", "vertex_shader", "clipper",
-                        "triangle_setup", "tile_distributor"}) {
+                        "primitive_setup", "tile_distributor"}) {
     stages[k] = {{"busy_cycles", 100}, {"stalled_cycles", 800.0}, {"starved_cycles", 100.0}};
   }
   stages["tile_rasterizer_0"] = {
@@ -161,9 +161,11 @@ nlohmann::json made_up(double utilization) {
   nlohmann::json fifos = nlohmann::json::object();
   // The netlist: a chain, FIFO i from stage i - 1 (the host for the first)
   // to stage i.
-  const std::vector<std::string> order = {
-      "command_processor", "vertex_fetch",      "vertex_shader", "clipper",        "triangle_setup",
-      "tile_distributor",  "tile_rasterizer_0", "depth_test_0",  "interpolator_0", "rop_0"};
+  const std::vector<std::string> order = {"command_processor", "vertex_fetch",
+                                          "vertex_shader",     "clipper",
+                                          "primitive_setup",   "tile_distributor",
+                                          "tile_rasterizer_0", "depth_test_0",
+                                          "interpolator_0",    "rop_0"};
   const std::vector<std::string> fifo_order = {"commands",
                                                "command_to_fetch",
                                                "fetch_to_shader",
@@ -293,6 +295,22 @@ TEST(StatsDiff, ListsChangesMissingKeysAndSortsByRelativeChange) {
   EXPECT_TRUE(same.entries().empty());
   EXPECT_TRUE(same.json()["identical"].get<bool>());
   EXPECT_NE(same.text().find("identical (all 8 numbers equal)"), std::string::npos) << same.text();
+}
+
+// A stats.json written before a stage's rename compares with one written
+// after: the former name is read as the current one (primitive_setup was
+// triangle_setup).
+TEST(StatsDiff, ReadsARenamedStageUnderItsCurrentName) {
+  const auto file = [](const char* setup_name, uint64_t busy) {
+    return nlohmann::json{{"timing", {{"stages", {{setup_name, {{"busy_cycles", busy}}}}}}},
+                          {"config", {{"stages", {{setup_name, {{"ii", 4}}}}}}}};
+  };
+  const StatsDiff same(file("triangle_setup", 7), "old", file("primitive_setup", 7), "new");
+  EXPECT_TRUE(same.entries().empty()) << same.text();
+  EXPECT_EQ(same.compared(), 2u);
+  const StatsDiff changed(file("triangle_setup", 7), "old", file("primitive_setup", 9), "new");
+  ASSERT_EQ(changed.entries().size(), 1u);
+  EXPECT_EQ(changed.entries()[0].key, "timing.stages.primitive_setup.busy_cycles");
 }
 
 }  // namespace

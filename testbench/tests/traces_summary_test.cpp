@@ -52,7 +52,7 @@ const TraceSummary::Bottleneck& expect_bottleneck(const TraceSummary& s, const c
   return b;
 }
 
-TEST_F(TraceSummaryTest, SetupBoundSceneNamesTriangleSetup) {
+TEST_F(TraceSummaryTest, SetupBoundSceneNamesPrimitiveSetup) {
   // 480 triangles inside pixel (8, 8) of a 64x64 screen, one unit, setup at
   // ii 32 per triangle. Per triangle the other stages need: fetch 3 slots
   // x 1, the shader 3 vertices x 4 = 12, the clipper 2, the distributor 1,
@@ -71,7 +71,7 @@ TEST_F(TraceSummaryTest, SetupBoundSceneNamesTriangleSetup) {
                                                      {"draws", {{{"positions", positions}}}}});
   const std::string config =
       write_json("setup_bound.json",
-                 {{"units", 1}, {"stages", {{"triangle_setup", {{"ii", 32}, {"latency", 40}}}}}});
+                 {{"units", 1}, {"stages", {{"primitive_setup", {{"ii", 32}, {"latency", 40}}}}}});
   const std::string dir = trace(scene, "--config " + config);
   const TraceReader reader(dir);
   const TraceSummary s(reader);
@@ -79,21 +79,21 @@ TEST_F(TraceSummaryTest, SetupBoundSceneNamesTriangleSetup) {
 
   // Busy for 480 x 32 cycles of a frame a little longer.
   const TraceSummary::Bottleneck& b =
-      expect_bottleneck(s, "triangle_setup", "clipper", "tile_distributor");
-  EXPECT_EQ(b.busiest, "triangle_setup");
+      expect_bottleneck(s, "primitive_setup", "clipper", "tile_distributor");
+  EXPECT_EQ(b.busiest, "primitive_setup");
   ASSERT_FALSE(b.starves.empty());
   EXPECT_GT(b.starves[0].mean, 0.8);
 
   const CommandResult r = gpusim("trace summary " + dir);
   ASSERT_EQ(r.status, 0) << r.out;
-  EXPECT_NE(r.out.find("Bottleneck: triangle_setup"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("Bottleneck: primitive_setup"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("stalls (upstream, blocked writing into its input): clipper"),
             std::string::npos)
       << r.out;
   const CommandResult j = gpusim("trace summary " + dir + " --json");
   ASSERT_EQ(j.status, 0) << j.out;
   const nlohmann::json parsed = nlohmann::json::parse(j.out);
-  EXPECT_EQ(parsed["bottleneck"]["kind"], "triangle_setup");
+  EXPECT_EQ(parsed["bottleneck"]["kind"], "primitive_setup");
   EXPECT_EQ(parsed["stages"].size(), s.stages().size());
 }
 

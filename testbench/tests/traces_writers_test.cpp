@@ -115,6 +115,17 @@ TEST(TraceFilter, ParsesAndRejects) {
   EXPECT_EQ(TraceFilter::parse("clipper,rop_1", "", "").stages_kept(t),
             (std::vector<bool>{true, false, true}));
   EXPECT_THROW(TraceFilter::parse("rop_2", "", "").stages_kept(t), InputError);
+
+  // A renamed stage's former name selects it, with one warning.
+  t.stages.push_back({"primitive_setup", "primitive_setup", -1, {3}, {}});
+  testing::internal::CaptureStderr();
+  EXPECT_EQ(TraceFilter::parse("triangle_setup,rop_1", "", "").stages_kept(t),
+            (std::vector<bool>{false, false, true, true}));
+  const std::string warned = testing::internal::GetCapturedStderr();
+  EXPECT_NE(warned.find("--trace-stages: 'triangle_setup' is deprecated, read as "
+                        "'primitive_setup'"),
+            std::string::npos)
+      << warned;
 }
 
 std::string slurp(const fs::path& p) {
