@@ -27,7 +27,7 @@ const char* to_string(TraceItem item) {
 }
 
 const char* to_string(FragmentSite site) {
-  static constexpr const char* kNames[] = {"", "depth_test", "rop"};
+  static constexpr const char* kNames[] = {"", "test", "write"};
   return kNames[static_cast<size_t>(site)];
 }
 

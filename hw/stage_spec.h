@@ -97,8 +97,11 @@ enum class TraceItem : uint8_t {
 // "draw", "batch", "primitive", "tile job", "stamp batch"; a new enumerator
 // adds its name there.
 const char* to_string(TraceItem item);
-enum class FragmentSite : uint8_t { none, depth_test, rop };
-const char* to_string(FragmentSite site);  // "", "depth_test", "rop"
+// Which fragment records a stage makes (fragments.bin): none; `test`, the
+// fragments it depth-tests, each with its outcome; `write`, the fragments it
+// writes to the colour buffer.
+enum class FragmentSite : uint8_t { none, test, write };
+const char* to_string(FragmentSite site);  // "", "test", "write"
 struct StageTrace {
   TraceItem item = TraceItem::primitive;
   // By the primitive's kind (point, line, triangle): nullptr says only that

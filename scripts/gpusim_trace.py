@@ -62,7 +62,7 @@ FR_DTYPE = np.dtype([
     ("value", "<f4", (4,)),
 ])
 FR_MAGIC = b"GPUSIMFR"
-FR_DEPTH_TEST, FR_ROP = 0, 1
+FR_TEST, FR_WRITE = 0, 1  # fragments.bin `stage`: the site, as manifest `fragments` names it
 assert TX_DTYPE.itemsize == RECORD_SIZE and FR_DTYPE.itemsize == RECORD_SIZE
 
 

@@ -161,7 +161,7 @@ const StageSpec& DepthTest::spec() {
       "stamp batches and control tokens forwarded",
       {"rasterizer_to_depth"},
       &conserve,
-      StageTrace{TraceItem::stamp_batch, {kFailed, kFailed, kFailed}, FragmentSite::depth_test},
+      StageTrace{TraceItem::stamp_batch, {kFailed, kFailed, kFailed}, FragmentSite::test},
       {{"", "`ii` × stamps + memory stall",
         "Blocking tile cache: misses are served one after another. At end of frame, the write-back "
         "starts `latency` after the token and the token leaves when it is done."}}};

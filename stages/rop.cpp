@@ -192,7 +192,7 @@ const StageSpec& Rop::spec() {
       "tokens retired (their writes done or posted)",
       {"interpolator_to_rop"},
       &conserve,
-      StageTrace{TraceItem::stamp_batch, {"", "", ""}, FragmentSite::rop},
+      StageTrace{TraceItem::stamp_batch, {"", "", ""}, FragmentSite::write},
       {{"", "`ii` × stamps + memory stall",
         "Like the depth test; at end of frame it reports the unit done when its write-back "
         "completes (with a resolve: it passes the token to the resolve instead)."}}};

@@ -6,6 +6,7 @@
 #include <set>
 
 #include "hw/input_error.h"
+#include "hw/stage_spec.h"
 
 namespace gpusim {
 namespace {
@@ -48,8 +49,16 @@ std::string item_text(const TraceStage& s, const TransactionRecord& r) {
   return word;  // one primitive after clipping
 }
 
+// The stage of `unit` that makes the fragment records of `site`, or null.
+const TraceStage* site_stage(const TraceManifest& m, unsigned unit, FragmentSite site) {
+  for (const TraceStage& s : m.stages) {
+    if (s.unit == static_cast<int>(unit) && s.fragments == to_string(site)) return &s;
+  }
+  return nullptr;
+}
+
 std::string outcome_text(const FragmentRecord& f) {
-  if (f.stage == FragmentRecord::depth_test) {
+  if (f.stage == FragmentRecord::at_test) {
     switch (f.outcome) {
       case FragmentRecord::failed:
         return "failed";
@@ -70,7 +79,7 @@ std::string outcome_text(const FragmentRecord& f) {
 }
 
 std::string value_text(const FragmentRecord& f) {
-  if (f.stage == FragmentRecord::depth_test) {
+  if (f.stage == FragmentRecord::at_test) {
     return std::isnan(f.value[0]) ? "depth not stored" : "depth " + format_float(f.value[0]);
   }
   char buf[96];
@@ -210,7 +219,7 @@ std::string TraceFollow::pixel_text(int x, int y, const FrameLookup& frame) cons
   char buf[256];
   std::string out;
   size_t depth = 0;
-  for (const FragmentRecord& f : frags) depth += f.stage == FragmentRecord::depth_test;
+  for (const FragmentRecord& f : frags) depth += f.stage == FragmentRecord::at_test;
   std::snprintf(buf, sizeof buf,
                 "pixel (%d,%d) in %s: tile (%d,%d) of unit %u; %zu fragment record%s (%zu at the "
                 "depth test, %zu at the ROP)\n",
@@ -222,10 +231,15 @@ std::string TraceFollow::pixel_text(int x, int y, const FrameLookup& frame) cons
                   "primitive", "unit", "depth", "old depth", "outcome", "value");
     out += buf;
   }
+  // The stages of the pixel's unit at each fragment site, from the manifest.
+  const TraceStage* at_test = site_stage(m, unit, FragmentSite::test);
+  const TraceStage* at_write = site_stage(m, unit, FragmentSite::write);
+  const std::string test_kind = at_test ? at_test->kind : "test";
+  const std::string write_kind = at_write ? at_write->kind : "write";
   for (const FragmentRecord& f : frags) {
     std::snprintf(buf, sizeof buf, "  %10llu %-10s %9lld %4u %10s %10s %-18s %s\n",
                   static_cast<unsigned long long>(f.cycle),
-                  f.stage == FragmentRecord::depth_test ? "depth_test" : "rop",
+                  (f.stage == FragmentRecord::at_test ? test_kind : write_kind).c_str(),
                   static_cast<long long>(f.prim), f.unit, format_float(f.depth).c_str(),
                   format_float(f.old_depth).c_str(), outcome_text(f).c_str(),
                   value_text(f).c_str());
@@ -235,8 +249,8 @@ std::string TraceFollow::pixel_text(int x, int y, const FrameLookup& frame) cons
   // Why the list may be incomplete or empty.
   const TraceFilters& filters = m.filters;
   const std::string u = std::to_string(unit);
-  const bool depth_kept = filters.keeps_stage("depth_test_" + u);
-  const bool rop_kept = filters.keeps_stage("rop_" + u);
+  const bool depth_kept = at_test == nullptr || filters.keeps_stage(at_test->name);
+  const bool rop_kept = at_write == nullptr || filters.keeps_stage(at_write->name);
   if (!depth_kept || !rop_kept) {
     out += "  note: the pixel's unit " + u + " had " +
            (depth_kept ? "its ROP"

@@ -479,7 +479,7 @@ void TraceReader::for_each_fragment(const std::function<void(const FragmentRecor
   for_each_record(file, m_manifest.fragment_records, kFragmentBytes,
                   [&](const uint8_t* p, uint64_t i) {
                     const FragmentRecord r = decode<FragmentRecord>(p);
-                    if (r.stage > FragmentRecord::rop) {
+                    if (r.stage > FragmentRecord::at_write) {
                       throw InputError(file + ": record " + std::to_string(i) + ": stage " +
                                        std::to_string(r.stage) + " is not 0 or 1");
                     }

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "hw/input_error.h"
+#include "hw/stage_spec.h"
 
 namespace gpusim {
 namespace {
@@ -96,8 +97,10 @@ TraceRecorder::TraceRecorder(const NetlistTables& tables, const GpuConfig& confi
     s.names_draws = t.item == "draw";
     s.pid = t.unit < 0 ? 0 : 1 + t.unit;
     s.tid = static_cast<int>(i);
-    if (t.unit >= 0 && t.fragments == "depth_test") m_depth_stage[t.unit] = static_cast<int>(i);
-    if (t.unit >= 0 && t.fragments == "rop") m_rop_stage[t.unit] = static_cast<int>(i);
+    if (t.unit >= 0 && t.fragments == to_string(FragmentSite::test))
+      m_depth_stage[t.unit] = static_cast<int>(i);
+    if (t.unit >= 0 && t.fragments == to_string(FragmentSite::write))
+      m_rop_stage[t.unit] = static_cast<int>(i);
     if (s.kept && !paths.fragments.empty() && !t.fragments.empty()) {
       m_fragments_traced = true;
     }

@@ -133,13 +133,15 @@ struct TransactionRecord : record_codec::RecordFields<TransactionRecord> {
 // One fragments.bin record: a fragment at a depth test or a ROP.
 struct FragmentRecord : record_codec::RecordFields<FragmentRecord> {
   static constexpr size_t kSize = 48;
-  enum Stage : uint8_t { depth_test = 0, rop = 1 };
+  // The site (hw/stage_spec.h, FragmentSite): a fragment depth-tested, or
+  // one written to the colour buffer.
+  enum Site : uint8_t { at_test = 0, at_write = 1 };
   enum Outcome : uint8_t { failed = 0, passed = 1, passed_test_off = 2, not_written = 3 };
   static constexpr uint8_t written = 1;
   uint64_t cycle = 0;
   int64_t prim = 0;
   uint16_t x = 0, y = 0;
-  uint8_t stage = depth_test;
+  uint8_t stage = at_test;
   uint8_t unit = 0;
   uint8_t outcome = 0;
   float depth = 0.0f, old_depth = 0.0f;

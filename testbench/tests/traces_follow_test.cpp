@@ -204,7 +204,7 @@ TEST_F(TraceFollowTest, PixelShowsEveryFragmentAndTheDepthTestOutcome) {
     EXPECT_EQ(r.x, 5);
     EXPECT_EQ(r.y, 5);
     EXPECT_EQ(r.unit, 0);  // tile (0, 0): unit 0 of 4
-    (r.stage == FragmentRecord::depth_test ? depth : rop).push_back(&r);
+    (r.stage == FragmentRecord::at_test ? depth : rop).push_back(&r);
   }
   ASSERT_EQ(depth.size(), 3u);
   ASSERT_EQ(rop.size(), 2u);
@@ -292,7 +292,7 @@ TEST_F(TraceFollowTest, FollowsALineAndAPoint) {
   // Each primitive's fragments at the depth test: exactly its pixels.
   std::map<int64_t, std::set<std::pair<int, int>>> pixels;
   reader.for_each_fragment([&](const FragmentRecord& f) {
-    if (f.stage == FragmentRecord::depth_test) {
+    if (f.stage == FragmentRecord::at_test) {
       EXPECT_TRUE(pixels[f.prim].insert({f.x, f.y}).second) << "twice: " << f.x << "," << f.y;
     }
   });

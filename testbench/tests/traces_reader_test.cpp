@@ -214,13 +214,13 @@ TEST_F(TraceReaderTest, ReadsEveryFieldAtItsDocumentedOffset) {
   EXPECT_EQ(f[0].cycle, 116u);
   EXPECT_EQ(f[0].x, 3);
   EXPECT_EQ(f[0].y, 4);
-  EXPECT_EQ(f[0].stage, FragmentRecord::depth_test);
+  EXPECT_EQ(f[0].stage, FragmentRecord::at_test);
   EXPECT_EQ(f[0].outcome, FragmentRecord::passed);
   EXPECT_EQ(f[0].depth, 0.25f);
   EXPECT_EQ(f[0].old_depth, 1.0f);
   EXPECT_EQ(f[0].value[0], 0.25f);
   EXPECT_TRUE(std::isnan(f[0].value[1]));
-  EXPECT_EQ(f[1].stage, FragmentRecord::rop);
+  EXPECT_EQ(f[1].stage, FragmentRecord::at_write);
   EXPECT_TRUE(std::isnan(f[1].depth));
   EXPECT_EQ(f[1].value[1], 0.5f);
 
@@ -271,7 +271,7 @@ TEST_F(TraceReaderTest, NamesLinesAndPointsFromTheRecordsAndTheManifest) {
       << text;
   EXPECT_NE(text.find("draw 0: lines 0..2\n"), std::string::npos) << text;
   EXPECT_NE(text.find("      1  line\n"), std::string::npos) << text;  // the setup's row
-  EXPECT_EQ(text.find("triangle"), std::string::npos) << text;  // a line, set up as one
+  EXPECT_EQ(text.find("triangle"), std::string::npos) << text;         // a line, set up as one
   // Point 4 has no record: the absence names it as a point.
   EXPECT_EQ(TraceFollow(reader).prim_text(4), "point 4 never appears in transactions.bin\n");
 
