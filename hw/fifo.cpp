@@ -3,9 +3,11 @@
 namespace gpusim {
 
 FifoChannel::FifoChannel(const char* name, size_t depth)
-    : sc_core::sc_prim_channel(name), m_statistics(depth), m_stats(basename()) {
+    : sc_core::sc_prim_channel(name),
+      m_statistics(depth),
+      m_stats(std::make_unique<StatGroup>(basename())) {
   if (depth == 0) throw std::invalid_argument(std::string("Fifo ") + name + ": depth 0");
-  StatGroup& g = m_stats;
+  StatGroup& g = *m_stats;
   const auto cycles = [this](sc_core::sc_time FifoStats::*time) {
     return [this, time] { return stats().*time / m_cycle; };
   };
