@@ -33,7 +33,8 @@ class PassThrough : public PipelineStage {
                              "stamp batches and control tokens written",
                              {"rasterizer_to_pass_through"},
                              /*conservation=*/nullptr,
-                             StageTrace{TraceItem::stamp_batch, {}, FragmentSite::none}};
+                             StageTrace{TraceItem::stamp_batch, {}, FragmentSite::none},
+                             {{"", "`ii` per batch", "Forwards it unchanged."}}};
     return s;
   }
 
