@@ -1,7 +1,6 @@
 #include "hw/stage_spec.h"
 
 #include <algorithm>
-#include <cctype>
 #include <iostream>
 #include <map>
 #include <mutex>
@@ -85,7 +84,7 @@ std::string StageRegistry::current_name(std::string_view name) {
       const std::string_view rest = name.substr(std::min(name.size(), former.size()));
       if (name.size() > former.size() + 1 && name.compare(0, former.size(), former) == 0 &&
           rest[0] == '_' &&
-          std::all_of(rest.begin() + 1, rest.end(), [](char c) { return std::isdigit(c); })) {
+          std::all_of(rest.begin() + 1, rest.end(), [](char c) { return c >= '0' && c <= '9'; })) {
         return kind + std::string(rest);
       }
     }

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "hw/gpu_config.h"
+#include "hw/stage_spec.h"
 
 namespace gpusim {
 namespace {
@@ -467,6 +468,13 @@ TEST(GpuConfigOverrides, ErrorsNameTheOverride) {
             "vertex_cache_entries, "
             "tile_cache_entries, samples_per_pass, tile_test_overlap, lighting_cycles_per_pixel, "
             "lighting_cycles_per_light, watchdog_cycles)");
+  // A renamed stage's former names: the kind, and a unit's instance of it.
+  EXPECT_EQ(StageRegistry::current_name("triangle_setup"), "primitive_setup");
+  EXPECT_EQ(StageRegistry::current_name("triangle_setup_12"), "primitive_setup_12");
+  for (const char* other : {"triangle_setup_", "triangle_setup_x", "triangle_setupx",
+                            "triangle_set", "primitive_setup", "rop_0"}) {
+    EXPECT_EQ(StageRegistry::current_name(other), "") << other;
+  }
   // A renamed stage's former key is read as the new one, with one warning;
   // both at once is an error.
   testing::internal::CaptureStderr();
