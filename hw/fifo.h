@@ -109,6 +109,16 @@ class FifoChannel : public sc_core::sc_prim_channel {
   FifoStatistics m_statistics;
   RandomStalls m_stalls;
 
+  // The stall policy's delay of the next operation on `side` (an sc_time
+  // value, 0: none), counted in the statistics; one test when no policy is
+  // active.
+  uint64_t next_stall(RandomStalls::Side side) {
+    if (!m_stalls.active()) return 0;
+    const uint64_t t = m_stalls.draw(side);
+    if (t != 0) m_statistics.stalled(sc_core::sc_time::from_value(t));
+    return t;
+  }
+
  private:
   // Read at the end of a run only: on the heap, out of the cache lines the
   // per-item path touches.
@@ -328,10 +338,8 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
   // delay added to the operation's time (a process in the kernel's time
   // waits it, as maybe_stall() does).
   SuperdenseTime stall_at(RandomStalls::Side side, const SuperdenseTime& call, bool kernel) {
-    if (!m_stalls.active()) return call;
-    const uint64_t t = m_stalls.draw(side);
+    const uint64_t t = next_stall(side);
     if (t == 0) return call;
-    m_statistics.stalled(sc_core::sc_time::from_value(t));
     const SuperdenseTime stalled{call.t + t, 0};
     if (kernel) {
       wait_until(stalled);
@@ -577,12 +585,8 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
   }
 
   void maybe_stall(RandomStalls::Side side) {
-    if (!m_stalls.active()) return;
-    const uint64_t t = m_stalls.draw(side);
-    if (t == 0) return;
-    const sc_core::sc_time delay = sc_core::sc_time::from_value(t);
-    m_statistics.stalled(delay);
-    sc_core::wait(delay);
+    const uint64_t t = next_stall(side);
+    if (t != 0) sc_core::wait(sc_core::sc_time::from_value(t));
   }
 
   std::vector<T> m_buf;
