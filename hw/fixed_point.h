@@ -78,6 +78,27 @@ static_assert(int64_t{kMaxFramebufferSide} * kSubpixelOne + kSubpixelHalf < kSna
               "pixel centres are representable snapped coordinates");
 }  // namespace bit_budget
 
+// The widths packets carry these values in (hw/packets.h lists each field's),
+// from the bounds above, each with its sign where it has one.
+namespace field_bits {
+using bit_budget::bits_of;
+// A pixel index or a framebuffer side, 0..kMaxFramebufferSide.
+constexpr unsigned kPixel = bits_of(kMaxFramebufferSide) + 1;
+static_assert(kPixel == 14, "pixel indices are 14 bits");
+// A snapped coordinate, -kSnapLimit..kSnapLimit: 25 bits and a sign.
+constexpr unsigned kSubpixel = bits_of(kSnapLimit) + 2;
+// The pixel of a snapped coordinate (floor(X / 256)): 17 bits and a sign.
+constexpr unsigned kSnappedPixel = kSubpixel - kSubpixelBits;
+// An edge coefficient a or b, a difference of two snapped coordinates.
+constexpr unsigned kEdgeCoefficient = bit_budget::kDifferenceBits + 1;
+// An edge function's value or constant term: below 2^51 for a triangle, and
+// a line's band term (< 2^40) keeps it below 2^52.
+constexpr unsigned kEdgeValue = bit_budget::kEdgeBits + 2;
+// Twice a triangle's area, or a line's squared length: positive, below 2^51.
+constexpr unsigned kArea2 = bit_budget::kEdgeBits;
+static_assert(kEdgeValue <= 64 && kSubpixel <= 32, "the model's integer types hold them");
+}  // namespace field_bits
+
 // Round a window coordinate to the subpixel grid: to nearest, ties to even.
 // x * 256 is exact in binary floating point, so the only rounding is the one
 // to an integer. After clipping |x| is within the guard band, except that

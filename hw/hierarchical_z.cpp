@@ -5,15 +5,6 @@
 
 namespace gpusim {
 
-std::ostream& operator<<(std::ostream& os, const HzRange& r) {
-  return os << "[" << r.min << ", " << r.max << "]";
-}
-
-std::ostream& operator<<(std::ostream& os, const HzUpdate& u) {
-  return os << "HzUpdate{tile " << u.tile << " seq " << u.seq << " epoch " << u.epoch << " "
-            << u.range << " sent " << u.sent << "}";
-}
-
 namespace {
 
 // The largest float <= x and the smallest float >= x (x finite, in float range).

@@ -31,9 +31,18 @@ namespace gpusim {
 struct HzRange {
   DepthValue min = 0;
   DepthValue max = ~DepthValue{0};  // default: nothing known
-  bool operator==(const HzRange& o) const { return min == o.min && max == o.max; }
+
+  static constexpr const char* kPacketName = "HzRange";
+  template <typename V>
+  static constexpr void fields(V& v) {
+    v("min", &HzRange::min);
+    v("max", &HzRange::max);
+  }
+  bool operator==(const HzRange& o) const { return fields_equal(*this, o); }
 };
-std::ostream& operator<<(std::ostream& os, const HzRange& r);
+inline std::ostream& operator<<(std::ostream& os, const HzRange& r) {
+  return print_fields(os, r);
+}
 
 // A triangle's depth range in the buffer's encoding: every value the depth
 // test can compute for one of its covered pixels or samples (interpolation,
@@ -50,11 +59,22 @@ struct HzUpdate {
   uint32_t seq = 0;
   uint32_t epoch = 0;
   HzRange range;
-  bool operator==(const HzUpdate& o) const {
-    return sent == o.sent && tile == o.tile && seq == o.seq && epoch == o.epoch && range == o.range;
+
+  static constexpr const char* kPacketName = "HzUpdate";
+  template <typename V>
+  static constexpr void fields(V& v) {
+    v("sent", &HzUpdate::sent, model_only);  // the link's visibility rule, not a signal
+    v("tile", &HzUpdate::tile);
+    v("seq", &HzUpdate::seq);
+    v("epoch", &HzUpdate::epoch);
+    v("range", &HzUpdate::range);
   }
+  bool operator==(const HzUpdate& o) const { return fields_equal(*this, o); }
 };
-std::ostream& operator<<(std::ostream& os, const HzUpdate& u);
+inline std::ostream& operator<<(std::ostream& os, const HzUpdate& u) {
+  return print_fields(os, u);
+}
+static_assert(packet_bits<HzUpdate>() == 3 * 32 + 2 * 32);
 
 // A unit's update channel: a plain C++ queue (no SystemC channel, no event:
 // the rasterizer polls it when it tests a tile). Visibility makes it

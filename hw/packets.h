@@ -15,21 +15,22 @@
 // without knowing what they are. 12 holds what is planned: colour 4,
 // eye-space normal 3 and position 3, texture coordinate 2.
 //
-// Widths, as hardware would carry them (float32 components):
+// Widths: each packet lists its fields once (hw/packet_fields.h) with the
+// width hardware would carry each in (float32 components; the integer
+// formats of hw/fixed_point.h, field_bits), and a static_assert below it
+// holds the total:
 // - ClippedVertex: x, y, z, 1/w and 12 varyings: 16 words, 512 bits.
-// - ClippedPrimitive: 3 vertices and 12 flat-shading varyings, 1920 bits,
-//   plus a header of packet kind (2 bits), primitive kind (2), vertex count
-//   (2), draw id (32) and primitive id (64).
+// - ClippedPrimitive: 3 vertices, 12 flat-shading varyings and the line end
+//   flags, 1922 bits, plus a header of packet kind (2 bits), primitive kind
+//   (2), vertex count (2), draw id (32) and primitive id (64): 2024.
 // - RasterPrimitive: 3 x 12 varyings over w and 12 flat ones, 1536 bits;
-//   z and 1/w, 192; snapped vertices, area2, the interpolation and coverage
-//   equations (6 x about 105 bits), pixel box and polygon offset at the
-//   widths hw/fixed_point.h proves, and the line fields (rule, width, the
-//   Bresenham end pixels and flags, about 80), about 1000; plus the header
-//   above.
-// A draw uses only its `count` components (4 today, so 8 words per clipped
-// vertex), which is what hardware would move; the model keeps the full
-// capacity in every packet so that packets have one fixed size and moving a
-// vertex allocates nothing.
+//   z and 1/w, 192; snapped vertices and area2, 207; the interpolation and
+//   coverage equations, 7 x 106 and a count; pixel box, polygon offset and
+//   the line fields (rule, width, the Bresenham end pixels and flags), 177;
+//   with the header, 2957 bits.
+// - Stamp batches: a header (kind, the primitive, 32 bits of hierarchical-Z
+//   sequence) and per stamp 251 bits, per covered pixel a 16-bit sample mask
+//   and, shaded, a 128-bit colour.
 #pragma once
 
 #include <array>
@@ -41,6 +42,7 @@
 #include <vector>
 
 #include "hw/fixed_point.h"
+#include "hw/packet_fields.h"
 #include "hw/primitive_kind.h"
 #include "hw/varying_layout.h"
 
@@ -52,14 +54,30 @@ enum class PacketKind : uint8_t {
   end_of_frame,  // flush and report completion
 };
 std::ostream& operator<<(std::ostream& os, PacketKind k);
+constexpr unsigned hardware_bits(PacketKind) {
+  return 2;
+}
+constexpr unsigned hardware_bits(PrimitiveKind) {
+  return 2;
+}
 
 // Driver -> command processor -> vertex fetch.
 struct Command {
   PacketKind kind = PacketKind::work;  // work: draw `draw_id`
   uint32_t draw_id = 0;
-  bool operator==(const Command& o) const { return kind == o.kind && draw_id == o.draw_id; }
+
+  static constexpr const char* kPacketName = "Command";
+  template <typename V>
+  static constexpr void fields(V& v) {
+    v("kind", &Command::kind, control);
+    v("draw_id", &Command::draw_id);
+  }
+  bool operator==(const Command& o) const { return fields_equal(*this, o); }
 };
-std::ostream& operator<<(std::ostream& os, const Command& c);
+inline std::ostream& operator<<(std::ostream& os, const Command& c) {
+  return print_fields(os, c);
+}
+static_assert(packet_bits<Command>() == 34);
 
 // Vertex slots in a primitive packet: a triangle's.
 constexpr unsigned kMaxPrimitiveVertices = 3;
@@ -71,11 +89,22 @@ struct ClippedVertex {
   float x = 0.0f, y = 0.0f, z = 0.0f;
   float inv_w = 0.0f;  // the attribute weight: 1/w, or 1 with screen interpolation
   Varyings varyings_over_w{};
-  bool operator==(const ClippedVertex& o) const {
-    return x == o.x && y == o.y && z == o.z && inv_w == o.inv_w &&
-           varyings_over_w == o.varyings_over_w;
+
+  static constexpr const char* kPacketName = "ClippedVertex";
+  template <typename V>
+  static constexpr void fields(V& v) {
+    v("x", &ClippedVertex::x);
+    v("y", &ClippedVertex::y);
+    v("z", &ClippedVertex::z);
+    v("inv_w", &ClippedVertex::inv_w);
+    v("varyings_over_w", &ClippedVertex::varyings_over_w);
   }
+  bool operator==(const ClippedVertex& o) const { return fields_equal(*this, o); }
 };
+inline std::ostream& operator<<(std::ostream& os, const ClippedVertex& v) {
+  return print_fields(os, v);
+}
+static_assert(packet_bits<ClippedVertex>() == 512);
 
 // Clipper -> primitive setup: one primitive, v[0, vertex_count) in use.
 struct ClippedPrimitive {
@@ -90,9 +119,27 @@ struct ClippedPrimitive {
   // Lines: whether the Bresenham rule draws the first and the last pixel
   // (docs/pipeline-spec.md, section 3: a strip's shared vertices once).
   bool draw_first = true, draw_last = true;
-  bool operator==(const ClippedPrimitive& o) const;
+
+  static constexpr const char* kPacketName = "ClippedPrimitive";
+  template <typename V>
+  static constexpr void fields(V& v) {
+    using P = ClippedPrimitive;
+    v("kind", &P::kind, control);
+    v("primitive_kind", &P::primitive_kind);
+    v("vertex_count", &P::vertex_count, bits(2));
+    v("draw_id", &P::draw_id);
+    v("primitive_id", &P::primitive_id);
+    v("v", &P::v, used(&P::vertex_count));
+    v("flat_varyings", &P::flat_varyings);
+    v("draw_first", &P::draw_first);
+    v("draw_last", &P::draw_last);
+  }
+  bool operator==(const ClippedPrimitive& o) const { return fields_equal(*this, o); }
 };
-std::ostream& operator<<(std::ostream& os, const ClippedPrimitive& t);
+inline std::ostream& operator<<(std::ostream& os, const ClippedPrimitive& t) {
+  return print_fields(os, t);
+}
+static_assert(packet_bits<ClippedPrimitive>() == 2024);
 
 // Edge function E(px, py) = a * px + b * py + c over subpixel coordinates:
 // for the edge from (Xa, Ya) to (Xb, Yb), a = -(Yb - Ya), b = Xb - Xa,
@@ -103,10 +150,21 @@ struct EdgeEquation {
   EdgeValue a = 0, b = 0, c = 0;
   EdgeValue bias = 0;  // 0 when the edge owns its boundary, else 1: covered iff E - bias >= 0
   EdgeValue at(Subpixel px, Subpixel py) const { return a * px + b * py + c; }
-  bool operator==(const EdgeEquation& o) const {
-    return a == o.a && b == o.b && c == o.c && bias == o.bias;
+
+  static constexpr const char* kPacketName = "EdgeEquation";
+  template <typename V>
+  static constexpr void fields(V& v) {
+    v("a", &EdgeEquation::a, bits(field_bits::kEdgeCoefficient));
+    v("b", &EdgeEquation::b, bits(field_bits::kEdgeCoefficient));
+    v("c", &EdgeEquation::c, bits(field_bits::kEdgeValue));
+    v("bias", &EdgeEquation::bias, bits(1));
   }
+  bool operator==(const EdgeEquation& o) const { return fields_equal(*this, o); }
 };
+inline std::ostream& operator<<(std::ostream& os, const EdgeEquation& e) {
+  return print_fields(os, e);
+}
+static_assert(packet_bits<EdgeEquation>() == 106);
 
 // How a line's pixels are found (docs/pipeline-spec.md, section 8b).
 enum class LineRule : uint8_t {
@@ -115,6 +173,10 @@ enum class LineRule : uint8_t {
   bresenham,     // the rasterizer's line walker
   rectangle,     // multisampled (section 14): four coverage edges
 };
+std::ostream& operator<<(std::ostream& os, LineRule r);
+constexpr unsigned hardware_bits(LineRule) {
+  return 2;
+}
 
 // Primitive setup's result, for every primitive kind. Two sets of equations:
 //
@@ -167,21 +229,69 @@ struct RasterPrimitive {
   // whether the first and last pixel are drawn (ClippedPrimitive).
   int32_t ia_x = 0, ia_y = 0, ib_x = 0, ib_y = 0;
   bool draw_first = true, draw_last = true;
-  bool operator==(const RasterPrimitive& o) const;
+
+  static constexpr const char* kPacketName = "RasterPrimitive";
+  template <typename V>
+  static constexpr void fields(V& v) {
+    using P = RasterPrimitive;
+    namespace w = field_bits;
+    v("primitive_kind", &P::primitive_kind);
+    v("vertex_count", &P::vertex_count, bits(2));
+    v("draw_id", &P::draw_id);
+    v("primitive_id", &P::primitive_id);
+    v("x", &P::x, bits(w::kSubpixel));
+    v("y", &P::y, bits(w::kSubpixel));
+    v("area2", &P::area2, bits(w::kArea2));
+    v("edge", &P::edge);
+    v("coverage", &P::coverage, used(&P::coverage_count));
+    v("coverage_count", &P::coverage_count, bits(3));
+    v("x0", &P::x0, bits(w::kPixel + 1));  // an empty box is [0..-1]
+    v("y0", &P::y0, bits(w::kPixel + 1));
+    v("x1", &P::x1, bits(w::kPixel + 1));
+    v("y1", &P::y1, bits(w::kPixel + 1));
+    v("z", &P::z);
+    v("inv_w", &P::inv_w);
+    v("varyings_over_w", &P::varyings_over_w);
+    v("flat_varyings", &P::flat_varyings);
+    v("has_depth_offset", &P::has_depth_offset);
+    v("depth_offset", &P::depth_offset);
+    v("line_rule", &P::line_rule);
+    v("width", &P::width, bits(8));
+    v("ia_x", &P::ia_x, bits(w::kSnappedPixel));
+    v("ia_y", &P::ia_y, bits(w::kSnappedPixel));
+    v("ib_x", &P::ib_x, bits(w::kSnappedPixel));
+    v("ib_y", &P::ib_y, bits(w::kSnappedPixel));
+    v("draw_first", &P::draw_first);
+    v("draw_last", &P::draw_last);
+  }
+  bool operator==(const RasterPrimitive& o) const { return fields_equal(*this, o); }
 };
-std::ostream& operator<<(std::ostream& os, const RasterPrimitive& t);
+inline std::ostream& operator<<(std::ostream& os, const RasterPrimitive& t) {
+  return print_fields(os, t);
+}
+static_assert(packet_bits<RasterPrimitive>() == 2957);
 
 // Primitive setup -> tile distributor -> each tile rasterizer unit.
 struct SetupPacket {
   PacketKind kind = PacketKind::work;
   std::shared_ptr<const RasterPrimitive> primitive;  // work only
-  bool operator==(const SetupPacket& o) const;
+
+  static constexpr const char* kPacketName = "SetupPacket";
+  template <typename V>
+  static constexpr void fields(V& v) {
+    v("kind", &SetupPacket::kind, control);
+    v("primitive", &SetupPacket::primitive);
+  }
+  bool operator==(const SetupPacket& o) const { return fields_equal(*this, o); }
   friend void swap(SetupPacket& a, SetupPacket& b) noexcept {
     std::swap(a.kind, b.kind);
     a.primitive.swap(b.primitive);
   }
 };
-std::ostream& operator<<(std::ostream& os, const SetupPacket& p);
+inline std::ostream& operator<<(std::ostream& os, const SetupPacket& p) {
+  return print_fields(os, p);
+}
+static_assert(packet_bits<SetupPacket>() == 2 + packet_bits<RasterPrimitive>());
 
 // A stamp: stamp_w x stamp_h pixels with origin pixel (x, y) at its lower left.
 // Bit i of `mask` is pixel (x + i % stamp_w, y + i / stamp_w). `e` holds the
@@ -191,10 +301,21 @@ struct Stamp {
   int32_t x = 0, y = 0;
   uint64_t mask = 0;
   std::array<EdgeValue, 3> e{};
-  bool operator==(const Stamp& o) const {
-    return x == o.x && y == o.y && mask == o.mask && e == o.e;
+
+  static constexpr const char* kPacketName = "Stamp";
+  template <typename V>
+  static constexpr void fields(V& v) {
+    v("x", &Stamp::x, bits(field_bits::kPixel));
+    v("y", &Stamp::y, bits(field_bits::kPixel));
+    v("mask", &Stamp::mask, hex);
+    v("e", &Stamp::e, bits(field_bits::kEdgeValue));
   }
+  bool operator==(const Stamp& o) const { return fields_equal(*this, o); }
 };
+inline std::ostream& operator<<(std::ostream& os, const Stamp& s) {
+  return print_fields(os, s);
+}
+static_assert(packet_bits<Stamp>() == 2 * 14 + 64 + 3 * 53);
 
 // Rasterizer -> depth test -> interpolator, per unit: the stamps one triangle
 // covers in one tile, in the order the unit walked them.
@@ -210,7 +331,17 @@ struct StampBatch {
   // batch may write depth and hierarchical Z is on, so the depth test's exact
   // update names the batch it follows; 0 otherwise (no update).
   uint32_t hz_seq = 0;
-  bool operator==(const StampBatch& o) const;
+
+  static constexpr const char* kPacketName = "StampBatch";
+  template <typename V>
+  static constexpr void fields(V& v) {
+    v("kind", &StampBatch::kind, control);
+    v("primitive", &StampBatch::primitive);
+    v("stamps", &StampBatch::stamps);
+    v("samples", &StampBatch::samples);
+    v("hz_seq", &StampBatch::hz_seq);
+  }
+  bool operator==(const StampBatch& o) const { return fields_equal(*this, o); }
   friend void swap(StampBatch& a, StampBatch& b) noexcept {
     std::swap(a.kind, b.kind);
     std::swap(a.hz_seq, b.hz_seq);
@@ -219,7 +350,11 @@ struct StampBatch {
     a.samples.swap(b.samples);
   }
 };
-std::ostream& operator<<(std::ostream& os, const StampBatch& b);
+inline std::ostream& operator<<(std::ostream& os, const StampBatch& b) {
+  return print_fields(os, b);
+}
+static_assert(packet_bits<StampBatch>() == 2 + packet_bits<RasterPrimitive>() + 32,
+              "the header: kind, primitive, hz_seq; a stamp and a sample mask (16) each");
 
 // Interpolator -> ROP, per unit: surviving stamps and a colour per covered
 // pixel (stamp order, then bit order). A colour, not the pixel's varyings:
@@ -232,7 +367,17 @@ struct ShadedStampBatch {
   std::vector<Stamp> stamps;
   std::vector<glm::vec4> colors;
   std::vector<uint16_t> samples;  // as StampBatch: the samples each colour goes to
-  bool operator==(const ShadedStampBatch& o) const;
+
+  static constexpr const char* kPacketName = "ShadedStampBatch";
+  template <typename V>
+  static constexpr void fields(V& v) {
+    v("kind", &ShadedStampBatch::kind, control);
+    v("primitive", &ShadedStampBatch::primitive);
+    v("stamps", &ShadedStampBatch::stamps);
+    v("colors", &ShadedStampBatch::colors);
+    v("samples", &ShadedStampBatch::samples);
+  }
+  bool operator==(const ShadedStampBatch& o) const { return fields_equal(*this, o); }
   friend void swap(ShadedStampBatch& a, ShadedStampBatch& b) noexcept {
     std::swap(a.kind, b.kind);
     a.primitive.swap(b.primitive);
@@ -241,16 +386,29 @@ struct ShadedStampBatch {
     a.samples.swap(b.samples);
   }
 };
-std::ostream& operator<<(std::ostream& os, const ShadedStampBatch& b);
+inline std::ostream& operator<<(std::ostream& os, const ShadedStampBatch& b) {
+  return print_fields(os, b);
+}
+static_assert(packet_bits<ShadedStampBatch>() == 2 + packet_bits<RasterPrimitive>(),
+              "the header: kind, primitive; a stamp, a colour (128) and a sample mask each");
 
 // ROP -> resolve, per unit (multisampled or supersampled frames only): the
 // control tokens the ROP retired, so the resolve starts once every unit has
 // flushed its tiles.
 struct ControlToken {
   PacketKind kind = PacketKind::end_of_frame;
-  bool operator==(const ControlToken& o) const { return kind == o.kind; }
+
+  static constexpr const char* kPacketName = "ControlToken";
+  template <typename V>
+  static constexpr void fields(V& v) {
+    v("kind", &ControlToken::kind);
+  }
+  bool operator==(const ControlToken& o) const { return fields_equal(*this, o); }
 };
-std::ostream& operator<<(std::ostream& os, const ControlToken& t);
+inline std::ostream& operator<<(std::ostream& os, const ControlToken& t) {
+  return print_fields(os, t);
+}
+static_assert(packet_bits<ControlToken>() == 2);
 
 // Screen tiles: tile (tx, ty) covers pixels [tx * size, (tx + 1) * size) x
 // [ty * size, ...). Ownership interleaves diagonally so neighbouring tiles

@@ -31,6 +31,9 @@ enum class SlotKind : uint8_t {
   invalid,  // the index is not below the draw's vertex count: no vertex
 };
 std::ostream& operator<<(std::ostream& os, SlotKind k);
+constexpr unsigned hardware_bits(SlotKind) {
+  return 2;
+}
 
 struct VertexSlot {
   SlotKind kind = SlotKind::invalid;
@@ -39,10 +42,20 @@ struct VertexSlot {
   // holding it.
   uint32_t entry = kNoCacheEntry;
   uint32_t vertex = 0;  // fetched: its position in the batch's vertex arrays
-  bool operator==(const VertexSlot& o) const {
-    return kind == o.kind && entry == o.entry && vertex == o.vertex;
+
+  static constexpr const char* kPacketName = "VertexSlot";
+  template <typename V>
+  static constexpr void fields(V& v) {
+    v("kind", &VertexSlot::kind);
+    v("entry", &VertexSlot::entry);
+    v("vertex", &VertexSlot::vertex, bits(5));  // 0..31
   }
+  bool operator==(const VertexSlot& o) const { return fields_equal(*this, o); }
 };
+inline std::ostream& operator<<(std::ostream& os, const VertexSlot& s) {
+  return print_fields(os, s);
+}
+static_assert(kVertexBatchSlots <= 32, "a slot's vertex index is 5 bits");
 
 // The common header: which slots of which draw the batch holds.
 struct BatchHeader {
@@ -52,7 +65,18 @@ struct BatchHeader {
   uint32_t slot_count = 0;    // 1..kVertexBatchSlots for work
   uint32_t vertex_count = 0;  // fetched slots, i.e. vertices in the arrays below
   std::array<VertexSlot, kVertexBatchSlots> slots{};
-  bool operator==(const BatchHeader& o) const;
+
+  // The header's fields, first in both batches (each lists its own).
+  template <typename V>
+  static constexpr void header_fields(V& v) {
+    using H = BatchHeader;
+    v("kind", &H::kind, control);
+    v("draw_id", &H::draw_id);
+    v("first_slot", &H::first_slot);
+    v("slot_count", &H::slot_count, bits(6));      // 1..32
+    v("vertex_count", &H::vertex_count, bits(6));  // 0..32
+    v("slots", &H::slots, used(&H::slot_count));
+  }
 };
 
 // Vertex fetch -> vertex shader: the raw attributes of the fetched vertices,
@@ -62,9 +86,22 @@ struct VertexBatch : BatchHeader {
   std::array<glm::vec4, kVertexBatchSlots> positions{};
   std::array<glm::vec3, kVertexBatchSlots> normals{};
   std::array<glm::vec4, kVertexBatchSlots> colors{};
-  bool operator==(const VertexBatch& o) const;
+
+  static constexpr const char* kPacketName = "VertexBatch";
+  template <typename V>
+  static constexpr void fields(V& v) {
+    header_fields(v);
+    v("positions", &VertexBatch::positions, used(&BatchHeader::vertex_count));
+    v("normals", &VertexBatch::normals, used(&BatchHeader::vertex_count));
+    v("colors", &VertexBatch::colors, used(&BatchHeader::vertex_count));
+  }
+  bool operator==(const VertexBatch& o) const { return fields_equal(*this, o); }
 };
-std::ostream& operator<<(std::ostream& os, const VertexBatch& b);
+inline std::ostream& operator<<(std::ostream& os, const VertexBatch& b) {
+  return print_fields(os, b);
+}
+static_assert(packet_bits<VertexBatch>() == 1326 + 32 * (128 + 96 + 128),
+              "a header (2 + 3 x 32 + 2 x 6 + 32 slots x 39 bits) and 32 fetched vertices");
 
 // A vertex after transform and lighting (docs/pipeline-spec.md, section 2):
 // its clip-space position and its varyings, laid out by its draw's
@@ -72,14 +109,35 @@ std::ostream& operator<<(std::ostream& os, const VertexBatch& b);
 struct ShadedVertex {
   glm::vec4 clip{0.0f};
   Varyings varyings{};
-  bool operator==(const ShadedVertex& o) const { return clip == o.clip && varyings == o.varyings; }
+
+  static constexpr const char* kPacketName = "ShadedVertex";
+  template <typename V>
+  static constexpr void fields(V& v) {
+    v("clip", &ShadedVertex::clip);
+    v("varyings", &ShadedVertex::varyings);
+  }
+  bool operator==(const ShadedVertex& o) const { return fields_equal(*this, o); }
 };
+inline std::ostream& operator<<(std::ostream& os, const ShadedVertex& v) {
+  return print_fields(os, v);
+}
+static_assert(packet_bits<ShadedVertex>() == 512);
 
 // Vertex shader -> clipper: the same slots, the fetched vertices shaded.
 struct ShadedBatch : BatchHeader {
   std::array<ShadedVertex, kVertexBatchSlots> vertices{};
-  bool operator==(const ShadedBatch& o) const;
+
+  static constexpr const char* kPacketName = "ShadedBatch";
+  template <typename V>
+  static constexpr void fields(V& v) {
+    header_fields(v);
+    v("vertices", &ShadedBatch::vertices, used(&BatchHeader::vertex_count));
+  }
+  bool operator==(const ShadedBatch& o) const { return fields_equal(*this, o); }
 };
-std::ostream& operator<<(std::ostream& os, const ShadedBatch& b);
+inline std::ostream& operator<<(std::ostream& os, const ShadedBatch& b) {
+  return print_fields(os, b);
+}
+static_assert(packet_bits<ShadedBatch>() == 1326 + 32 * 512, "a header and 32 shaded vertices");
 
 }  // namespace gpusim
