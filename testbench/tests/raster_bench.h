@@ -1,9 +1,16 @@
-// The raster front of a unit group as a testbench, shared by the stage tests
-// of triangles (stages_raster_test) and of lines and points
-// (stages_lines_test).
+// The raster front of a unit group as a testbench, shared by the chain tests
+// of triangles (stages_raster_test.cpp) and of lines and points
+// (stages_lines_test.cpp) and by primitive setup's
+// (stages_primitive_setup_test.cpp); with the window-space triangles and
+// control tokens they feed it, and the counter lookup they read it with.
 #pragma once
 
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <string>
@@ -19,13 +26,14 @@
 #include "stages/tile_rasterizer.h"
 
 namespace gpusim {
+namespace test {
 
 // Testbench: source -> Fifo -> PrimitiveSetup -> Fifo [-> tap -> Fifo] ->
 // TileDistributor -> Fifo per unit -> TileRasterizer -> Fifo -> sink. The
 // tap records every setup packet and forwards it in the same instant (it adds
 // no time, but one delta; timing tests run without it).
 
-struct Bench {
+struct RasterBench {
   GpuConfig config = GpuConfig::baseline();
   FrameState frame;
   Fifo<ClippedPrimitive> input;
@@ -45,7 +53,7 @@ struct Bench {
     return prefix + "_" + what;
   }
 
-  Bench(const std::string& p, const GpuConfig& c, const FrameState& f, bool tap)
+  RasterBench(const std::string& p, const GpuConfig& c, const FrameState& f, bool tap)
       : config(c),
         frame(f),
         input(n(p, "input").c_str(), config.fifo_depth),
@@ -125,4 +133,44 @@ struct Bench {
   }
 };
 
+// Counter `name` of a stage's statistics; a missing one fails the test.
+inline uint64_t counter(const StatGroup& g, const std::string& name) {
+  const nlohmann::json j = g.to_json();
+  EXPECT_TRUE(j.contains(name)) << g.name() << " has no counter " << name;
+  return j.contains(name) ? j.at(name).get<uint64_t>() : 0;
+}
+
+// A triangle in window coordinates, as the clipper sends it: vertex i at
+// (xy[2i], xy[2i + 1]), with depths, 1/w and varyings distinct per vertex.
+inline ClippedPrimitive window_triangle(int64_t id, uint32_t draw, std::array<float, 6> xy) {
+  ClippedPrimitive t;
+  t.draw_id = draw;
+  t.primitive_id = id;
+  for (int i = 0; i < 3; ++i) {
+    t.v[i].x = xy[2 * i];
+    t.v[i].y = xy[2 * i + 1];
+    t.v[i].z = 0.1f * static_cast<float>(i + 1) + 0.01f * static_cast<float>(id % 7);
+    t.v[i].inv_w = 1.0f + static_cast<float>(i);
+    // Colour (components 0-3) and three more, distinct per vertex, so a
+    // vertex swapped without its varyings shows; setup passes them all.
+    const std::array<float, 7> v = {0.1f * i, 0.2f,      0.3f,    static_cast<float>(id),
+                                    1.0f * i, -2.0f * i, 0.5f + i};
+    std::copy(v.begin(), v.end(), t.v[i].varyings_over_w.begin());
+  }
+  t.flat_varyings[0] = 0.5f;
+  t.flat_varyings[1] = 0.25f;
+  t.flat_varyings[2] = 0.125f;
+  t.flat_varyings[3] = 1.0f;
+  t.flat_varyings[6] = 3.0f;
+  return t;
+}
+
+// A control token (clear, end of frame).
+inline ClippedPrimitive control(PacketKind k) {
+  ClippedPrimitive t;
+  t.kind = k;
+  return t;
+}
+
+}  // namespace test
 }  // namespace gpusim

@@ -1,21 +1,25 @@
 // The back end of a raster unit: DepthTest -> Interpolator -> Rop, with
 // their tile caches, on a memory shared by every unit.
 //
-// Frames: the test plays front end. It sets triangles up and cuts them into
-// per-unit stamp batches with the golden model's own functions (clip,
-// to_window, edge_function, the fill rule), runs several units' back ends and
-// compares the colour and depth buffers it then finds in memory, bit for bit,
-// with golden::render() of the same scene, together with the last writer of
-// every pixel and the fragment counts. Scenes cover every depth format and
-// compare function, depth writes and tests off, polygon offset, every blend
-// factor and equation, colour masks, both colour formats, flat and Gouraud,
-// clear values, and configurations from 1 to 16 units, tiles 8 to 64, stamps
-// 1x1 to 8x8, FIFOs of depth 1 to 16, 1 to 1024 cache entries, with and
-// without random FIFO stalls.
+// Frames: the test plays front end (testbench/tests/back_end_input.h). It
+// sets triangles up and cuts them into per-unit stamp batches with the
+// golden model's own functions (clip, to_window, edge_function, the fill
+// rule), runs several units' back ends and compares the colour and depth
+// buffers it then finds in memory, bit for bit, with golden::render() of the
+// same scene, together with the last writer of every pixel and the fragment
+// counts. Scenes cover every depth format and compare function, depth writes
+// and tests off, polygon offset, every blend factor and equation, colour
+// masks, both colour formats, flat and Gouraud, clear values, and
+// configurations from 1 to 16 units, tiles 8 to 64, stamps 1x1 to 8x8, FIFOs
+// of depth 1 to 16, 1 to 1024 cache entries, with and without random FIFO
+// stalls.
 //
-// Cache counters and timing are checked against hand-computed values for
-// simple patterns. One sc_start per TEST (ctest runs each in its own process);
-// a TEST may hold many independent benches.
+// The tile caches of the depth test and the ROP are counted by hand for an
+// LRU pattern in the chain. The timing tests run each of the depth test,
+// the interpolator and the ROP alone against the cost model, several stages
+// side by side in one TEST; the interpolator's colours are tested alone in
+// stages_interpolator_test.cpp. One sc_start per TEST (ctest runs each in
+// its own process); a TEST may hold many independent benches.
 #define SC_INCLUDE_DYNAMIC_PROCESSES
 #include <gtest/gtest.h>
 
@@ -39,250 +43,18 @@
 #include "stages/interpolator.h"
 #include "stages/rop.h"
 #include "testbench/golden/golden_model.h"
+#include "testbench/tests/back_end_input.h"
 
 namespace gpusim {
 namespace {
 
-using golden::WindowVertex;
+using namespace test;
 using sc_core::sc_time;
 
-constexpr uint8_t kFill = 0xA5;   // memory content before the frame
-constexpr uint64_t kGuard = 256;  // bytes around each buffer that must stay untouched
+constexpr uint8_t kFill = 0xA5;  // memory content before the frame
 
 // ---------------------------------------------------------------------------
-// Front end, from the golden model's functions.
-
-// The spec's polygon offset (section 10), on the counter-clockwise vertices.
-float polygon_offset(const std::array<WindowVertex, 3>& v, EdgeValue area2, const RenderState& st,
-                     DepthFormat fmt) {
-  const float s = 1.0f / 256.0f;
-  const float dx1 = static_cast<float>(v[1].x - v[0].x) * s;
-  const float dy1 = static_cast<float>(v[1].y - v[0].y) * s;
-  const float dx2 = static_cast<float>(v[2].x - v[0].x) * s;
-  const float dy2 = static_cast<float>(v[2].y - v[0].y) * s;
-  const float dz1 = v[1].z - v[0].z;
-  const float dz2 = v[2].z - v[0].z;
-  const float a = static_cast<float>(area2) * (s * s);
-  const float dzdx = (dz1 * dy2 - dz2 * dy1) / a;
-  const float dzdy = (dz2 * dx1 - dz1 * dx2) / a;
-  const float m = std::max(std::fabs(dzdx), std::fabs(dzdy));
-  const float max_z = std::max({std::fabs(v[0].z), std::fabs(v[1].z), std::fabs(v[2].z)});
-  return st.offset_factor * m + st.offset_units * min_resolvable_depth(fmt, max_z);
-}
-
-// Triangle setup of three window vertices; nullptr when degenerate or culled.
-std::shared_ptr<RasterPrimitive> setup(std::array<WindowVertex, 3> v, const RenderState& st,
-                                       uint32_t draw_id, int64_t id, const glm::vec4& flat,
-                                       const FramebufferDesc& fb) {
-  EdgeValue area2 = golden::signed_area2(v[0], v[1], v[2]);
-  if (area2 == 0) return nullptr;
-  const bool ccw = area2 > 0;
-  const bool front = (st.front_face == FrontFace::ccw) == ccw;
-  if ((st.cull == CullMode::back && !front) || (st.cull == CullMode::front && front)) {
-    return nullptr;
-  }
-  if (!ccw) {
-    std::swap(v[1], v[2]);
-    area2 = -area2;
-  }
-  auto t = std::make_shared<RasterPrimitive>();
-  t->draw_id = draw_id;
-  t->primitive_id = id;
-  t->area2 = area2;
-  for (int k = 0; k < 3; ++k) {
-    t->x[k] = v[k].x;
-    t->y[k] = v[k].y;
-    t->z[k] = v[k].z;
-    t->inv_w[k] = v[k].inv_w;
-    // The colour-only layout every draw has (varying_layout_for): 0-3.
-    for (int c = 0; c < 4; ++c) t->varyings_over_w[k][c] = v[k].color_over_w[c];
-    const WindowVertex& a = v[(k + 1) % 3];
-    const WindowVertex& b = v[(k + 2) % 3];
-    EdgeEquation& e = t->edge[k];
-    e.a = -(EdgeValue{b.y} - a.y);
-    e.b = EdgeValue{b.x} - a.x;
-    e.c = (EdgeValue{b.y} - a.y) * a.x - (EdgeValue{b.x} - a.x) * a.y;
-    e.bias = golden::edge_owns_boundary(a, b) ? 0 : 1;
-  }
-  for (int c = 0; c < 4; ++c) t->flat_varyings[c] = flat[c];
-  if (st.offset_factor != 0.0f || st.offset_units != 0.0f) {
-    t->has_depth_offset = true;
-    t->depth_offset = polygon_offset(v, area2, st, fb.depth_format);
-  }
-  const Subpixel min_x = std::min({v[0].x, v[1].x, v[2].x});
-  const Subpixel max_x = std::max({v[0].x, v[1].x, v[2].x});
-  const Subpixel min_y = std::min({v[0].y, v[1].y, v[2].y});
-  const Subpixel max_y = std::max({v[0].y, v[1].y, v[2].y});
-  t->x0 = std::max(0, -floor_div_subpixel(-(int64_t{min_x} - kSubpixelHalf)));
-  t->x1 = std::min(fb.width - 1, floor_div_subpixel(int64_t{max_x} - kSubpixelHalf));
-  t->y0 = std::max(0, -floor_div_subpixel(-(int64_t{min_y} - kSubpixelHalf)));
-  t->y1 = std::min(fb.height - 1, floor_div_subpixel(int64_t{max_y} - kSubpixelHalf));
-  return t;
-}
-
-std::array<WindowVertex, 3> window_vertices(const RasterPrimitive& t) {
-  std::array<WindowVertex, 3> v;
-  for (int k = 0; k < 3; ++k) {
-    v[k].x = t.x[k];
-    v[k].y = t.y[k];
-    v[k].z = t.z[k];
-    v[k].inv_w = t.inv_w[k];
-    for (int c = 0; c < 4; ++c) v[k].color_over_w[c] = t.varyings_over_w[k][c];
-  }
-  return v;
-}
-
-// The stamp with origin (sx, sy): golden coverage of its pixels inside the
-// framebuffer, raw edge values at the origin's centre.
-Stamp make_stamp(const RasterPrimitive& t, int sx, int sy, const GpuConfig& cfg,
-                 const FramebufferDesc& fb) {
-  const auto v = window_vertices(t);
-  Stamp s;
-  s.x = sx;
-  s.y = sy;
-  for (int k = 0; k < 3; ++k) {
-    s.e[k] =
-        golden::edge_function(v[(k + 1) % 3], v[(k + 2) % 3], pixel_center(sx), pixel_center(sy));
-  }
-  for (unsigned j = 0; j < cfg.stamp[1]; ++j) {
-    for (unsigned i = 0; i < cfg.stamp[0]; ++i) {
-      const int x = sx + static_cast<int>(i), y = sy + static_cast<int>(j);
-      if (x >= fb.width || y >= fb.height) continue;
-      bool covered = true;
-      for (int k = 0; k < 3; ++k) {
-        const EdgeValue e =
-            golden::edge_function(v[(k + 1) % 3], v[(k + 2) % 3], pixel_center(x), pixel_center(y));
-        covered = covered && e - t.edge[k].bias >= 0;
-      }
-      if (covered) s.mask |= uint64_t{1} << (j * cfg.stamp[0] + i);
-    }
-  }
-  return s;
-}
-
-using UnitTokens = std::vector<std::vector<StampBatch>>;
-
-// Per unit, one batch per (triangle, owned tile) with its covered stamps.
-void rasterize(const std::shared_ptr<RasterPrimitive>& t, const GpuConfig& cfg,
-               const FramebufferDesc& fb, UnitTokens& out) {
-  if (t->x0 > t->x1 || t->y0 > t->y1) return;
-  const int ts = static_cast<int>(cfg.tile_size);
-  for (int ty = t->y0 / ts; ty <= t->y1 / ts; ++ty) {
-    for (int tx = t->x0 / ts; tx <= t->x1 / ts; ++tx) {
-      StampBatch b;
-      b.primitive = t;
-      for (int sy = ty * ts; sy < (ty + 1) * ts && sy < fb.height; sy += cfg.stamp[1]) {
-        for (int sx = tx * ts; sx < (tx + 1) * ts && sx < fb.width; sx += cfg.stamp[0]) {
-          const Stamp s = make_stamp(*t, sx, sy, cfg, fb);
-          if (s.mask) b.stamps.push_back(s);
-        }
-      }
-      if (!b.stamps.empty()) out[tile_owner(tx, ty, cfg.units)].push_back(std::move(b));
-    }
-  }
-}
-
-// The scene's work for every unit, framed by clear and end_of_frame.
-UnitTokens front_end(const Scene& scene, const GpuConfig& cfg) {
-  UnitTokens out(cfg.units);
-  for (auto& u : out) u.push_back(StampBatch{PacketKind::clear, nullptr, {}, {}});
-  const FramebufferDesc& fb = scene.framebuffer;
-  const golden::GuardBand gb = golden::guard_band_for(fb.width, fb.height);
-  int64_t id = 0;
-  for (uint32_t d = 0; d < scene.draws.size(); ++d) {
-    const Draw& draw = scene.draws[d];
-    for (const auto& slots : golden::assemble_triangles(draw.primitive, draw.vertex_count())) {
-      const int64_t prim = id++;
-      std::array<golden::ShadedVertex, 3> tri;
-      for (int k = 0; k < 3; ++k) tri[k] = golden::shade_vertex(scene, draw, slots[k]);
-      const auto poly = golden::clip_triangle(tri, gb);
-      if (poly.size() < 3) continue;
-      std::vector<WindowVertex> win;
-      for (const auto& p : poly) win.push_back(golden::to_window(p, fb.width, fb.height));
-      for (size_t i = 1; i + 1 < win.size(); ++i) {
-        auto t = setup({win[0], win[i], win[i + 1]}, draw.state, d, prim, tri[2].color, fb);
-        if (t) rasterize(t, cfg, fb, out);
-      }
-    }
-  }
-  for (auto& u : out) u.push_back(StampBatch{PacketKind::end_of_frame, nullptr, {}, {}});
-  return out;
-}
-
-// ---------------------------------------------------------------------------
-// Scenes.
-
-class Rng {
- public:
-  explicit Rng(uint32_t seed) : m_gen(seed) {}
-  float uniform(float lo, float hi) { return std::uniform_real_distribution<float>(lo, hi)(m_gen); }
-  int below(int n) { return std::uniform_int_distribution<int>(0, n - 1)(m_gen); }
-  bool chance(double p) { return std::bernoulli_distribution(p)(m_gen); }
-
- private:
-  std::mt19937 m_gen;
-};
-
-// Triangles in clip space: varied sizes, perspective (w in [0.5, 2]), some
-// off screen or crossing the near and far planes; with probability `repeat`
-// a triangle repeats an earlier one's positions (equal depths).
-std::vector<glm::vec4> random_positions(Rng& rng, int triangles, double repeat,
-                                        std::vector<glm::vec4>* history) {
-  std::vector<glm::vec4> p;
-  for (int t = 0; t < triangles; ++t) {
-    if (history && history->size() >= 3 && rng.chance(repeat)) {
-      const int n = static_cast<int>(history->size() / 3);
-      const int k = rng.below(n);
-      for (int i = 0; i < 3; ++i) p.push_back((*history)[3 * k + i]);
-      continue;
-    }
-    const float cx = rng.uniform(-1.1f, 1.1f), cy = rng.uniform(-1.1f, 1.1f);
-    const float size = rng.chance(0.3) ? rng.uniform(0.02f, 0.2f) : rng.uniform(0.2f, 1.6f);
-    for (int i = 0; i < 3; ++i) {
-      const float w = rng.uniform(0.5f, 2.0f);
-      const float x = cx + size * rng.uniform(-1.0f, 1.0f);
-      const float y = cy + size * rng.uniform(-1.0f, 1.0f);
-      const float z = rng.uniform(-1.1f, 1.1f);
-      p.emplace_back(x * w, y * w, z * w, w);
-    }
-  }
-  if (history) history->insert(history->end(), p.begin(), p.end());
-  return p;
-}
-
-std::vector<glm::vec4> random_colors(Rng& rng, size_t n) {
-  std::vector<glm::vec4> c(n);
-  for (auto& v : c)
-    v = {rng.uniform(0, 1), rng.uniform(0, 1), rng.uniform(0, 1), rng.uniform(0, 1)};
-  return c;
-}
-
-Draw make_draw(std::vector<glm::vec4> positions, std::vector<glm::vec4> colors,
-               const RenderState& st) {
-  Draw d;
-  d.positions = std::move(positions);
-  d.colors = std::move(colors);
-  d.state = st;
-  return d;
-}
-
-Scene make_scene(int w, int h, ColorFormat cf, DepthFormat df) {
-  Scene s;
-  s.framebuffer.width = w;
-  s.framebuffer.height = h;
-  s.framebuffer.color_format = cf;
-  s.framebuffer.depth_format = df;
-  s.framebuffer.clear_color = {0.25f, 0.5f, 0.75f, 0.4f};
-  s.framebuffer.clear_depth = 0.75f;
-  return s;
-}
-
-void add_random_draw(Scene& s, Rng& rng, int triangles, const RenderState& st, double repeat,
-                     std::vector<glm::vec4>* history) {
-  auto p = random_positions(rng, triangles, repeat, history);
-  auto c = random_colors(rng, p.size());
-  s.draws.push_back(make_draw(std::move(p), std::move(c), st));
-}
+// Scenes only these tests use.
 
 RenderState random_state(Rng& rng) {
   RenderState st;
@@ -318,25 +90,6 @@ Scene mixed_scene(uint32_t seed, int w, int h, ColorFormat cf, DepthFormat df) {
 
 // ---------------------------------------------------------------------------
 // The bench: per unit a source -> DepthTest -> Interpolator -> Rop, one memory.
-
-FrameState frame_state(const Scene& scene) {
-  FrameState f;
-  f.framebuffer = scene.framebuffer;
-  int64_t first = 0;
-  for (const Draw& d : scene.draws) {
-    DrawState ds;
-    ds.primitive = d.primitive;
-    ds.state = d.state;
-    ds.first_primitive_id = first;
-    first += static_cast<int64_t>(golden::assemble_triangles(d.primitive, d.vertex_count()).size());
-    f.draws.push_back(ds);
-  }
-  const FramebufferDesc& fb = scene.framebuffer;
-  const uint64_t pixels = static_cast<uint64_t>(fb.width) * fb.height;
-  f.color_address = kGuard;
-  f.depth_address = f.color_address + pixels * color_bytes_per_pixel(fb.color_format) + kGuard;
-  return f;
-}
 
 uint64_t memory_size(const FrameState& f) {
   const FramebufferDesc& fb = f.framebuffer;
@@ -527,17 +280,6 @@ struct Case {
   }
 };
 
-GpuConfig config(unsigned units, unsigned tile, unsigned sw, unsigned sh, unsigned fifo,
-                 unsigned entries) {
-  GpuConfig c = GpuConfig::baseline();
-  c.units = units;
-  c.tile_size = tile;
-  c.stamp = {sw, sh};
-  c.fifo_depth = fifo;
-  c.tile_cache_entries = entries;
-  return c;
-}
-
 // ---------------------------------------------------------------------------
 // Frames against the golden model.
 
@@ -709,83 +451,6 @@ TEST(BackEnd, ConfigurationsWithAndWithoutRandomStalls) {
     EXPECT_EQ(plain.counter("rop", "fragments_written"),
               stalled.counter("rop", "fragments_written"));
   }
-}
-
-// ---------------------------------------------------------------------------
-// The interpolator's colours, per pixel, against the spec's formula evaluated
-// with golden edge functions at each pixel centre (no stepping).
-
-TEST(Interpolator, ColoursEqualTheSpecPerPixel) {
-  GpuConfig cfg = config(1, 16, 4, 2, 4, 4);
-  Scene scene = make_scene(64, 48, ColorFormat::rgba16f, DepthFormat::unorm24);
-  Rng rng(600);
-  for (int d = 0; d < 20; ++d) {
-    RenderState st;
-    st.shading = d % 4 == 0 ? Shading::flat : Shading::gouraud;
-    add_random_draw(scene, rng, 15, st, 0.0, nullptr);
-  }
-  const FrameState frame = frame_state(scene);
-  UnitTokens tokens = front_end(scene, cfg);
-  Fifo<StampBatch> in("in", 4);
-  Fifo<ShadedStampBatch> out("out", 4);
-  Interpolator interpolator("interpolator", cfg, frame, 0);
-  interpolator.in(in);
-  interpolator.out(out);
-  std::vector<ShadedStampBatch> got;
-  sc_core::sc_spawn([&] {
-    for (const StampBatch& b : tokens[0]) in.write(b);
-  });
-  sc_core::sc_spawn([&] {
-    for (;;) got.push_back(out.read());
-  });
-  sc_core::sc_start();
-
-  ASSERT_EQ(got.size(), tokens[0].size());
-  uint64_t pixels = 0, flat = 0;
-  for (size_t n = 0; n < got.size(); ++n) {
-    const StampBatch& b = tokens[0][n];
-    const ShadedStampBatch& s = got[n];
-    ASSERT_EQ(s.kind, b.kind);
-    ASSERT_EQ(s.stamps, b.stamps);
-    if (b.kind != PacketKind::work) continue;
-    const RasterPrimitive& t = *b.primitive;
-    const auto v = window_vertices(t);
-    const bool is_flat = scene.draws[t.draw_id].state.shading == Shading::flat;
-    size_t c = 0;
-    for (const Stamp& st : b.stamps) {
-      for (int bit = 0; bit < 64; ++bit) {
-        if (!(st.mask >> bit & 1)) continue;
-        const int x = st.x + bit % 4, y = st.y + bit / 4;
-        glm::vec4 want(t.flat_varyings[0], t.flat_varyings[1], t.flat_varyings[2],
-                       t.flat_varyings[3]);
-        if (!is_flat) {
-          const float f0 = static_cast<float>(
-              golden::edge_function(v[1], v[2], pixel_center(x), pixel_center(y)));
-          const float f1 = static_cast<float>(
-              golden::edge_function(v[2], v[0], pixel_center(x), pixel_center(y)));
-          const float f2 = static_cast<float>(
-              golden::edge_function(v[0], v[1], pixel_center(x), pixel_center(y)));
-          const float den = f0 * v[0].inv_w + f1 * v[1].inv_w + f2 * v[2].inv_w;
-          for (int k = 0; k < 4; ++k) {
-            want[k] = clamp01((f0 * v[0].color_over_w[k] + f1 * v[1].color_over_w[k] +
-                               f2 * v[2].color_over_w[k]) /
-                              den);
-          }
-        }
-        ASSERT_LT(c, s.colors.size());
-        EXPECT_EQ(std::memcmp(&s.colors[c], &want, sizeof want), 0)
-            << "triangle " << t.primitive_id << " pixel (" << x << ", " << y << ")";
-        ++c;
-        ++pixels;
-        flat += is_flat;
-      }
-    }
-    EXPECT_EQ(c, s.colors.size());
-  }
-  EXPECT_GT(pixels, 2000u);
-  EXPECT_GT(flat, 200u);
-  EXPECT_EQ(interpolator.stats().to_json().at("fragments").get<uint64_t>(), pixels);
-  EXPECT_EQ(interpolator.stats().to_json().at("flat_fragments").get<uint64_t>(), flat);
 }
 
 // ---------------------------------------------------------------------------

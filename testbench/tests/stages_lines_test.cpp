@@ -1,5 +1,7 @@
-// Lines and points through the raster core: PrimitiveSetup -> TileDistributor
-// -> N TileRasterizers.
+// Lines and points through chains of stages: the raster core,
+// PrimitiveSetup -> TileDistributor -> N TileRasterizers
+// (testbench/tests/raster_bench.h), and one unit from setup to the depth
+// test and the interpolator.
 //
 // Expected pixels come from rules written out here from
 // docs/pipeline-spec.md, evaluated by brute force: diamond exit by its
@@ -39,11 +41,7 @@
 namespace gpusim {
 namespace {
 
-uint64_t counter(const StatGroup& g, const std::string& name) {
-  const nlohmann::json j = g.to_json();
-  EXPECT_TRUE(j.contains(name)) << g.name() << " has no counter " << name;
-  return j.contains(name) ? j.at(name).get<uint64_t>() : 0;
-}
+using namespace test;
 
 // splitmix64.
 struct Rng {
@@ -308,9 +306,10 @@ TEST(Lines, DiamondExitEqualsIntegerForm) {
   const FrameState frame = frame_with(W, H, width_states(LineRasterization::diamond_exit));
   const std::array<GpuConfig, 3> configs{config_with(1, 8, 2, 2), config_with(2, 16, 4, 4),
                                          config_with(4, 8, 8, 8)};
-  std::vector<std::unique_ptr<Bench>> benches;
+  std::vector<std::unique_ptr<RasterBench>> benches;
   for (size_t c = 0; c < configs.size(); ++c) {
-    benches.push_back(std::make_unique<Bench>("de" + std::to_string(c), configs[c], frame, false));
+    benches.push_back(
+        std::make_unique<RasterBench>("de" + std::to_string(c), configs[c], frame, false));
     benches.back()->feed(tokens_for(cases));
   }
   sc_core::sc_start();
@@ -357,9 +356,10 @@ TEST(Lines, BresenhamWalkerEqualsClosedFormAcrossUnits) {
   const FrameState frame = frame_with(W, H, width_states(LineRasterization::bresenham));
   const std::array<GpuConfig, 4> configs{config_with(1, 16, 4, 4), config_with(2, 8, 2, 2),
                                          config_with(4, 8, 4, 2), config_with(3, 16, 8, 8)};
-  std::vector<std::unique_ptr<Bench>> benches;
+  std::vector<std::unique_ptr<RasterBench>> benches;
   for (size_t c = 0; c < configs.size(); ++c) {
-    benches.push_back(std::make_unique<Bench>("br" + std::to_string(c), configs[c], frame, false));
+    benches.push_back(
+        std::make_unique<RasterBench>("br" + std::to_string(c), configs[c], frame, false));
     benches.back()->feed(tokens_for(cases));
   }
   sc_core::sc_start();
@@ -401,7 +401,7 @@ TEST(Points, SquareEqualsSpecInequalities) {
     const float y = static_cast<float>(r.range(-4 * 64, (H + 4) * 64)) / 64.0f;
     tokens.push_back(point(i, static_cast<uint32_t>(r.range(0, 47)), x, y));
   }
-  Bench b("pt", config_with(3, 8, 4, 2), frame, false);
+  RasterBench b("pt", config_with(3, 8, 4, 2), frame, false);
   b.feed(tokens);
   sc_core::sc_start();
   for (const ClippedPrimitive& p : tokens) {
@@ -442,7 +442,7 @@ TEST(Points, SquareEqualsSpecInequalities) {
 // Busy: 3 tile tests + 11 stamps = 14 cycles; 3 batches.
 TEST(LineTiming, HorizontalDiamondExitOneUnit) {
   GpuConfig cfg = config_with(1, 16, 4, 4);
-  Bench b("h", cfg, frame_with(64, 64, {RenderState{}}), false);
+  RasterBench b("h", cfg, frame_with(64, 64, {RenderState{}}), false);
   b.feed({line(0, 0, 2.0f, 5.25f, 42.0f, 5.25f)});
   sc_core::sc_start();
   const StatGroup& r = b.units[0]->stats();
@@ -465,7 +465,7 @@ TEST(LineTiming, HorizontalBresenhamOneUnit) {
   GpuConfig cfg = config_with(1, 16, 4, 4);
   RenderState st;
   st.line_rasterization = LineRasterization::bresenham;
-  Bench b("hb", cfg, frame_with(64, 64, {st}), false);
+  RasterBench b("hb", cfg, frame_with(64, 64, {st}), false);
   b.feed({line(0, 0, 2.0f, 5.25f, 42.0f, 5.25f)});
   sc_core::sc_start();
   const StatGroup& r = b.units[0]->stats();
@@ -481,7 +481,7 @@ TEST(LineTiming, HorizontalBresenhamWithoutLastPixel) {
   GpuConfig cfg = config_with(1, 16, 4, 4);
   RenderState st;
   st.line_rasterization = LineRasterization::bresenham;
-  Bench b("hb2", cfg, frame_with(64, 64, {st}), false);
+  RasterBench b("hb2", cfg, frame_with(64, 64, {st}), false);
   b.feed({line(0, 0, 2.0f, 5.25f, 42.0f, 5.25f, true, false)});
   sc_core::sc_start();
   const StatGroup& r = b.units[0]->stats();
@@ -497,7 +497,7 @@ TEST(LineTiming, HorizontalBresenhamWithoutLastPixel) {
 // cycles).
 TEST(LineTiming, VerticalDiamondExitAcrossTilesTwoUnits) {
   GpuConfig cfg = config_with(2, 16, 4, 4);
-  Bench b("v", cfg, frame_with(64, 64, {RenderState{}}), false);
+  RasterBench b("v", cfg, frame_with(64, 64, {RenderState{}}), false);
   b.feed({line(0, 0, 5.25f, 2.0f, 5.25f, 42.0f)});
   sc_core::sc_start();
   EXPECT_EQ(counter(b.units[0]->stats(), "fragments"), 24u);
@@ -518,7 +518,7 @@ TEST(LineTiming, VerticalBresenhamSkipsOtherUnitsSpans) {
   GpuConfig cfg = config_with(2, 16, 4, 4);
   RenderState st;
   st.line_rasterization = LineRasterization::bresenham;
-  Bench b("vb", cfg, frame_with(64, 64, {st}), false);
+  RasterBench b("vb", cfg, frame_with(64, 64, {st}), false);
   b.feed({line(0, 0, 5.25f, 2.0f, 5.25f, 42.0f)});
   sc_core::sc_start();
   EXPECT_EQ(counter(b.units[0]->stats(), "line_spans_skipped"), 1u);
@@ -537,7 +537,7 @@ TEST(PointTiming, SixtyFourPixelPoint) {
   GpuConfig cfg = config_with(1, 16, 4, 4);
   RenderState st;
   st.point_size = 8.0f;
-  Bench b("p", cfg, frame_with(64, 64, {st}), false);
+  RasterBench b("p", cfg, frame_with(64, 64, {st}), false);
   b.feed({point(0, 0, 20.0f, 20.0f)});
   sc_core::sc_start();
   const StatGroup& r = b.units[0]->stats();

@@ -1,4 +1,7 @@
-// The raster core: PrimitiveSetup -> TileDistributor -> N TileRasterizers.
+// The raster core as a chain: PrimitiveSetup -> TileDistributor -> N
+// TileRasterizers (testbench/tests/raster_bench.h), with triangles; lines and
+// points are in stages_lines_test.cpp, primitive setup's own tests in
+// stages_primitive_setup_test.cpp.
 //
 // Expected values come from the golden model's free functions (snapped
 // vertices, signed_area2, edge_function, edge_owns_boundary) applied per
@@ -34,13 +37,9 @@
 namespace gpusim {
 namespace {
 
-using golden::WindowVertex;
+using namespace test;
 
-uint64_t counter(const StatGroup& g, const std::string& name) {
-  const nlohmann::json j = g.to_json();
-  EXPECT_TRUE(j.contains(name)) << g.name() << " has no counter " << name;
-  return j.contains(name) ? j.at(name).get<uint64_t>() : 0;
-}
+using golden::WindowVertex;
 
 // splitmix64: the same sequence with every standard library.
 struct Rng {
@@ -202,7 +201,7 @@ struct Totals {
 };
 
 // Per triangle (primitive id = index), the covered pixels the units emitted.
-void check_outputs(const Bench& b, const std::vector<ClippedPrimitive>& tokens,
+void check_outputs(const RasterBench& b, const std::vector<ClippedPrimitive>& tokens,
                    const std::vector<Expect>& ex) {
   const GpuConfig& c = b.config;
   const int W = b.frame.framebuffer.width, H = b.frame.framebuffer.height;
@@ -321,7 +320,7 @@ float spec_polygon_offset(const Expect& x, const ClippedPrimitive& t, const Rend
 }
 
 // Setup's packets (through the tap) against the golden setup.
-void check_setup(const Bench& b, const std::vector<ClippedPrimitive>& tokens,
+void check_setup(const RasterBench& b, const std::vector<ClippedPrimitive>& tokens,
                  const std::vector<Expect>& ex) {
   std::vector<int64_t> expected_ids, got_ids;
   for (size_t i = 0; i < tokens.size(); ++i) {
@@ -376,40 +375,11 @@ void check_setup(const Bench& b, const std::vector<ClippedPrimitive>& tokens,
 }
 
 // ---------------------------------------------------------------------------
-// Triangles.
-
-ClippedPrimitive window_triangle(int64_t id, uint32_t draw, std::array<float, 6> xy) {
-  ClippedPrimitive t;
-  t.draw_id = draw;
-  t.primitive_id = id;
-  for (int i = 0; i < 3; ++i) {
-    t.v[i].x = xy[2 * i];
-    t.v[i].y = xy[2 * i + 1];
-    t.v[i].z = 0.1f * static_cast<float>(i + 1) + 0.01f * static_cast<float>(id % 7);
-    t.v[i].inv_w = 1.0f + static_cast<float>(i);
-    // Colour (components 0-3) and three more, distinct per vertex, so a
-    // vertex swapped without its varyings shows; setup passes them all.
-    const std::array<float, 7> v = {0.1f * i, 0.2f,      0.3f,    static_cast<float>(id),
-                                    1.0f * i, -2.0f * i, 0.5f + i};
-    std::copy(v.begin(), v.end(), t.v[i].varyings_over_w.begin());
-  }
-  t.flat_varyings[0] = 0.5f;
-  t.flat_varyings[1] = 0.25f;
-  t.flat_varyings[2] = 0.125f;
-  t.flat_varyings[3] = 1.0f;
-  t.flat_varyings[6] = 3.0f;
-  return t;
-}
+// Triangles (window_triangle and control are raster_bench.h's).
 
 // On the subpixel grid: X / 256 is exact in float for |X| < 2^24.
 float sub(int64_t X) {
   return static_cast<float>(X) / 256.0f;
-}
-
-ClippedPrimitive control(PacketKind k) {
-  ClippedPrimitive t;
-  t.kind = k;
-  return t;
 }
 
 // Draw states the random triangles pick from: every cull / front-face
@@ -575,7 +545,7 @@ std::vector<Expect> expectations(const std::vector<ClippedPrimitive>& tokens, co
 }
 
 // The documented costs of every stage over a token stream.
-void check_costs(const Bench& b, const std::vector<ClippedPrimitive>& tokens,
+void check_costs(const RasterBench& b, const std::vector<ClippedPrimitive>& tokens,
                  const std::vector<Expect>& ex) {
   const GpuConfig& c = b.config;
   const unsigned setup_ii = c.stage("primitive_setup").ii;
@@ -659,8 +629,8 @@ TEST_P(RasterCore, MatchesGoldenRuleAndCosts) {
   const FrameState frame = raster_frame(W, H);
   const std::vector<ClippedPrimitive> tokens =
       random_tokens(0x5EED + units * 131 + tile, W, H, frame.draws.size());
-  auto plain = std::make_unique<Bench>("plain", cfg, frame, true);
-  auto stalled = std::make_unique<Bench>("stalled", cfg, frame, false);
+  auto plain = std::make_unique<RasterBench>("plain", cfg, frame, true);
+  auto stalled = std::make_unique<RasterBench>("stalled", cfg, frame, false);
   stalled->stall_everything(77 + units + tile);
   plain->feed(tokens);
   stalled->feed(tokens);
@@ -781,7 +751,7 @@ TEST_P(RasterVsRender, CountsLastWriterAndDepthEqualGolden) {
   cfg.units = units;
   cfg.tile_size = tile;
   cfg.stamp = stamp;
-  auto bench = std::make_unique<Bench>("scene", cfg, frame, false);
+  auto bench = std::make_unique<RasterBench>("scene", cfg, frame, false);
   bench->feed(tokens);
   sc_core::sc_start();
 
@@ -845,92 +815,6 @@ INSTANTIATE_TEST_SUITE_P(Formats, RasterVsRender,
                          });
 
 // ---------------------------------------------------------------------------
-// Hand-worked setup of one triangle.
-
-// (0, 0), (0, 4), (4, 0) pixels is clockwise; setup swaps v1 and v2 to get
-// v0 = (0, 0), v1 = (1024, 0), v2 = (0, 1024) subpixels, area2 = 1024^2.
-//   E0 (v1 -> v2): dx = -1024, dy = 1024: a = -1024, b = -1024,
-//                  c = 1024 * 1024 - (-1024) * 0 = 1048576; dy > 0: bias 1
-//   E1 (v2 -> v0): dx = 0, dy = -1024: a = 1024, b = 0, c = 0; left edge: bias 0
-//   E2 (v0 -> v1): dx = 1024, dy = 0: a = 0, b = 1024, c = 0; bottom edge: bias 0
-// Box: x0 = ceil(-128 / 256) = 0, x1 = floor(896 / 256) = 3, likewise y.
-// Offset (factor 1, units 2, unorm16): z0 = 0.5, z1 = 0.75, z2 = 0.5 (after the
-// swap): dzdx = (0.25 * 4 - 0 * 0) / 16 = 0.0625, dzdy = (0 * 4 - 0.25 * 0) / 16 = 0,
-// m = 0.0625; offset = 1 * 0.0625 + 2 * float(1 / 65535).
-// Covered: the 6 pixels with x + y <= 2 (x + y = 3 lies on E0, not owned).
-TEST(PrimitiveSetup, HandWorkedClockwiseTriangle) {
-  GpuConfig cfg = GpuConfig::baseline();
-  cfg.units = 1;
-  FrameState frame;
-  frame.framebuffer.width = 64;
-  frame.framebuffer.height = 64;
-  frame.framebuffer.depth_format = DepthFormat::unorm16;
-  DrawState d;
-  d.state.offset_factor = 1.0f;
-  d.state.offset_units = 2.0f;
-  frame.draws.push_back(d);
-  ClippedPrimitive t = window_triangle(0, 0, {0.0f, 0.0f, 0.0f, 4.0f, 4.0f, 0.0f});
-  t.v[0].z = 0.5f;
-  t.v[1].z = 0.5f;
-  t.v[2].z = 0.75f;
-  auto bench = std::make_unique<Bench>("hand", cfg, frame, true);
-  bench->feed({t});
-  sc_core::sc_start();
-
-  ASSERT_EQ(bench->setup_packets.size(), 1u);
-  const RasterPrimitive& r = *bench->setup_packets[0].primitive;
-  EXPECT_EQ(r.x, (std::array<Subpixel, 3>{0, 1024, 0}));
-  EXPECT_EQ(r.y, (std::array<Subpixel, 3>{0, 0, 1024}));
-  EXPECT_EQ(r.z, (std::array<float, 3>{0.5f, 0.75f, 0.5f}));
-  EXPECT_EQ(r.inv_w, (std::array<float, 3>{1.0f, 3.0f, 2.0f}));
-  EXPECT_EQ(r.area2, 1048576);
-  EXPECT_EQ(r.edge[0], (EdgeEquation{-1024, -1024, 1048576, 1}));
-  EXPECT_EQ(r.edge[1], (EdgeEquation{1024, 0, 0, 0}));
-  EXPECT_EQ(r.edge[2], (EdgeEquation{0, 1024, 0, 0}));
-  EXPECT_EQ(std::tie(r.x0, r.x1, r.y0, r.y1), std::make_tuple(0, 3, 0, 3));
-  EXPECT_TRUE(r.has_depth_offset);
-  EXPECT_EQ(r.depth_offset, 0.0625f + 2.0f * static_cast<float>(1.0 / 65535.0));
-  EXPECT_EQ(counter(bench->setup.stats(), "triangles_swapped"), 1u);
-
-  // One 16x16 tile, partial; 4x4 stamp (0, 0) only: bits of x + y <= 2.
-  ASSERT_EQ(bench->out[0].size(), 1u);
-  ASSERT_EQ(bench->out[0][0].stamps.size(), 1u);
-  const Stamp& s = bench->out[0][0].stamps[0];
-  EXPECT_EQ(s.mask, 0b0000'0001'0011'0111u);
-  // E at (128, 128): E0 = -1024*128 - 1024*128 + 1048576 = 786432; E1 = E2 = 131072.
-  EXPECT_EQ(s.e, (std::array<EdgeValue, 3>{786432, 131072, 131072}));
-  EXPECT_EQ(counter(bench->units[0]->stats(), "fragments"), 6u);
-}
-
-// Triangles counted rasterized whose box holds no pixel centre are not sent:
-// a sliver between centres, one left of the screen, one above it.
-TEST(PrimitiveSetup, EmptyBoxCountsRasterizedButSendsNothing) {
-  GpuConfig cfg = GpuConfig::baseline();
-  cfg.units = 2;
-  FrameState frame;
-  frame.framebuffer.width = 32;
-  frame.framebuffer.height = 32;
-  frame.draws.push_back(DrawState{});
-  const std::vector<ClippedPrimitive> tokens{
-      window_triangle(0, 0, {10.6f, 10.6f, 10.9f, 10.6f, 10.6f, 10.9f}),
-      window_triangle(1, 0, {-9.0f, 1.0f, -1.0f, 1.0f, -1.0f, 20.0f}),
-      window_triangle(2, 0, {1.0f, 33.0f, 20.0f, 33.0f, 5.0f, 40.0f}),
-      control(PacketKind::end_of_frame)};
-  auto bench = std::make_unique<Bench>("empty", cfg, frame, true);
-  bench->feed(tokens);
-  sc_core::sc_start();
-  const StatGroup& s = bench->setup.stats();
-  EXPECT_EQ(counter(s, "triangles_rasterized"), 3u);
-  EXPECT_EQ(counter(s, "triangles_offscreen"), 3u);
-  EXPECT_EQ(counter(s, "tokens_out"), 1u);
-  ASSERT_EQ(bench->setup_packets.size(), 1u);
-  for (unsigned u = 0; u < 2; ++u) {
-    ASSERT_EQ(bench->out[u].size(), 1u);
-    EXPECT_EQ(bench->out[u][0].kind, PacketKind::end_of_frame);
-  }
-}
-
-// ---------------------------------------------------------------------------
 // Timing of a full-screen quad, 256 x 256, 16 x 16 tiles, 4 x 4 stamps,
 // default costs (setup ii 4 / latency 16, distributor 1 / 2, rasterizer 1 / 2).
 //
@@ -961,7 +845,7 @@ TEST(RasterTiming, FullScreenQuadOneUnit) {
   cfg.tile_size = 16;
   cfg.stamp = {4, 4};
   cfg.fifo_depth = 16;
-  auto bench = std::make_unique<Bench>("quad", cfg, quad_frame(), false);
+  auto bench = std::make_unique<RasterBench>("quad", cfg, quad_frame(), false);
   bench->feed(quad_tokens());
   sc_core::sc_start();
 
@@ -1013,7 +897,7 @@ TEST(RasterTiming, FullScreenQuadFourUnitsSplitEvenly) {
   cfg.tile_size = 16;
   cfg.stamp = {4, 4};
   cfg.fifo_depth = 16;
-  auto bench = std::make_unique<Bench>("quad4", cfg, quad_frame(), false);
+  auto bench = std::make_unique<RasterBench>("quad4", cfg, quad_frame(), false);
   bench->feed(quad_tokens());
   sc_core::sc_start();
 
