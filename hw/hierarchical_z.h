@@ -63,6 +63,7 @@ struct HzUpdate {
   static constexpr const char* kPacketName = "HzUpdate";
   template <typename V>
   static constexpr void fields(V& v) {
+    using namespace packet_fields;
     v("sent", &HzUpdate::sent, model_only);  // the link's visibility rule, not a signal
     v("tile", &HzUpdate::tile);
     v("seq", &HzUpdate::seq);

@@ -32,7 +32,23 @@ nlohmann::ordered_json to_json(const NetlistTables& t) {
                      {"reader", f.reader < 0 ? json(nullptr) : json(t.stages[f.reader].name)},
                      {"unit", unit(f.unit)}});
   }
-  return {{"stages", stages}, {"fifos", fifos}};
+  const auto stage = [&](int s) { return s < 0 ? json(nullptr) : json(t.stages[s].name); };
+  json clients = json::array();
+  for (size_t i = 0; i < t.memory_clients.size(); ++i) {
+    const NetlistTables::MemoryClient& c = t.memory_clients[i];
+    clients.push_back({{"index", i}, {"name", c.name}, {"stage", stage(c.stage)}});
+  }
+  json links = json::array();
+  for (size_t i = 0; i < t.links.size(); ++i) {
+    const NetlistTables::Link& l = t.links[i];
+    links.push_back({{"index", i},
+                     {"name", l.name},
+                     {"kind", l.kind},
+                     {"writer", stage(l.writer)},
+                     {"reader", stage(l.reader)},
+                     {"unit", unit(l.unit)}});
+  }
+  return {{"stages", stages}, {"fifos", fifos}, {"memory_clients", clients}, {"links", links}};
 }
 
 }  // namespace gpusim

@@ -21,9 +21,9 @@ struct NetlistTables {
     // How a trace shows it (StageTrace, hw/stage_spec.h): what a record of
     // it is ("draw", "batch", "primitive", "tile job", "stamp batch"), why a
     // primitive ending here went no further by its kind ("point", "line",
-    // "triangle"; "" when it ended where it should), and whether the depth
-    // test's or the ROP's fragment records come from it ("", "depth_test",
-    // "rop").
+    // "triangle"; "" when it ended where it should), and which fragment
+    // records come from it ("": none, "test": depth-tested, "write":
+    // written to the colour buffer).
     std::string item = "primitive";
     std::map<std::string, std::string> drops;
     std::string fragments;
@@ -36,14 +36,31 @@ struct NetlistTables {
     int reader = -1;
     int unit = -1;
   };
+  // A client of the memory, in client number order (its place on the
+  // arbiter's round-robin, hw/memory.h).
+  struct MemoryClient {
+    std::string name;  // the memory's name for it, its stage's
+    int stage = -1;    // index into stages
+  };
+  // A side channel that is not a FIFO (the hierarchical-Z updates from a
+  // unit's depth test to its rasterizer, hw/hierarchical_z.h).
+  struct Link {
+    std::string name;              // "hz_update_0"
+    std::string kind;              // the name without the unit suffix
+    int writer = -1, reader = -1;  // indices into stages
+    int unit = -1;
+  };
   std::vector<Stage> stages;
   std::vector<Fifo> fifos;
+  std::vector<MemoryClient> memory_clients;
+  std::vector<Link> links;
 };
 
 // {"stages": [{index, name, kind, unit, inputs, outputs, item, drops,
-// fragments}], "fifos":
-// [{index, name, kind, depth, writer, reader, unit}]}: names for the
-// endpoints, null for a front-end unit, "host" for the host. The tables of
+// fragments}], "fifos": [{index, name, kind, depth, writer, reader, unit}],
+// "memory_clients": [{index, name, stage}], "links": [{index, name, kind,
+// writer, reader, unit}]}: names for the endpoints, null for a front-end
+// unit, "host" for the host. The tables of
 // a trace's manifest.json and of stats.json's timing.netlist
 // (docs/traces.md), read back by traces/trace_reader.h.
 nlohmann::ordered_json to_json(const NetlistTables& t);

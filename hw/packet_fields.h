@@ -6,7 +6,8 @@
 //   static constexpr const char* kPacketName = "Stamp";
 //   template <typename V>
 //   static constexpr void fields(V& v) {
-//     v("x", &Stamp::x, bits(kPixelIndexBits));
+//     using namespace packet_fields;
+//     v("x", &Stamp::x, bits(field_bits::kPixel));
 //     v("mask", &Stamp::mask, hex);
 //     ...
 //   }
@@ -315,13 +316,10 @@ std::ostream& print_fields(std::ostream& os, const P& p) {
 
 }  // namespace packet_fields
 
-using packet_fields::bits;
-using packet_fields::control;
+// The field options (bits, used, hex, control, model_only) stay in
+// packet_fields: a packet's fields() says `using namespace packet_fields;`.
 using packet_fields::fields_equal;
-using packet_fields::hex;
-using packet_fields::model_only;
 using packet_fields::print_fields;
-using packet_fields::used;
 
 // A packet's width in bits: every field that is not a vector (for a packet
 // with vectors, its header; each element type has its own width).

@@ -69,6 +69,7 @@ struct Command {
   static constexpr const char* kPacketName = "Command";
   template <typename V>
   static constexpr void fields(V& v) {
+    using namespace packet_fields;
     v("kind", &Command::kind, control);
     v("draw_id", &Command::draw_id);
   }
@@ -123,6 +124,7 @@ struct ClippedPrimitive {
   static constexpr const char* kPacketName = "ClippedPrimitive";
   template <typename V>
   static constexpr void fields(V& v) {
+    using namespace packet_fields;
     using P = ClippedPrimitive;
     v("kind", &P::kind, control);
     v("primitive_kind", &P::primitive_kind);
@@ -154,6 +156,7 @@ struct EdgeEquation {
   static constexpr const char* kPacketName = "EdgeEquation";
   template <typename V>
   static constexpr void fields(V& v) {
+    using namespace packet_fields;
     v("a", &EdgeEquation::a, bits(field_bits::kEdgeCoefficient));
     v("b", &EdgeEquation::b, bits(field_bits::kEdgeCoefficient));
     v("c", &EdgeEquation::c, bits(field_bits::kEdgeValue));
@@ -233,6 +236,7 @@ struct RasterPrimitive {
   static constexpr const char* kPacketName = "RasterPrimitive";
   template <typename V>
   static constexpr void fields(V& v) {
+    using namespace packet_fields;
     using P = RasterPrimitive;
     namespace w = field_bits;
     v("primitive_kind", &P::primitive_kind);
@@ -279,6 +283,7 @@ struct SetupPacket {
   static constexpr const char* kPacketName = "SetupPacket";
   template <typename V>
   static constexpr void fields(V& v) {
+    using namespace packet_fields;
     v("kind", &SetupPacket::kind, control);
     v("primitive", &SetupPacket::primitive);
   }
@@ -305,6 +310,7 @@ struct Stamp {
   static constexpr const char* kPacketName = "Stamp";
   template <typename V>
   static constexpr void fields(V& v) {
+    using namespace packet_fields;
     v("x", &Stamp::x, bits(field_bits::kPixel));
     v("y", &Stamp::y, bits(field_bits::kPixel));
     v("mask", &Stamp::mask, hex);
@@ -335,6 +341,7 @@ struct StampBatch {
   static constexpr const char* kPacketName = "StampBatch";
   template <typename V>
   static constexpr void fields(V& v) {
+    using namespace packet_fields;
     v("kind", &StampBatch::kind, control);
     v("primitive", &StampBatch::primitive);
     v("stamps", &StampBatch::stamps);
@@ -371,6 +378,7 @@ struct ShadedStampBatch {
   static constexpr const char* kPacketName = "ShadedStampBatch";
   template <typename V>
   static constexpr void fields(V& v) {
+    using namespace packet_fields;
     v("kind", &ShadedStampBatch::kind, control);
     v("primitive", &ShadedStampBatch::primitive);
     v("stamps", &ShadedStampBatch::stamps);

@@ -37,6 +37,7 @@
 #pragma once
 
 #include <cstdint>
+#include <stdexcept>
 #include <string>
 #include <systemc>
 #include <utility>
@@ -50,6 +51,8 @@
 #include "hw/stats.h"
 
 namespace gpusim {
+
+class FragmentProbe;  // hw/trace_probe.h
 
 class PipelineStage : public sc_core::sc_module {
  public:
@@ -70,6 +73,15 @@ class PipelineStage : public sc_core::sc_module {
   StatGroup& stats() { return m_stats; }
   uint64_t tokens_in() const { return m_tokens_in; }
   uint64_t tokens_out() const { return m_tokens_out; }
+
+  // Tracing: a stage whose spec names a fragment site
+  // (StageTrace::fragments) reports each fragment there to `probe`
+  // (nullptr: none); the netlist attaches it (Topology::attach_trace).
+  virtual void set_fragment_probe(FragmentProbe* probe) {
+    (void)probe;
+    throw std::logic_error("stage '" + m_spec.kind +
+                           "' names a fragment site but reports no fragments");
+  }
 
   // Whether the stage may run decoupled (above): false unless the stage
   // declares it.

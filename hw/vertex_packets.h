@@ -46,6 +46,7 @@ struct VertexSlot {
   static constexpr const char* kPacketName = "VertexSlot";
   template <typename V>
   static constexpr void fields(V& v) {
+    using namespace packet_fields;
     v("kind", &VertexSlot::kind);
     v("entry", &VertexSlot::entry);
     v("vertex", &VertexSlot::vertex, bits(5));  // 0..31
@@ -69,6 +70,7 @@ struct BatchHeader {
   // The header's fields, first in both batches (each lists its own).
   template <typename V>
   static constexpr void header_fields(V& v) {
+    using namespace packet_fields;
     using H = BatchHeader;
     v("kind", &H::kind, control);
     v("draw_id", &H::draw_id);
@@ -90,6 +92,7 @@ struct VertexBatch : BatchHeader {
   static constexpr const char* kPacketName = "VertexBatch";
   template <typename V>
   static constexpr void fields(V& v) {
+    using namespace packet_fields;
     header_fields(v);
     v("positions", &VertexBatch::positions, used(&BatchHeader::vertex_count));
     v("normals", &VertexBatch::normals, used(&BatchHeader::vertex_count));
@@ -130,6 +133,7 @@ struct ShadedBatch : BatchHeader {
   static constexpr const char* kPacketName = "ShadedBatch";
   template <typename V>
   static constexpr void fields(V& v) {
+    using namespace packet_fields;
     header_fields(v);
     v("vertices", &ShadedBatch::vertices, used(&BatchHeader::vertex_count));
   }

@@ -92,7 +92,7 @@ class DepthTest : public PipelineStage {
   bool decouplable() const override { return true; }
 
   // Tracing: every tested fragment is reported to `probe` (nullptr: none).
-  void set_fragment_probe(FragmentProbe* probe) {
+  void set_fragment_probe(FragmentProbe* probe) override {
     if constexpr (kTraceHooks) m_probe = probe;  // a build without hooks ignores it
   }
 

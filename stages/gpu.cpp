@@ -27,7 +27,6 @@ Gpu::Gpu(sc_core::sc_module_name name, const GpuConfig& config, const FrameState
   t.connect("shader_to_clipper", -1, &m_shader, &m_shader.out, m_clipper, m_clipper.in);
   t.connect("clipper_to_setup", -1, &m_clipper, &m_clipper.out, m_setup, m_setup.in);
   t.connect("setup_to_distributor", -1, &m_setup, &m_setup.out, m_distributor, m_distributor.in);
-  m_fetch.mem.bind(m_memory);
 
   m_units.resize(config.units);
   for (unsigned i = 0; i < config.units; ++i) {
@@ -43,10 +42,11 @@ Gpu::Gpu(sc_core::sc_module_name name, const GpuConfig& config, const FrameState
     unit.rop = std::make_unique<Rop>(named("rop").c_str(), config, frame, u);
 
     if (config.hierarchical_z.enabled) {
-      unit.hz =
-          std::make_unique<HzUpdateLink>(config.hierarchical_z.update_latency, config.cycle());
-      unit.rasterizer->set_hz_link(unit.hz.get());
-      unit.depth->set_hz_link(unit.hz.get());
+      HzUpdateLink& hz =
+          t.connect_link<HzUpdateLink>("hz_update", n, *unit.depth, *unit.rasterizer,
+                                       config.hierarchical_z.update_latency, config.cycle());
+      unit.rasterizer->set_hz_link(&hz);
+      unit.depth->set_hz_link(&hz);
     }
 
     t.connect("distributor_to_rasterizer", n, &m_distributor, &m_distributor.out[u],
@@ -65,15 +65,16 @@ Gpu::Gpu(sc_core::sc_module_name name, const GpuConfig& config, const FrameState
                 *m_resolve, m_resolve->in[u]);
     }
   }
-  // Memory clients are numbered in bind order: bind them in unit order
-  // whatever order the units were elaborated in, the resolve last.
+  // Memory clients are numbered in bind order: vertex fetch, then in unit
+  // order whatever order the units were elaborated in, the resolve last.
+  t.connect_memory(m_fetch, m_fetch.mem, m_memory);
   for (const Unit& unit : m_units) {
-    unit.depth->mem.bind(m_memory);
-    unit.rop->mem.bind(m_memory);
+    t.connect_memory(*unit.depth, unit.depth->mem, m_memory);
+    t.connect_memory(*unit.rop, unit.rop->mem, m_memory);
     m_done_events |= unit.rop->frame_done_event();
   }
   if (m_resolve) {
-    m_resolve->mem.bind(m_memory);
+    t.connect_memory(*m_resolve, m_resolve->mem, m_memory);
     m_done_events |= m_resolve->frame_done_event();
   }
   t.finish();
@@ -95,10 +96,6 @@ void Gpu::set_last_writer(std::vector<int64_t>* per_pixel) {
 void Gpu::attach_trace(TraceProbes& probes) {
   m_topology.attach_trace(probes);
   m_memory.set_probe(probes.memory_probe());
-  for (Unit& u : m_units) {
-    u.depth->set_fragment_probe(probes.fragment_probe());
-    u.rop->set_fragment_probe(probes.fragment_probe());
-  }
 }
 
 PipelineCounts Gpu::pipeline_counts() const {

@@ -8,6 +8,7 @@
 //                                                 +-> unit 1 ...
 //   VertexFetch, every DepthTest and Rop -> Memory
 //   multisampled or supersampled frames: every Rop -> Resolve -> Memory
+//   hierarchical Z: each unit's DepthTest -> its TileRasterizer (a link)
 //
 // This file is instantiation and connections: the netlist they form
 // (topology()) is what statistics, traces, the testbench's checkers
@@ -101,8 +102,6 @@ class Gpu : public sc_core::sc_module {
     std::unique_ptr<DepthTest> depth;
     std::unique_ptr<Interpolator> interpolator;
     std::unique_ptr<Rop> rop;
-    // Depth test -> rasterizer hierarchical Z updates (config.hierarchical_z.enabled).
-    std::unique_ptr<HzUpdateLink> hz;
   };
 
   const GpuConfig& m_config;

@@ -84,7 +84,7 @@ class Rop : public PipelineStage {
   // every colour write is recorded at index y * width + x.
   void set_last_writer(std::vector<int64_t>* per_pixel) { m_last_writer = per_pixel; }
   // Tracing: every fragment received is reported to `probe` (nullptr: none).
-  void set_fragment_probe(FragmentProbe* probe) {
+  void set_fragment_probe(FragmentProbe* probe) override {
     if constexpr (kTraceHooks) m_probe = probe;  // a build without hooks ignores it
   }
 

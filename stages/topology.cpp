@@ -37,6 +37,20 @@ void Topology::add_fifo(FifoNode node, std::shared_ptr<FifoChannel> fifo, Pipeli
   m_owned.push_back(std::move(fifo));
 }
 
+void Topology::connect_memory(PipelineStage& stage, MemoryPort& port, Memory& memory) {
+  if (m_finished) throw std::logic_error("Topology: connect_memory() after finish()");
+  port.bind(memory);
+  m_memory_clients.push_back({port.client_name(), &stage});
+}
+
+int Topology::index_of(const PipelineStage* stage) const {
+  for (size_t i = 0; i < m_stages.size(); ++i) {
+    if (m_stages[i].stage == stage) return static_cast<int>(i);
+  }
+  throw std::logic_error("Topology: stage '" + std::string(stage->basename()) +
+                         "' has a memory port or link but no FIFO");
+}
+
 void Topology::finish() {
   if (m_finished) throw std::logic_error("Topology: finish() called twice");
   m_finished = true;
@@ -219,11 +233,27 @@ NetlistTables Topology::trace_tables() const {
     s.fragments = to_string(trace.fragments);
     t.stages.push_back(std::move(s));
   }
+  for (const MemoryEdge& e : m_memory_clients)
+    t.memory_clients.push_back({e.name, index_of(e.stage)});
+  // Links in pipeline order, by their reader, whatever order the units
+  // were elaborated in.
+  for (const LinkEdge& e : m_links) {
+    t.links.push_back({e.name, e.kind, index_of(e.writer), index_of(e.reader), e.unit});
+  }
+  std::stable_sort(t.links.begin(), t.links.end(),
+                   [](const NetlistTables::Link& a, const NetlistTables::Link& b) {
+                     return a.reader < b.reader;
+                   });
   return t;
 }
 
 void Topology::attach_trace(TraceProbes& probes) const {
   for (size_t i = 0; i < m_fifos.size(); ++i) m_fifos[i].attach_probe(probes, i);
+  for (const StageNode& s : m_stages) {
+    if (s.stage->spec().trace.fragments != FragmentSite::none) {
+      s.stage->set_fragment_probe(probes.fragment_probe());
+    }
+  }
 }
 
 size_t Topology::decouple() {

@@ -5,7 +5,9 @@
 // attach_trace), the testbench's random stalls and fault injection (fifos(),
 // find_fifo), the watchdog and its hang report, the progress count, and the
 // conservation rules that follow from producer -> FIFO -> consumer edges
-// (testbench/sim/). Adding a stage means one connect() per FIFO it touches.
+// (testbench/sim/). Adding a stage means one connect() per FIFO it touches,
+// and connect_memory() for a memory port; a side channel that is not a FIFO
+// (the hierarchical-Z link) is connect_link().
 //
 // Names: a FIFO of kind `k` is named k (front end) or k_<unit>, like stages
 // (PipelineStage::instance_name); the kind is the key of its depth in the
@@ -132,6 +134,22 @@ class Topology {
     return first;
   }
 
+  // Binds `stage`'s memory port to `memory`: a client numbered in the
+  // order of these calls (its round-robin place, hw/memory.h).
+  // Elaboration only.
+  void connect_memory(PipelineStage& stage, MemoryPort& port, Memory& memory);
+  // A side channel of kind `kind` from `writer` to `reader` (unit -1: front
+  // end) that is not a FIFO: made here from `args`, owned here, handed to
+  // both stages by the caller. Elaboration only.
+  template <typename Link, typename... Args>
+  Link& connect_link(const std::string& kind, int unit, PipelineStage& writer,
+                     PipelineStage& reader, Args&&... args) {
+    auto link = std::make_shared<Link>(std::forward<Args>(args)...);
+    m_links.push_back(
+        {PipelineStage::instance_name(kind, unit), kind, unit, &writer, &reader, link});
+    return *link;
+  }
+
   // Sorts the netlist into pipeline order, checks it against the
   // configuration (every stage and FIFO kind of the topology has a cost and
   // a depth there, and the configuration names nothing the topology lacks:
@@ -147,7 +165,8 @@ class Topology {
   std::vector<std::string> fifo_kinds() const;
 
   // The tables the trace files index (docs/traces.md), and the probes of a
-  // recorder attached to every FIFO by those indices.
+  // recorder attached to every FIFO by those indices and to every stage with
+  // a fragment site (StageTrace::fragments).
   NetlistTables trace_tables() const;
   void attach_trace(TraceProbes& probes) const;
 
@@ -191,6 +210,7 @@ class Topology {
   void add_fifo(FifoNode node, std::shared_ptr<FifoChannel> fifo, PipelineStage* writer,
                 PipelineStage& reader);
   int stage_index(PipelineStage& stage);
+  int index_of(const PipelineStage* stage) const;  // after finish()
 
   const GpuConfig& m_config;
   const FrameState& m_frame;  // for interposed stages
@@ -198,6 +218,18 @@ class Topology {
   std::vector<StageNode> m_stages;
   std::vector<FifoNode> m_fifos;
   std::vector<std::shared_ptr<FifoChannel>> m_owned;
+  struct MemoryEdge {
+    std::string name;
+    PipelineStage* stage;
+  };
+  std::vector<MemoryEdge> m_memory_clients;  // in client number order
+  struct LinkEdge {
+    std::string name, kind;
+    int unit;
+    PipelineStage *writer, *reader;
+    std::shared_ptr<void> link;
+  };
+  std::vector<LinkEdge> m_links;
   // Interposed stages, destroyed before the FIFOs they are bound to.
   std::vector<std::unique_ptr<PipelineStage>> m_owned_stages;
   bool m_finished = false;

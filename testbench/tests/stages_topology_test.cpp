@@ -158,5 +158,43 @@ TEST(Topology, UnitElaborationOrderChangesNothingListed) {
   for (unsigned c = 0; c < clients.size(); ++c) EXPECT_EQ(down.memory().client_name(c), clients[c]);
 }
 
+// Memory ports and the hierarchical-Z links are edges of the netlist: the
+// tables name each client's stage in the memory's client order, and each
+// unit's link from its depth test to its rasterizer.
+TEST(Topology, MemoryClientsAndLinksAreNetlistEdges) {
+  GpuConfig config;
+  config.units = 2;
+  config.hierarchical_z.enabled = true;
+  FrameState frame = small_frame();
+  frame.framebuffer.samples = 4;  // with the resolve, the last client
+  Gpu gpu("gpu", config, frame, 1 << 16, Gpu::UnitOrder::descending);
+  const NetlistTables t = gpu.topology().trace_tables();
+  ASSERT_EQ(t.memory_clients.size(), gpu.memory().num_clients());
+  std::vector<std::string> stages;
+  for (size_t c = 0; c < t.memory_clients.size(); ++c) {
+    EXPECT_EQ(t.memory_clients[c].name, gpu.memory().client_name(static_cast<unsigned>(c)));
+    stages.push_back(t.stages.at(t.memory_clients[c].stage).name);
+  }
+  EXPECT_EQ(stages, (std::vector<std::string>{"vertex_fetch", "depth_test_0", "rop_0",
+                                              "depth_test_1", "rop_1", "resolve"}));
+  ASSERT_EQ(t.links.size(), 2u);
+  for (int u = 0; u < 2; ++u) {
+    const NetlistTables::Link& l = t.links[static_cast<size_t>(u)];
+    EXPECT_EQ(l.kind, "hz_update");
+    EXPECT_EQ(l.unit, u);  // in unit order, though elaborated in descending order
+    EXPECT_EQ(l.name, "hz_update_" + std::to_string(l.unit));
+    EXPECT_EQ(t.stages.at(l.writer).name, "depth_test_" + std::to_string(l.unit));
+    EXPECT_EQ(t.stages.at(l.reader).name, "tile_rasterizer_" + std::to_string(l.unit));
+  }
+  const nlohmann::ordered_json j = to_json(t);
+  EXPECT_EQ(j["memory_clients"][5]["stage"], "resolve");
+  EXPECT_EQ(j["links"][0]["writer"], "depth_test_0");
+
+  // Without hierarchical Z there is no link.
+  config.hierarchical_z.enabled = false;
+  Gpu plain("plain", config, small_frame(), 1 << 16);
+  EXPECT_TRUE(plain.topology().trace_tables().links.empty());
+}
+
 }  // namespace
 }  // namespace gpusim
