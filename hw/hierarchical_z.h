@@ -38,11 +38,7 @@ struct HzRange {
     v("min", &HzRange::min);
     v("max", &HzRange::max);
   }
-  bool operator==(const HzRange& o) const { return fields_equal(*this, o); }
 };
-inline std::ostream& operator<<(std::ostream& os, const HzRange& r) {
-  return print_fields(os, r);
-}
 
 // A triangle's depth range in the buffer's encoding: every value the depth
 // test can compute for one of its covered pixels or samples (interpolation,
@@ -70,11 +66,7 @@ struct HzUpdate {
     v("epoch", &HzUpdate::epoch);
     v("range", &HzUpdate::range);
   }
-  bool operator==(const HzUpdate& o) const { return fields_equal(*this, o); }
 };
-inline std::ostream& operator<<(std::ostream& os, const HzUpdate& u) {
-  return print_fields(os, u);
-}
 static_assert(packet_bits<HzUpdate>() == 3 * 32 + 2 * 32);
 
 // A unit's update channel: a plain C++ queue (no SystemC channel, no event:

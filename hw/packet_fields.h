@@ -12,7 +12,7 @@
 //     ...
 //   }
 //
-// and defines `==` and `<<` as fields_equal() and print_fields(). A field is
+// and `==` and `<<` follow (the templates at the end). A field is
 // a name, a pointer to the member and options:
 //   bits(n)     its width in hardware (of each element, for an array); without
 //               it, the type's: a bool 1 bit, a number its size, an enum what
@@ -316,10 +316,17 @@ std::ostream& print_fields(std::ostream& os, const P& p) {
 
 }  // namespace packet_fields
 
-// The field options (bits, used, hex, control, model_only) stay in
+// Every packet's == and <<, from its field list (found by argument-dependent
+// lookup). The field options (bits, used, hex, control, model_only) stay in
 // packet_fields: a packet's fields() says `using namespace packet_fields;`.
-using packet_fields::fields_equal;
-using packet_fields::print_fields;
+template <typename P, std::enable_if_t<packet_fields::HasFields<P>::value, int> = 0>
+bool operator==(const P& a, const P& b) {
+  return packet_fields::fields_equal(a, b);
+}
+template <typename P, std::enable_if_t<packet_fields::HasFields<P>::value, int> = 0>
+std::ostream& operator<<(std::ostream& os, const P& p) {
+  return packet_fields::print_fields(os, p);
+}
 
 // A packet's width in bits: every field that is not a vector (for a packet
 // with vectors, its header; each element type has its own width).

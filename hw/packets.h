@@ -73,11 +73,7 @@ struct Command {
     v("kind", &Command::kind, control);
     v("draw_id", &Command::draw_id);
   }
-  bool operator==(const Command& o) const { return fields_equal(*this, o); }
 };
-inline std::ostream& operator<<(std::ostream& os, const Command& c) {
-  return print_fields(os, c);
-}
 static_assert(packet_bits<Command>() == 34);
 
 // Vertex slots in a primitive packet: a triangle's.
@@ -100,11 +96,7 @@ struct ClippedVertex {
     v("inv_w", &ClippedVertex::inv_w);
     v("varyings_over_w", &ClippedVertex::varyings_over_w);
   }
-  bool operator==(const ClippedVertex& o) const { return fields_equal(*this, o); }
 };
-inline std::ostream& operator<<(std::ostream& os, const ClippedVertex& v) {
-  return print_fields(os, v);
-}
 static_assert(packet_bits<ClippedVertex>() == 512);
 
 // Clipper -> primitive setup: one primitive, v[0, vertex_count) in use.
@@ -136,11 +128,7 @@ struct ClippedPrimitive {
     v("draw_first", &P::draw_first);
     v("draw_last", &P::draw_last);
   }
-  bool operator==(const ClippedPrimitive& o) const { return fields_equal(*this, o); }
 };
-inline std::ostream& operator<<(std::ostream& os, const ClippedPrimitive& t) {
-  return print_fields(os, t);
-}
 static_assert(packet_bits<ClippedPrimitive>() == 2024);
 
 // Edge function E(px, py) = a * px + b * py + c over subpixel coordinates:
@@ -162,11 +150,7 @@ struct EdgeEquation {
     v("c", &EdgeEquation::c, bits(field_bits::kEdgeValue));
     v("bias", &EdgeEquation::bias, bits(1));
   }
-  bool operator==(const EdgeEquation& o) const { return fields_equal(*this, o); }
 };
-inline std::ostream& operator<<(std::ostream& os, const EdgeEquation& e) {
-  return print_fields(os, e);
-}
 static_assert(packet_bits<EdgeEquation>() == 106);
 
 // How a line's pixels are found (docs/pipeline-spec.md, section 8b).
@@ -268,11 +252,7 @@ struct RasterPrimitive {
     v("draw_first", &P::draw_first);
     v("draw_last", &P::draw_last);
   }
-  bool operator==(const RasterPrimitive& o) const { return fields_equal(*this, o); }
 };
-inline std::ostream& operator<<(std::ostream& os, const RasterPrimitive& t) {
-  return print_fields(os, t);
-}
 static_assert(packet_bits<RasterPrimitive>() == 2957);
 
 // Primitive setup -> tile distributor -> each tile rasterizer unit.
@@ -287,15 +267,11 @@ struct SetupPacket {
     v("kind", &SetupPacket::kind, control);
     v("primitive", &SetupPacket::primitive);
   }
-  bool operator==(const SetupPacket& o) const { return fields_equal(*this, o); }
   friend void swap(SetupPacket& a, SetupPacket& b) noexcept {
     std::swap(a.kind, b.kind);
     a.primitive.swap(b.primitive);
   }
 };
-inline std::ostream& operator<<(std::ostream& os, const SetupPacket& p) {
-  return print_fields(os, p);
-}
 static_assert(packet_bits<SetupPacket>() == 2 + packet_bits<RasterPrimitive>());
 
 // A stamp: stamp_w x stamp_h pixels with origin pixel (x, y) at its lower left.
@@ -316,11 +292,7 @@ struct Stamp {
     v("mask", &Stamp::mask, hex);
     v("e", &Stamp::e, bits(field_bits::kEdgeValue));
   }
-  bool operator==(const Stamp& o) const { return fields_equal(*this, o); }
 };
-inline std::ostream& operator<<(std::ostream& os, const Stamp& s) {
-  return print_fields(os, s);
-}
 static_assert(packet_bits<Stamp>() == 2 * 14 + 64 + 3 * 53);
 
 // Rasterizer -> depth test -> interpolator, per unit: the stamps one triangle
@@ -348,7 +320,6 @@ struct StampBatch {
     v("samples", &StampBatch::samples);
     v("hz_seq", &StampBatch::hz_seq);
   }
-  bool operator==(const StampBatch& o) const { return fields_equal(*this, o); }
   friend void swap(StampBatch& a, StampBatch& b) noexcept {
     std::swap(a.kind, b.kind);
     std::swap(a.hz_seq, b.hz_seq);
@@ -357,9 +328,6 @@ struct StampBatch {
     a.samples.swap(b.samples);
   }
 };
-inline std::ostream& operator<<(std::ostream& os, const StampBatch& b) {
-  return print_fields(os, b);
-}
 static_assert(packet_bits<StampBatch>() == 2 + packet_bits<RasterPrimitive>() + 32,
               "the header: kind, primitive, hz_seq; a stamp and a sample mask (16) each");
 
@@ -385,7 +353,6 @@ struct ShadedStampBatch {
     v("colors", &ShadedStampBatch::colors);
     v("samples", &ShadedStampBatch::samples);
   }
-  bool operator==(const ShadedStampBatch& o) const { return fields_equal(*this, o); }
   friend void swap(ShadedStampBatch& a, ShadedStampBatch& b) noexcept {
     std::swap(a.kind, b.kind);
     a.primitive.swap(b.primitive);
@@ -394,9 +361,6 @@ struct ShadedStampBatch {
     a.samples.swap(b.samples);
   }
 };
-inline std::ostream& operator<<(std::ostream& os, const ShadedStampBatch& b) {
-  return print_fields(os, b);
-}
 static_assert(packet_bits<ShadedStampBatch>() == 2 + packet_bits<RasterPrimitive>(),
               "the header: kind, primitive; a stamp, a colour (128) and a sample mask each");
 
@@ -411,11 +375,7 @@ struct ControlToken {
   static constexpr void fields(V& v) {
     v("kind", &ControlToken::kind);
   }
-  bool operator==(const ControlToken& o) const { return fields_equal(*this, o); }
 };
-inline std::ostream& operator<<(std::ostream& os, const ControlToken& t) {
-  return print_fields(os, t);
-}
 static_assert(packet_bits<ControlToken>() == 2);
 
 // Screen tiles: tile (tx, ty) covers pixels [tx * size, (tx + 1) * size) x

@@ -51,11 +51,7 @@ struct VertexSlot {
     v("entry", &VertexSlot::entry);
     v("vertex", &VertexSlot::vertex, bits(5));  // 0..31
   }
-  bool operator==(const VertexSlot& o) const { return fields_equal(*this, o); }
 };
-inline std::ostream& operator<<(std::ostream& os, const VertexSlot& s) {
-  return print_fields(os, s);
-}
 static_assert(kVertexBatchSlots <= 32, "a slot's vertex index is 5 bits");
 
 // The common header: which slots of which draw the batch holds.
@@ -98,11 +94,7 @@ struct VertexBatch : BatchHeader {
     v("normals", &VertexBatch::normals, used(&BatchHeader::vertex_count));
     v("colors", &VertexBatch::colors, used(&BatchHeader::vertex_count));
   }
-  bool operator==(const VertexBatch& o) const { return fields_equal(*this, o); }
 };
-inline std::ostream& operator<<(std::ostream& os, const VertexBatch& b) {
-  return print_fields(os, b);
-}
 static_assert(packet_bits<VertexBatch>() == 1326 + 32 * (128 + 96 + 128),
               "a header (2 + 3 x 32 + 2 x 6 + 32 slots x 39 bits) and 32 fetched vertices");
 
@@ -119,11 +111,7 @@ struct ShadedVertex {
     v("clip", &ShadedVertex::clip);
     v("varyings", &ShadedVertex::varyings);
   }
-  bool operator==(const ShadedVertex& o) const { return fields_equal(*this, o); }
 };
-inline std::ostream& operator<<(std::ostream& os, const ShadedVertex& v) {
-  return print_fields(os, v);
-}
 static_assert(packet_bits<ShadedVertex>() == 512);
 
 // Vertex shader -> clipper: the same slots, the fetched vertices shaded.
@@ -137,11 +125,7 @@ struct ShadedBatch : BatchHeader {
     header_fields(v);
     v("vertices", &ShadedBatch::vertices, used(&BatchHeader::vertex_count));
   }
-  bool operator==(const ShadedBatch& o) const { return fields_equal(*this, o); }
 };
-inline std::ostream& operator<<(std::ostream& os, const ShadedBatch& b) {
-  return print_fields(os, b);
-}
 static_assert(packet_bits<ShadedBatch>() == 1326 + 32 * 512, "a header and 32 shaded vertices");
 
 }  // namespace gpusim
