@@ -165,8 +165,9 @@ inline ClippedPrimitive window_triangle(int64_t id, uint32_t draw, std::array<fl
   return t;
 }
 
-// A control token (clear, end of frame).
-inline ClippedPrimitive control(PacketKind k) {
+// A control token (clear, end of frame). Not `control`: hw/packet_fields.h
+// puts a `control` in gpusim.
+inline ClippedPrimitive control_primitive(PacketKind k) {
   ClippedPrimitive t;
   t.kind = k;
   return t;

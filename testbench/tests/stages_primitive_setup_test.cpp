@@ -98,7 +98,7 @@ TEST(PrimitiveSetup, EmptyBoxCountsRasterizedButSendsNothing) {
       window_triangle(0, 0, {10.6f, 10.6f, 10.9f, 10.6f, 10.6f, 10.9f}),
       window_triangle(1, 0, {-9.0f, 1.0f, -1.0f, 1.0f, -1.0f, 20.0f}),
       window_triangle(2, 0, {1.0f, 33.0f, 20.0f, 33.0f, 5.0f, 40.0f}),
-      control(PacketKind::end_of_frame)};
+      control_primitive(PacketKind::end_of_frame)};
   auto bench = std::make_unique<RasterBench>("empty", cfg, frame, true);
   bench->feed(tokens);
   sc_core::sc_start();

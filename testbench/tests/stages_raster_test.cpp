@@ -426,7 +426,7 @@ std::vector<ClippedPrimitive> random_tokens(uint64_t seed, int W, int H, size_t 
   const int64_t Ws = int64_t{W} * 256, Hs = int64_t{H} * 256;
   const int64_t L = int64_t{32768} * 256;  // the guard band, in subpixels
 
-  out.push_back(control(PacketKind::clear));
+  out.push_back(control_primitive(PacketKind::clear));
   // Sizes 2^0 .. 2^8 pixels anywhere on and around the screen.
   for (int n = 0; n < 150; ++n) {
     const int64_t size = int64_t{256} << rng.range(0, 8);
@@ -483,7 +483,7 @@ std::vector<ClippedPrimitive> random_tokens(uint64_t seed, int W, int H, size_t 
     add({q[0], q[1], q[2], q[3], q[4], q[5]});
     add({q[0], q[1], q[4], q[5], q[6], q[7]});
   }
-  out.push_back(control(PacketKind::clear));
+  out.push_back(control_primitive(PacketKind::clear));
   // Huge: vertices anywhere in the guard band, and at its corners.
   for (int n = 0; n < 30; ++n) {
     std::array<int64_t, 6> v;
@@ -529,7 +529,7 @@ std::vector<ClippedPrimitive> random_tokens(uint64_t seed, int W, int H, size_t 
     }
     out.push_back(window_triangle(static_cast<int64_t>(out.size()), next_draw(), f));
   }
-  out.push_back(control(PacketKind::end_of_frame));
+  out.push_back(control_primitive(PacketKind::end_of_frame));
   return out;
 }
 
@@ -745,7 +745,7 @@ TEST_P(RasterVsRender, CountsLastWriterAndDepthEqualGolden) {
     frame.draws.push_back(ds);
     scene.draws.push_back(std::move(draw));
   }
-  tokens.push_back(control(PacketKind::end_of_frame));
+  tokens.push_back(control_primitive(PacketKind::end_of_frame));
 
   GpuConfig cfg = GpuConfig::baseline();
   cfg.units = units;
