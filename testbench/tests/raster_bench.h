@@ -2,7 +2,8 @@
 // of triangles (stages_raster_test.cpp) and of lines and points
 // (stages_lines_test.cpp) and by primitive setup's
 // (stages_primitive_setup_test.cpp); with the window-space triangles and
-// control tokens they feed it, and the counter lookup they read it with.
+// control tokens they feed it; the counter lookup they read it with is
+// stage_host.h's.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -24,6 +25,7 @@
 #include "stages/primitive_setup.h"
 #include "stages/tile_distributor.h"
 #include "stages/tile_rasterizer.h"
+#include "testbench/tests/stage_host.h"
 
 namespace gpusim {
 namespace test {
@@ -132,13 +134,6 @@ struct RasterBench {
     }
   }
 };
-
-// Counter `name` of a stage's statistics; a missing one fails the test.
-inline uint64_t counter(const StatGroup& g, const std::string& name) {
-  const nlohmann::json j = g.to_json();
-  EXPECT_TRUE(j.contains(name)) << g.name() << " has no counter " << name;
-  return j.contains(name) ? j.at(name).get<uint64_t>() : 0;
-}
 
 // A triangle in window coordinates, as the clipper sends it: vertex i at
 // (xy[2i], xy[2i + 1]), with depths, 1/w and varyings distinct per vertex.
