@@ -1,10 +1,10 @@
 // What a raster unit's back end reads, made with the golden model's
 // functions, shared by the back end's chain tests (stages_back_end_test.cpp)
-// and the interpolator's (stages_interpolator_test.cpp): the test plays
-// front end, setting triangles up and cutting them into per-unit stamp
-// batches with golden::clip_triangle, to_window, edge_function and the fill
-// rule (front_end); random scenes of clip-space triangles; the frame's
-// registers (frame_state) and configurations (config).
+// and the tests of the tile rasterizer and the interpolator alone
+// (stages_<kind>_test.cpp): the test plays front end, setting triangles up and cutting them into
+// per-unit stamp batches with golden::clip_triangle, to_window, edge_function and the fill rule
+// (front_end); random scenes of clip-space triangles; the frame's registers (frame_state) and
+// configurations (config).
 #pragma once
 
 #include <algorithm>
@@ -84,6 +84,7 @@ inline std::shared_ptr<RasterPrimitive> setup(std::array<WindowVertex, 3> v, con
     e.b = EdgeValue{b.x} - a.x;
     e.c = (EdgeValue{b.y} - a.y) * a.x - (EdgeValue{b.x} - a.x) * a.y;
     e.bias = golden::edge_owns_boundary(a, b) ? 0 : 1;
+    t->coverage[k] = e;  // a triangle's coverage edges are its edges
   }
   for (int c = 0; c < 4; ++c) t->flat_varyings[c] = flat[c];
   if (st.offset_factor != 0.0f || st.offset_units != 0.0f) {
@@ -99,6 +100,23 @@ inline std::shared_ptr<RasterPrimitive> setup(std::array<WindowVertex, 3> v, con
   t->y0 = std::max(0, -floor_div_subpixel(-(int64_t{min_y} - kSubpixelHalf)));
   t->y1 = std::min(fb.height - 1, floor_div_subpixel(int64_t{max_y} - kSubpixelHalf));
   return t;
+}
+
+// A triangle at depth z covering every pixel of any framebuffer, whose
+// stamps a test places where it likes (draw 0, primitive 0).
+inline std::shared_ptr<RasterPrimitive> full_screen_triangle(const FramebufferDesc& fb, float z) {
+  std::array<WindowVertex, 3> v;
+  const Subpixel big = 1 << 20;
+  v[0].x = -big, v[0].y = -big;
+  v[1].x = 3 * big, v[1].y = -big;  // hypotenuse x + y = 2 big: beyond any framebuffer
+  v[2].x = -big, v[2].y = 3 * big;
+  for (auto& w : v) {
+    w.z = z;
+    w.inv_w = 1.0f;
+    w.color_over_w = glm::vec4(0.2f, 0.4f, 0.6f, 1.0f);
+  }
+  RenderState st;
+  return setup(v, st, 0, 0, glm::vec4(1.0f), fb);
 }
 
 inline std::array<WindowVertex, 3> window_vertices(const RasterPrimitive& t) {

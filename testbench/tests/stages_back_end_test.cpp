@@ -468,21 +468,6 @@ TEST(BackEnd, ConfigurationsWithAndWithoutRandomStalls) {
 // write-backs: B and A on eviction, C and B at end_of_frame, and the 13 tiles
 // never touched, 17 in all.
 
-std::shared_ptr<RasterPrimitive> full_screen_triangle(const FramebufferDesc& fb, float z) {
-  std::array<WindowVertex, 3> v;
-  const Subpixel big = 1 << 20;
-  v[0].x = -big, v[0].y = -big;
-  v[1].x = 3 * big, v[1].y = -big;  // hypotenuse x + y = 2 big: beyond any framebuffer
-  v[2].x = -big, v[2].y = 3 * big;
-  for (auto& w : v) {
-    w.z = z;
-    w.inv_w = 1.0f;
-    w.color_over_w = glm::vec4(0.2f, 0.4f, 0.6f, 1.0f);
-  }
-  RenderState st;
-  return setup(v, st, 0, 0, glm::vec4(1.0f), fb);
-}
-
 UnitTokens stamp_pattern(const std::shared_ptr<RasterPrimitive>& t, const GpuConfig& cfg,
                          const FramebufferDesc& fb, const std::vector<std::array<int, 2>>& origins,
                          bool clear) {
