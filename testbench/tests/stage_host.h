@@ -1,7 +1,7 @@
 // The test host around one stage, for the tests of a stage alone
 // (stages_<kind>_test.cpp): a source writing a list of tokens into the
 // stage's input FIFO, a sink reading its output FIFO and recording each item
-// with the cycle it was read at, and the counter lookup the tests read the
+// with the cycle it was read at, and the counter lookups the tests read the
 // stage's statistics with.
 #pragma once
 
@@ -57,6 +57,13 @@ inline uint64_t counter(const StatGroup& g, const std::string& name) {
   const nlohmann::json j = g.to_json();
   EXPECT_TRUE(j.contains(name)) << g.name() << " has no counter " << name;
   return j.contains(name) ? j.at(name).get<uint64_t>() : 0;
+}
+
+// Each named counter of a stage's statistics against its expected value.
+inline void expect_counters(const StatGroup& g,
+                            const std::vector<std::pair<std::string, uint64_t>>& want) {
+  for (const auto& [name, value] : want)
+    EXPECT_EQ(counter(g, name), value) << g.name() << "." << name;
 }
 
 }  // namespace test

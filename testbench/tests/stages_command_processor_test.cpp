@@ -10,6 +10,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "hw/draw_state.h"
@@ -31,6 +32,21 @@ Command token(PacketKind k) {
   return Command{k, 0};
 }
 
+// The command processor between its FIFOs, its output FIFO `depth` deep and
+// read from cycle `from` on.
+struct Bench {
+  Fifo<Command> in, out;
+  CommandProcessor cp;
+  Sink<Command> sink;
+  Bench(const GpuConfig& c, const FrameState& f, std::vector<Command> script, unsigned depth = 16,
+        uint64_t from = 0)
+      : in("in", 16), out("out", depth), cp("command_processor", c, f), sink(out, c.cycle(), from) {
+    cp.in(in);
+    cp.out(out);
+    feed(in, std::move(script));
+  }
+};
+
 // A frame of three draws: the frame clear first, a clear from the draw list
 // between draws, a draw repeated, the end of frame last.
 const std::vector<Command> kScript = {token(PacketKind::clear),
@@ -49,34 +65,23 @@ TEST(CommandProcessorStage, ForwardsEveryCommandInOrderAtItsCost) {
   FrameState frame;
   frame.draws.resize(3);
   frame.clears.resize(1);
-
-  Fifo<Command> in("in", 16), out("out", 16);
-  CommandProcessor cp("command_processor", config, frame);
-  cp.in(in);
-  cp.out(out);
-  feed(in, kScript);
-  Sink<Command> sink(out, config.cycle());
+  Bench b(config, frame, kScript);
   sc_core::sc_start();
 
   // Forwarded as they came: the same kinds, draw ids and order.
-  ASSERT_EQ(sink.items.size(), kScript.size());
-  for (size_t n = 0; n < kScript.size(); ++n) {
-    EXPECT_EQ(sink.items[n], kScript[n]) << "command " << n;
-  }
+  EXPECT_EQ(b.sink.items, kScript);
   // Every command is read as soon as the one before has spent its ii (all
   // are waiting at 0): command n is read at n * ii, written at (n + 1) * ii
   // and readable, so read by the sink, latency cycles later.
   std::vector<uint64_t> want;
   for (uint64_t n = 0; n < kScript.size(); ++n) want.push_back((n + 1) * ii + latency);
-  EXPECT_EQ(sink.cycles, want);
-
-  const StatGroup& s = cp.stats();
-  EXPECT_EQ(counter(s, "draws"), 5u);
-  EXPECT_EQ(counter(s, "clears"), 2u);
-  EXPECT_EQ(counter(s, "frames"), 1u);
-  EXPECT_EQ(counter(s, "tokens_in"), 8u);
-  EXPECT_EQ(counter(s, "tokens_out"), 8u);
-  EXPECT_EQ(counter(s, "busy_cycles"), 8u * ii);
+  EXPECT_EQ(b.sink.cycles, want);
+  expect_counters(b.cp.stats(), {{"draws", 5},
+                                 {"clears", 2},
+                                 {"frames", 1},
+                                 {"tokens_in", 8},
+                                 {"tokens_out", 8},
+                                 {"busy_cycles", 8 * ii}});
 }
 
 // A full output FIFO holds the command processor: with one slot and a sink
@@ -87,41 +92,32 @@ TEST(CommandProcessorStage, ForwardsEveryCommandInOrderAtItsCost) {
 // in its write), written at 41, blocked until the slot frees at 42 and
 // readable at 44; and so on, every two cycles.
 TEST(CommandProcessorStage, WaitsForItsOutputFifo) {
-  GpuConfig config = GpuConfig::baseline();  // ii 1, latency 2
+  const GpuConfig config = GpuConfig::baseline();  // ii 1, latency 2
   FrameState frame;
   frame.draws.resize(3);
-  Fifo<Command> in("in", 16), out("out", 1);
-  CommandProcessor cp("command_processor", config, frame);
-  cp.in(in);
-  cp.out(out);
-  feed(in, {token(PacketKind::clear), draw(0), draw(1), draw(2), token(PacketKind::end_of_frame)});
-  Sink<Command> sink(out, config.cycle(), 40);
+  Bench b(config, frame,
+          {token(PacketKind::clear), draw(0), draw(1), draw(2), token(PacketKind::end_of_frame)}, 1,
+          40);
   sc_core::sc_start();
 
-  EXPECT_EQ(sink.cycles, (std::vector<uint64_t>{40, 42, 44, 46, 48}));
+  EXPECT_EQ(b.sink.cycles, (std::vector<uint64_t>{40, 42, 44, 46, 48}));
   // Busy only for its ii per command: the wait for the slot is a stall.
-  EXPECT_EQ(counter(cp.stats(), "busy_cycles"), 5u);
-  EXPECT_EQ(counter(cp.stats(), "tokens_out"), 5u);
+  expect_counters(b.cp.stats(), {{"busy_cycles", 5}, {"tokens_out", 5}});
 }
 
 // A draw id without a draw register is a driver bug the stage stops at.
 TEST(CommandProcessorStage, RejectsADrawBeyondTheFrame) {
-  const GpuConfig config = GpuConfig::baseline();
+  const GpuConfig config = GpuConfig::baseline();  // the stage keeps a reference
   FrameState frame;
   frame.draws.resize(2);
-  Fifo<Command> in("in", 4), out("out", 4);
-  CommandProcessor cp("command_processor", config, frame);
-  cp.in(in);
-  cp.out(out);
-  feed(in, {draw(0), draw(1), draw(2)});
-  Sink<Command> sink(out, config.cycle());
+  Bench b(config, frame, {draw(0), draw(1), draw(2)});
+  std::string error = "none";
   try {
     sc_core::sc_start();
-    ADD_FAILURE() << "no error for draw 2";
   } catch (const sc_core::sc_report& r) {
-    EXPECT_NE(std::string(r.what()).find("draw 2 does not exist (2 draws)"), std::string::npos)
-        << r.what();
+    error = r.what();
   }
+  EXPECT_NE(error.find("draw 2 does not exist (2 draws)"), std::string::npos) << error;
 }
 
 }  // namespace

@@ -18,8 +18,10 @@
 // TEST (ctest runs each in its own process).
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstdint>
 #include <cstring>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -44,27 +46,15 @@ constexpr uint16_t kZ = 32768;
 uint16_t stored(int x, int y) {
   return static_cast<uint16_t>(kZ - 1 + (x + y) % 3);
 }
-// Section 11: fragment `op` stored.
+// Section 11, fragment `op` stored, as a table: whether each function
+// passes when the fragment is below, equal to or above the stored value.
 bool passes(CompareFunc f, uint16_t z, uint16_t s) {
-  switch (f) {
-    case CompareFunc::never:
-      return false;
-    case CompareFunc::less:
-      return z < s;
-    case CompareFunc::equal:
-      return z == s;
-    case CompareFunc::lequal:
-      return z <= s;
-    case CompareFunc::greater:
-      return z > s;
-    case CompareFunc::notequal:
-      return z != s;
-    case CompareFunc::gequal:
-      return z >= s;
-    case CompareFunc::always:
-      return true;
-  }
-  return false;
+  static const std::map<CompareFunc, std::array<bool, 3>> kTable = {
+      {CompareFunc::never, {false, false, false}},  {CompareFunc::less, {true, false, false}},
+      {CompareFunc::equal, {false, true, false}},   {CompareFunc::lequal, {true, true, false}},
+      {CompareFunc::greater, {false, false, true}}, {CompareFunc::notequal, {true, false, true}},
+      {CompareFunc::gequal, {false, true, true}},   {CompareFunc::always, {true, true, true}}};
+  return kTable.at(f)[z < s ? 0 : z == s ? 1 : 2];
 }
 
 // A depth test on a fresh memory (every byte 0xA5), its FIFOs and a sink.
@@ -183,27 +173,26 @@ TEST(DepthTestStage, EveryCompareFunctionAgainstTheStoredDepth) {
     EXPECT_EQ(b.at(frame, p % 64, p / 64), depth[p]) << "pixel " << p % 64 << ", " << p / 64;
   }
 
-  const StatGroup& s = b.depth.stats();
-  EXPECT_EQ(counter(s, "stamps"), 17u);
-  EXPECT_EQ(counter(s, "stamps_passed"), 15u);
-  EXPECT_EQ(counter(s, "fragments_in"), 17u * 14);
-  EXPECT_EQ(counter(s, "fragments_passed"), passed);
-  EXPECT_EQ(counter(s, "samples_passed"), passed);
-  EXPECT_EQ(counter(s, "depth_clears"), 0u);
-  EXPECT_EQ(counter(s, "tokens_in"), 18u);
-  EXPECT_EQ(counter(s, "tokens_out"), 16u);
   // The buffer is read for the 13 stamps whose outcome or write needs it
   // (not never, not always without writes, not with the test off): tile 0
   // (x < 16) and tile 1 each missed once, 16 rows of 32 bytes, and both
-  // written back at the end of the frame.
-  EXPECT_EQ(counter(s, "cache_misses"), 2u);
-  EXPECT_EQ(counter(s, "cache_hits"), 11u);
-  EXPECT_EQ(counter(s, "bytes_read"), 2u * 512);
-  EXPECT_EQ(counter(s, "bytes_written"), 2u * 512);
-  // Each miss stalls 16 bus cycles + latency 20; the end of frame writes 32
-  // rows from its latency (3) on: done after 3 + 32 + 20 cycles, its ii (2)
-  // included.
-  EXPECT_EQ(counter(s, "memory_stall_cycles"), 2u * (16 + 20) + (3 + 32 + 20 - 2));
+  // written back at the end of the frame. Each miss stalls 16 bus cycles +
+  // latency 20; the end of frame writes 32 rows from its latency (3) on:
+  // done after 3 + 32 + 20 cycles, its ii (2) included.
+  const StatGroup& s = b.depth.stats();
+  expect_counters(s, {{"stamps", 17},
+                      {"stamps_passed", 15},
+                      {"fragments_in", 17 * 14},
+                      {"fragments_passed", passed},
+                      {"samples_passed", passed},
+                      {"depth_clears", 0},
+                      {"tokens_in", 18},
+                      {"tokens_out", 16},
+                      {"cache_misses", 2},
+                      {"cache_hits", 11},
+                      {"bytes_read", 2 * 512},
+                      {"bytes_written", 2 * 512},
+                      {"memory_stall_cycles", 2 * (16 + 20) + (3 + 32 + 20 - 2)}});
   EXPECT_EQ(counter(s, "busy_cycles") - counter(s, "memory_stall_cycles"), 2u * (17 + 1));
 }
 
@@ -232,13 +221,12 @@ TEST(DepthTestStage, FastClearFillsOnlyItsOwnTiles) {
       EXPECT_EQ(b.at(frame, x, y), own ? 16384 : 0xA5A5) << x << ", " << y;
     }
   }
-  const StatGroup& s = b.depth.stats();
-  EXPECT_EQ(counter(s, "depth_clears"), 1u);
-  EXPECT_EQ(counter(s, "busy_cycles"), 91u);
-  EXPECT_EQ(counter(s, "memory_stall_cycles"), 91u - 3 * 2);
-  EXPECT_EQ(counter(s, "bytes_read"), 0u);
-  EXPECT_EQ(counter(s, "bytes_written"), 4u * 512);
-  EXPECT_EQ(counter(s, "tokens_out"), 3u);
+  expect_counters(b.depth.stats(), {{"depth_clears", 1},
+                                    {"busy_cycles", 91},
+                                    {"memory_stall_cycles", 91 - 3 * 2},
+                                    {"bytes_read", 0},
+                                    {"bytes_written", 4 * 512},
+                                    {"tokens_out", 3}});
 }
 
 // No stored value can matter: the test off, always without writes, never
@@ -266,12 +254,12 @@ TEST(DepthTestStage, StampsThatNeedNoStoredDepthCostIiEach) {
   sc_core::sc_start();
 
   EXPECT_EQ(b.sink.cycles, (std::vector<uint64_t>{11, 17, 26, 27}));
-  const StatGroup& s = b.depth.stats();
-  EXPECT_EQ(counter(s, "busy_cycles"), 27u);
-  EXPECT_EQ(counter(s, "memory_stall_cycles"), 0u);
-  EXPECT_EQ(counter(s, "bytes_read") + counter(s, "bytes_written"), 0u);
-  EXPECT_EQ(counter(s, "fragments_passed"), 7u * 16);
-  EXPECT_EQ(counter(s, "stamps_passed"), 7u);
+  expect_counters(b.depth.stats(), {{"busy_cycles", 27},
+                                    {"memory_stall_cycles", 0},
+                                    {"bytes_read", 0},
+                                    {"bytes_written", 0},
+                                    {"fragments_passed", 7 * 16},
+                                    {"stamps_passed", 7}});
 }
 
 }  // namespace
