@@ -1,7 +1,7 @@
 // What a raster unit's back end reads, made with the golden model's
 // functions, shared by the back end's chain tests (stages_back_end_test.cpp)
-// and the tests of the tile rasterizer, the depth test and the interpolator
-// alone (stages_<kind>_test.cpp): the test plays front end, setting
+// and the tests of the tile rasterizer, the depth test, the interpolator and
+// the ROP alone (stages_<kind>_test.cpp): the test plays front end, setting
 // triangles up and cutting them into per-unit stamp batches with
 // golden::clip_triangle, to_window, edge_function and the fill rule
 // (front_end); random scenes of clip-space triangles; the frame's registers
