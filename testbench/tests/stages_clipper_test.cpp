@@ -24,6 +24,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <nlohmann/json.hpp>
 #include <random>
 #include <string>
 #include <utility>
@@ -38,6 +39,7 @@
 #include "testbench/golden/golden_model.h"
 #include "testbench/scene/scene.h"
 #include "testbench/tests/front_end_bench.h"
+#include "testbench/tests/stage_host.h"
 #include "testbench/tests/varying_layouts.h"
 
 namespace gpusim {
@@ -48,6 +50,38 @@ using namespace test;
 // ---------------------------------------------------------------------------
 // The clipper alone.
 
+// A batch of draw d's slots [0, count), every one fetched into the vertex
+// of its number.
+ShadedBatch fetched_batch(uint32_t d, uint32_t count) {
+  ShadedBatch b;
+  b.kind = PacketKind::work;
+  b.draw_id = d;
+  b.first_slot = 0;
+  b.slot_count = b.vertex_count = count;
+  for (uint32_t i = 0; i < count; ++i) b.slots[i] = {SlotKind::fetched, kNoCacheEntry, i};
+  return b;
+}
+
+// Runs a clipper over `batches` and the end of the frame; returns all it
+// wrote, and its statistics through `stats` when given.
+std::vector<ClippedPrimitive> clip(const FrameState& frame, std::vector<ShadedBatch> batches,
+                                   nlohmann::json* stats = nullptr) {
+  ShadedBatch eof;
+  eof.kind = PacketKind::end_of_frame;
+  batches.push_back(eof);
+  const GpuConfig config;
+  Fifo<ShadedBatch> in("in", 4);
+  Fifo<ClippedPrimitive> out("out", 4);
+  Clipper clipper("clipper", config, frame);
+  clipper.in(in);
+  clipper.out(out);
+  feed(in, std::move(batches));
+  Sink<ClippedPrimitive> sink(out, config.cycle());
+  sc_core::sc_start();
+  if (stats != nullptr) *stats = clipper.stats().to_json();
+  return sink.items;
+}
+
 // Runs a clipper over one batch per draw (slot i of a draw holds vertex
 // positions[d][i], every slot fetched) and returns what it wrote before the
 // end of the frame.
@@ -57,41 +91,18 @@ std::vector<ClippedPrimitive> run_clipper(FrameState& frame,
   std::vector<ShadedBatch> batches;
   for (uint32_t d = 0; d < frame.draws.size(); ++d) {
     frame.draws[d].buffers.slot_count = static_cast<uint32_t>(positions[d].size());
-    ShadedBatch b;
-    b.kind = PacketKind::work;
-    b.draw_id = d;
-    b.first_slot = 0;
-    b.slot_count = b.vertex_count = static_cast<uint32_t>(positions[d].size());
+    ShadedBatch b = fetched_batch(d, static_cast<uint32_t>(positions[d].size()));
     for (uint32_t i = 0; i < b.slot_count; ++i) {
-      b.slots[i] = {SlotKind::fetched, kNoCacheEntry, i};
       b.vertices[i].clip = positions[d][i];
       b.vertices[i].varyings[0] = tags[d][i];
       b.vertices[i].varyings[3] = 1.0f;
     }
     batches.push_back(b);
   }
-  ShadedBatch eof;
-  eof.kind = PacketKind::end_of_frame;
-  batches.push_back(eof);
-
-  const GpuConfig config;
-  Fifo<ShadedBatch> in("in", 4);
-  Fifo<ClippedPrimitive> out("out", 4);
-  Clipper clipper("clipper", config, frame);
-  clipper.in(in);
-  clipper.out(out);
-  std::vector<ClippedPrimitive> got;
-  sc_core::sc_spawn([&] {
-    for (const ShadedBatch& b : batches) in.write(b);
-  });
-  sc_core::sc_spawn([&] {
-    for (;;) {
-      const ClippedPrimitive p = out.read();
-      if (p.kind == PacketKind::end_of_frame) break;
-      got.push_back(p);
-    }
-  });
-  sc_core::sc_start();
+  std::vector<ClippedPrimitive> got = clip(frame, batches);
+  got.erase(std::find_if(got.begin(), got.end(),
+                         [](const ClippedPrimitive& p) { return p.kind != PacketKind::work; }),
+            got.end());
   return got;
 }
 
@@ -222,13 +233,8 @@ TEST(Clipper, CarriesAndInterpolatesEveryVaryingOfTheLayout) {
 
   std::vector<ShadedBatch> batches;
   for (uint32_t d = 0; d < frame.draws.size(); ++d) {
-    ShadedBatch b;
-    b.kind = PacketKind::work;
-    b.draw_id = d;
-    b.first_slot = 0;
-    b.slot_count = b.vertex_count = static_cast<uint32_t>(3 * triangles.size());
+    ShadedBatch b = fetched_batch(d, static_cast<uint32_t>(3 * triangles.size()));
     for (uint32_t i = 0; i < b.slot_count; ++i) {
-      b.slots[i] = {SlotKind::fetched, kNoCacheEntry, i};
       ShadedVertex& v = b.vertices[i];
       v.clip = triangles[i / 3][i % 3];
       for (unsigned k = 0; k < frame.draws[d].varyings.count; ++k)
@@ -236,24 +242,8 @@ TEST(Clipper, CarriesAndInterpolatesEveryVaryingOfTheLayout) {
     }
     batches.push_back(b);
   }
-  ShadedBatch eof;
-  eof.kind = PacketKind::end_of_frame;
-  batches.push_back(eof);
-
-  const GpuConfig config;
-  Fifo<ShadedBatch> in("in", 4);
-  Fifo<ClippedPrimitive> out("out", 4);
-  Clipper clipper("clipper", config, frame);
-  clipper.in(in);
-  clipper.out(out);
-  std::vector<ClippedPrimitive> got;
-  sc_core::sc_spawn([&] {
-    for (const ShadedBatch& b : batches) in.write(b);
-  });
-  sc_core::sc_spawn([&] {
-    for (;;) got.push_back(out.read());
-  });
-  sc_core::sc_start();
+  nlohmann::json stats;
+  const std::vector<ClippedPrimitive> got = clip(frame, batches, &stats);
 
   const golden::GuardBand gb = golden::guard_band_for(64, 64);
   const float half = 32.0f;
@@ -330,7 +320,7 @@ TEST(Clipper, CarriesAndInterpolatesEveryVaryingOfTheLayout) {
   ASSERT_EQ(got.size(), next + 1);
   EXPECT_EQ(got.back().kind, PacketKind::end_of_frame);
   EXPECT_GE(cut_vertices, 12u);
-  EXPECT_EQ(clipper.stats().to_json().at("triangles_clipped").get<uint64_t>(), 6u);
+  EXPECT_EQ(stats.at("triangles_clipped").get<uint64_t>(), 6u);
 }
 
 // ---------------------------------------------------------------------------

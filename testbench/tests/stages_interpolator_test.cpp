@@ -33,6 +33,7 @@
 #include "testbench/golden/golden_model.h"
 #include "testbench/scene/scene.h"
 #include "testbench/tests/back_end_input.h"
+#include "testbench/tests/stage_host.h"
 #include "testbench/tests/varying_layouts.h"
 
 namespace gpusim {
@@ -67,14 +68,10 @@ TEST(Interpolator, ColoursEqualTheSpecPerPixel) {
   Interpolator interpolator("interpolator", cfg, frame, 0);
   interpolator.in(in);
   interpolator.out(out);
-  std::vector<ShadedStampBatch> got;
-  sc_core::sc_spawn([&] {
-    for (const StampBatch& b : tokens[0]) in.write(b);
-  });
-  sc_core::sc_spawn([&] {
-    for (;;) got.push_back(out.read());
-  });
+  feed(in, tokens[0]);
+  Sink<ShadedStampBatch> sink(out, cfg.cycle());
   sc_core::sc_start();
+  const std::vector<ShadedStampBatch>& got = sink.items;
 
   ASSERT_EQ(got.size(), tokens[0].size());
   uint64_t pixels = 0, flat = 0;
@@ -250,14 +247,10 @@ TEST(Interpolator, InterpolatesEveryVaryingPerspectiveCorrect) {
   Interpolator interpolator("interpolator", config, frame, 0);
   interpolator.in(in);
   interpolator.out(out);
-  std::vector<ShadedStampBatch> got;
-  sc_core::sc_spawn([&] {
-    for (const StampBatch& b : tokens) in.write(b);
-  });
-  sc_core::sc_spawn([&] {
-    for (;;) got.push_back(out.read());
-  });
+  feed(in, tokens);
+  Sink<ShadedStampBatch> sink(out, config.cycle());
   sc_core::sc_start();
+  const std::vector<ShadedStampBatch>& got = sink.items;
 
   ASSERT_EQ(got.size(), tokens.size());
   uint64_t pixels = 0;
