@@ -240,7 +240,9 @@ TEST(GoldenProvoking, ScreenInterpolatedQuadIsAffineAndDepthUnchanged) {
     const double got_p = decode_half(persp.framebuffer.color_at(x, y)[0]);
     EXPECT_NEAR(got_p, perspective, 2.5e-4) << "pixel " << x;
     // w varies across the quad: the two differ inside it.
-    if (x >= 8 && x <= 40) EXPECT_GT(std::fabs(got - got_p), 0.05) << "pixel " << x;
+    if (x >= 8 && x <= 40) {
+      EXPECT_GT(std::fabs(got - got_p), 0.05) << "pixel " << x;
+    }
   }
   EXPECT_EQ(screen.framebuffer.depth, persp.framebuffer.depth);
   EXPECT_EQ(screen.last_writer, persp.last_writer);

@@ -184,7 +184,10 @@ nlohmann::json made_up(double utilization) {
          unit ? order[i].substr(0, order[i].size() - 2) : order[i],
          unit ? 0 : -1,
          {static_cast<int>(i)},
-         i + 1 < order.size() ? std::vector<int>{static_cast<int>(i + 1)} : std::vector<int>{}});
+         i + 1 < order.size() ? std::vector<int>{static_cast<int>(i + 1)} : std::vector<int>{},
+         "primitive",
+         {},
+         ""});
     const std::string& f = fifo_order[i];
     const bool funit = f.back() == '0';
     netlist.fifos.push_back({f, funit ? f.substr(0, f.size() - 2) : f, 16, static_cast<int>(i) - 1,

@@ -107,9 +107,9 @@ TEST(TraceFilter, ParsesAndRejects) {
   EXPECT_THROW(TraceFilter::parse("rop,,clipper", "", ""), InputError);
 
   NetlistTables t;
-  t.stages = {{"clipper", "clipper", -1, {0}, {}},
-              {"rop_0", "rop", 0, {1}, {}},
-              {"rop_1", "rop", 1, {2}, {}}};
+  t.stages = {{"clipper", "clipper", -1, {0}, {}, "primitive", {}, ""},
+              {"rop_0", "rop", 0, {1}, {}, "stamp batch", {}, "write"},
+              {"rop_1", "rop", 1, {2}, {}, "stamp batch", {}, "write"}};
   EXPECT_EQ(TraceFilter::parse("rop", "", "").stages_kept(t),
             (std::vector<bool>{false, true, true}));
   EXPECT_EQ(TraceFilter::parse("clipper,rop_1", "", "").stages_kept(t),
@@ -117,7 +117,7 @@ TEST(TraceFilter, ParsesAndRejects) {
   EXPECT_THROW(TraceFilter::parse("rop_2", "", "").stages_kept(t), InputError);
 
   // A renamed stage's former name selects it, with one warning.
-  t.stages.push_back({"primitive_setup", "primitive_setup", -1, {3}, {}});
+  t.stages.push_back({"primitive_setup", "primitive_setup", -1, {3}, {}, "primitive", {}, ""});
   testing::internal::CaptureStderr();
   EXPECT_EQ(TraceFilter::parse("triangle_setup,rop_1", "", "").stages_kept(t),
             (std::vector<bool>{false, false, true, true}));
