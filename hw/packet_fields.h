@@ -12,8 +12,8 @@
 //     ...
 //   }
 //
-// and `==` and `<<` follow (the templates at the end). A field is
-// a name, a pointer to the member and options:
+// and `==` and `<<` follow (the templates at the end). A field is a name, a
+// pointer to the member and options:
 //   bits(n)     its width in hardware (of each element, for an array); without
 //               it, the type's: a bool 1 bit, a number its size, an enum what
 //               hardware_bits(E) says next to the enum, a packet its fields'
@@ -28,9 +28,9 @@
 //               default, `work`) carries nothing else and prints its kind alone.
 // A member pointer of a base class names its fields in a derived packet too.
 //
-// The printer writes `Name{field value, ...}`; arrays print as (a, b, ...), with a run of trailing
-// zeros longer than a few elements shortened to "0 xN"; a shared primitive prints the primitive, or
-// `none`.
+// The printer writes `Name{field value, ...}`; arrays print as (a, b, ...),
+// their trailing zeros after the fourth element as "0 xN"; a shared
+// primitive prints the primitive, or `none`.
 #pragma once
 
 #include <array>
@@ -141,7 +141,6 @@ struct IsSharedPtr<std::shared_ptr<T>> : std::true_type {
 template <typename T>
 constexpr size_t type_bits();
 
-template <typename P>
 struct WidthVisitor {
   size_t bits = 0;
   template <typename C, typename M, typename... O>
@@ -175,7 +174,7 @@ constexpr size_t type_bits() {
     // with each of them as far as the width is concerned.
     return type_bits<typename IsSharedPtr<T>::element>();
   } else if constexpr (HasFields<T>::value) {
-    WidthVisitor<T> w;
+    WidthVisitor w;
     T::fields(w);
     return w.bits;
   } else {
