@@ -69,35 +69,36 @@ FrameState frame_with(int W, int H, std::vector<RenderState> states) {
   return f;
 }
 
-ClippedPrimitive line(int64_t id, uint32_t draw, float xa, float ya, float xb, float yb,
-                      bool first = true, bool last = true) {
+// A primitive of `kind` with its vertices' 1/w at 1.
+ClippedPrimitive primitive(PrimitiveKind kind, int64_t id, uint32_t draw) {
   ClippedPrimitive p;
-  p.primitive_kind = PrimitiveKind::line;
-  p.vertex_count = 2;
+  p.primitive_kind = kind;
+  p.vertex_count = vertex_count_of(kind);
   p.draw_id = draw;
   p.primitive_id = id;
+  for (unsigned i = 0; i < p.vertex_count; ++i) p.v[i].inv_w = 1.0f;
+  return p;
+}
+
+ClippedPrimitive line(int64_t id, uint32_t draw, float xa, float ya, float xb, float yb,
+                      bool first = true, bool last = true) {
+  ClippedPrimitive p = primitive(PrimitiveKind::line, id, draw);
   p.v[0].x = xa;
   p.v[0].y = ya;
   p.v[1].x = xb;
   p.v[1].y = yb;
   p.v[0].z = 0.25f;
   p.v[1].z = 0.75f;
-  p.v[0].inv_w = p.v[1].inv_w = 1.0f;
   p.draw_first = first;
   p.draw_last = last;
   return p;
 }
 
 ClippedPrimitive point(int64_t id, uint32_t draw, float x, float y) {
-  ClippedPrimitive p;
-  p.primitive_kind = PrimitiveKind::point;
-  p.vertex_count = 1;
-  p.draw_id = draw;
-  p.primitive_id = id;
+  ClippedPrimitive p = primitive(PrimitiveKind::point, id, draw);
   p.v[0].x = x;
   p.v[0].y = y;
   p.v[0].z = 0.5f;
-  p.v[0].inv_w = 1.0f;
   return p;
 }
 

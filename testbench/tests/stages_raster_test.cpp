@@ -839,12 +839,18 @@ FrameState quad_frame() {
   return f;
 }
 
-TEST(RasterTiming, FullScreenQuadOneUnit) {
+// The quad tests' configuration: 16-pixel tiles, 4 x 4 stamps, FIFOs of 16.
+GpuConfig quad_config(unsigned units) {
   GpuConfig cfg = GpuConfig::baseline();
-  cfg.units = 1;
+  cfg.units = units;
   cfg.tile_size = 16;
   cfg.stamp = {4, 4};
   cfg.fifo_depth = 16;
+  return cfg;
+}
+
+TEST(RasterTiming, FullScreenQuadOneUnit) {
+  const GpuConfig cfg = quad_config(1);
   auto bench = std::make_unique<RasterBench>("quad", cfg, quad_frame(), false);
   bench->feed(quad_tokens());
   sc_core::sc_start();
@@ -892,11 +898,7 @@ TEST(RasterTiming, FullScreenQuadOneUnit) {
 // with A). Unit u's last batch (its last tile in walk order has coverage
 // for B) is readable at 26 + 2 * cost + 2.
 TEST(RasterTiming, FullScreenQuadFourUnitsSplitEvenly) {
-  GpuConfig cfg = GpuConfig::baseline();
-  cfg.units = 4;
-  cfg.tile_size = 16;
-  cfg.stamp = {4, 4};
-  cfg.fifo_depth = 16;
+  const GpuConfig cfg = quad_config(4);
   auto bench = std::make_unique<RasterBench>("quad4", cfg, quad_frame(), false);
   bench->feed(quad_tokens());
   sc_core::sc_start();
