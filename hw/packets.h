@@ -31,6 +31,10 @@
 // - Stamp batches: a header (kind, the primitive, 32 bits of hierarchical-Z
 //   sequence) and per stamp 251 bits, per covered pixel a 16-bit sample mask
 //   and, shaded, a 128-bit colour.
+// A draw uses only its `count` components (4 today, so 8 words per clipped
+// vertex), which is what hardware would move; the model keeps the full
+// capacity in every packet so that packets have one fixed size and moving a
+// vertex allocates nothing.
 #pragma once
 
 #include <array>

@@ -164,11 +164,10 @@ class Trace:
                 f["name"], int(f["depth"])  # noqa: B018
         except (KeyError, TypeError, ValueError) as e:
             raise TraceError(f"{mpath}: missing or malformed field {e}")
-        # The memory's clients by their stage's name, and the side links;
-        # None in traces written before the netlist listed them.
+        # The stages that are the memory's clients, by name; None in traces
+        # written before the netlist listed them.
         self.memory_clients = ([c["stage"] for c in m["memory_clients"]]
                                if "memory_clients" in m else None)
-        self.links = list(m.get("links") or [])
         self.manifest = m
         self.filters = m.get("filters") or {}
         self.records = m.get("records") or {}

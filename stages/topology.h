@@ -144,6 +144,7 @@ class Topology {
   template <typename Link, typename... Args>
   Link& connect_link(const std::string& kind, int unit, PipelineStage& writer,
                      PipelineStage& reader, Args&&... args) {
+    if (m_finished) throw std::logic_error("Topology: connect_link() after finish()");
     auto link = std::make_shared<Link>(std::forward<Args>(args)...);
     m_links.push_back(
         {PipelineStage::instance_name(kind, unit), kind, unit, &writer, &reader, link});
