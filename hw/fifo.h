@@ -79,8 +79,16 @@ class FifoChannel : public sc_core::sc_prim_channel {
   const StatGroup& stat_group() const { return *m_stats; }
   void set_cycle(sc_core::sc_time cycle) { m_cycle = cycle; }
 
-  // The stall policy (hw/random_stalls.h), from now on.
-  void set_stalls(const RandomStalls& stalls) { m_stalls = stalls; }
+  // The stall policy (hw/random_stalls.h), from now on; a reset starts it
+  // again from its first draw.
+  void set_stalls(const RandomStalls& stalls) { m_stalls = m_installed_stalls = stalls; }
+
+  // Between frames (Gpu::reset), from the process that resets the GPU at
+  // the new frame's first instant `start` (an sc_time value): as
+  // elaborated, empty, its statistics observed from `start`, its stall
+  // policy at its first draw. Only the processes the reset restarts may be
+  // blocked on it.
+  virtual void reset(uint64_t start) = 0;
   // The events for an observer outside the pipeline (the watchdog, the
   // progress display), which waits on them only while nothing moves: they are
   // notified only between its watch(true) and watch(false) calls.
@@ -107,6 +115,13 @@ class FifoChannel : public sc_core::sc_prim_channel {
   int m_watchers = 0;  // observers now waiting on written_event() / read_event()
   FifoStatistics m_statistics;
   RandomStalls m_stalls;
+  RandomStalls m_installed_stalls;  // as set_stalls() gave it
+
+  // The type-independent part of reset().
+  void restart(uint64_t start) {
+    m_statistics.restart(start);
+    m_stalls = m_installed_stalls;
+  }
 
   // The stall policy's delay of the next operation on `side` (an sc_time
   // value, 0: none), counted in the statistics; one test when no policy is
@@ -260,6 +275,17 @@ class Fifo : public FifoChannel, public FifoInIf<T>, public FifoOutIf<T> {
       throw std::logic_error(std::string(name()) + ": stamped mode is set before any item moves");
     m_stamped = true;
     m_sync.start(m_buf.size(), writer_clock, reader_clock);
+  }
+
+  void reset(uint64_t start) override {
+    std::fill(m_buf.begin(), m_buf.end(), T{});
+    std::fill(m_ready.begin(), m_ready.end(), sc_core::SC_ZERO_TIME);
+    m_head = m_tail = m_committed = m_num_read = m_num_written = 0;
+    m_total_written = m_total_read = 0;
+    m_reader_asleep = false;
+    m_item_ready_event.cancel();
+    if (m_stamped) m_sync.restart(m_buf.size());
+    restart(start);
   }
 
   // Items the reader can take now (written before this delta, not yet read).

@@ -29,6 +29,13 @@ void FifoStampedSync::start(size_t depth, const SuperdenseTime* writer,
   read_log.reset(depth);
 }
 
+void FifoStampedSync::restart(size_t depth) {
+  start(depth, writer_clock, reader_clock);
+  writer_asleep = reader_asleep = false;
+  stall_end = 0;
+  stall_end_event.cancel();
+}
+
 void FifoStampedSync::settle(const SuperdenseTime& limit, FifoStatistics& stats, size_t& committed,
                              const char* fifo) {
   for (;;) {

@@ -68,6 +68,8 @@ struct FifoStampedSync {
   // decoupled stage on that side (PipelineStage::local_clock()), which no
   // later operation of it precedes; null: a side in the kernel's time.
   void start(size_t depth, const SuperdenseTime* writer, const SuperdenseTime* reader);
+  // Between frames (FifoChannel::reset): as start() left it, the same clocks.
+  void restart(size_t depth);
 
   // No operation earlier than this can still be logged: a decoupled side's
   // later operations are at or after its clock, the kernel's at or after

@@ -2,7 +2,9 @@
 // writers were stalled and its readers starved, and the delays its stall
 // policy added, integrated in simulated time and computed up to "now" on
 // demand, so they can be read at any point (including after sc_start()
-// returned with a stage still blocked). Mean occupancy is over [0, now].
+// returned with a stage still blocked). Every figure covers the frame so
+// far, [start, now]: start is 0 for a GPU's first frame and the frame's
+// first instant after a reset (restart()).
 // The FIFO reports each change as it commits it; the figures reach
 // stats.json as the FIFO's stat group (FifoChannel::stat_group()).
 #pragma once
@@ -19,14 +21,14 @@ struct FifoStats {
   uint64_t written = 0;
   uint64_t read = 0;
   size_t max_occupancy = 0;
-  double mean_occupancy = 0.0;      // time-weighted over [0, now]
+  double mean_occupancy = 0.0;      // time-weighted over [start, now]
   sc_core::sc_time full;            // time holding depth() items
   sc_core::sc_time empty;           // time holding no item
   sc_core::sc_time writer_blocked;  // summed over writers blocked in write(): stall
   sc_core::sc_time reader_blocked;  // summed over readers blocked in read(): starve
   uint64_t injected_stalls = 0;     // reads and writes delayed by the stall policy
   sc_core::sc_time injected_stall;  // total delay they added
-  sc_core::sc_time observed;        // now: the window of every time above
+  sc_core::sc_time observed;        // now - start: the window of every time above
 };
 
 // Time integral of a level that changes at discrete instants: occupancy, or
@@ -48,6 +50,10 @@ struct TimeIntegral {
 class FifoStatistics {
  public:
   explicit FifoStatistics(size_t depth) : m_depth(depth) {}
+
+  // Everything zero, observed from `start` (an sc_time value) on: the
+  // figures of a FIFO elaborated at `start`.
+  void restart(uint64_t start) { *this = FifoStatistics(m_depth, start); }
 
   // The items held become `held` at `now` (sc_time values): the time since
   // the last change was spent at the previous level.
@@ -73,12 +79,18 @@ class FifoStatistics {
     m_injected_stall += delay;
   }
 
-  // The figures up to `now` (the kernel's time; the last change if that is
-  // later, as a decoupled side's may be), with `written` and `read` items.
+  // The figures from the start up to `now` (the kernel's time; the last
+  // change if that is later, as a decoupled side's may be), with `written`
+  // and `read` items.
   FifoStats snapshot(uint64_t written, uint64_t read, const sc_core::sc_time& now) const;
 
  private:
+  FifoStatistics(size_t depth, uint64_t start) : m_depth(depth), m_start(start) {
+    m_occupancy.since = m_blocked_writers.since = m_blocked_readers.since = start;
+  }
+
   size_t m_depth;
+  uint64_t m_start = 0;  // sc_time value
   size_t m_max_occupancy = 0;
   TimeIntegral m_occupancy;
   uint64_t m_full = 0;  // sc_time values, closed at each change

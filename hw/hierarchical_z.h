@@ -86,6 +86,8 @@ class HzUpdateLink {
       : m_latency(sc_core::sc_time::from_value(cycle.value() * latency_cycles)) {}
 
   void send(const HzUpdate& u) { m_queue.push_back(u); }
+  // Between frames (Topology::reset): no update in flight.
+  void reset() { m_queue.clear(); }
   const sc_core::sc_time& latency() const { return m_latency; }
 
   // A decoupled writer's clock (before the simulation starts; null: the

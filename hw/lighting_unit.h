@@ -20,6 +20,15 @@ class LightingUnit {
  public:
   explicit LightingUnit(const FrameState& frame) : m_frame(frame) {}
 
+  // No draw loaded, as constructed (between frames: the next frame's draw 0
+  // is another draw).
+  void reset() {
+    m_draw_id = ~uint32_t{0};
+    m_base_color = glm::vec3(0.0f);
+    m_light_terms.clear();
+    m_shininess = 0.0f;
+    m_alpha = 1.0f;
+  }
   // Loads draw `draw_id`'s registers, unless they hold that draw already.
   void load(uint32_t draw_id);
   // The lit colour (clamped to [0, 1], alpha the material's diffuse alpha)

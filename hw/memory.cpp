@@ -31,6 +31,16 @@ unsigned MemoryArbiter::add_client() {
   return static_cast<unsigned>(m_clients.size() - 1);
 }
 
+void MemoryArbiter::reset() {
+  for (Client& c : m_clients) c = Client{};
+  for (Channel& ch : m_channels) {
+    ch = Channel{};
+    ch.queues.resize(m_clients.size());
+    ch.heads.assign(m_clients.size(), 0);
+  }
+  m_active_channels.clear();
+}
+
 sc_core::sc_time MemoryArbiter::bus_free() const {
   uint64_t t = 0;
   for (const Channel& ch : m_channels) t = std::max(t, ch.bus_free);
@@ -155,6 +165,12 @@ Memory::Memory(sc_core::sc_module_name name, uint64_t size, unsigned latency_cyc
   socket.register_b_transport(this, &Memory::b_transport);
   socket.register_transport_dbg(this, &Memory::transport_dbg);
   declare_stats(channels);
+}
+
+void Memory::reset(uint64_t start) {
+  m_arbiter.reset();
+  for (Client& c : m_clients) c.stats = MemoryClientStats{};
+  m_start = sc_core::sc_time::from_value(start);
 }
 
 unsigned Memory::add_client(const std::string& client_name) {
@@ -335,7 +351,8 @@ void Memory::declare_stats(unsigned channels) {
           [this] { return busy_cycles(); });
   g.formula("utilization", "ratio",
             "busy_cycles over the cycles elapsed times the channels: the mean channel's", [this] {
-              const double bus_cycles = sc_core::sc_time_stamp() / m_cycle * num_channels();
+              const double bus_cycles =
+                  (sc_core::sc_time_stamp() - m_start) / m_cycle * num_channels();
               return bus_cycles > 0 ? static_cast<double>(busy_cycles()) / bus_cycles : 0.0;
             });
   m_client_stats = &g.collection("clients", StatGroup::Layout::object, StatGroup::Describe::merged);
@@ -360,7 +377,7 @@ void Memory::declare_stats(unsigned channels) {
     c.gauge("busy_cycles", "cycles", "cycles its bus moved data",
             [totals] { return totals().busy_cycles; });
     c.formula("utilization", "ratio", "busy_cycles over the cycles elapsed", [this, totals] {
-      const double elapsed = sc_core::sc_time_stamp() / m_cycle;
+      const double elapsed = (sc_core::sc_time_stamp() - m_start) / m_cycle;
       return elapsed > 0 ? static_cast<double>(totals().busy_cycles) / elapsed : 0.0;
     });
     declare_waits(c, totals, m_cycle, "summed waits for its bus (arrival to start of transfer)");

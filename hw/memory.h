@@ -130,6 +130,9 @@ class MemoryArbiter : public sc_core::sc_prim_channel {
 
   // The next client number (round-robin position). Elaboration only.
   unsigned add_client();
+  // Between frames: no request queued or counted, every bus free and every
+  // round-robin pointer at client 0, as elaborated.
+  void reset();
   unsigned num_clients() const { return static_cast<unsigned>(m_clients.size()); }
 
   // Queues a request of `len` bytes on `channel` arriving `offset` after
@@ -233,6 +236,15 @@ class Memory : public sc_core::sc_module {
   unsigned add_client(const std::string& client_name);
   unsigned bind(tlm::tlm_initiator_socket<>& initiator, const std::string& client_name);
 
+  // Between frames (Gpu::reset), at the new frame's first instant `start`
+  // (an sc_time value): the arbiter and every statistic as elaborated, the
+  // utilizations observed from `start`. The contents are the testbench's
+  // (reset_contents).
+  void reset(uint64_t start);
+  // `size` bytes, every one zero: the store as a GPU elaborated with that
+  // size starts. Invalidates data().
+  void reset_contents(uint64_t size) { m_data.assign(size, 0); }
+
   uint64_t size() const { return m_data.size(); }
   // Grows (or shrinks) the store, zero-filling new bytes. Invalidates data().
   void resize(uint64_t size) { m_data.resize(size); }
@@ -297,6 +309,7 @@ class Memory : public sc_core::sc_module {
   unsigned m_bytes_per_cycle;
   unsigned m_interleave_shift;  // log2(interleave_bytes)
   sc_core::sc_time m_cycle;
+  sc_core::sc_time m_start;  // of the frame: what the utilizations are over
   std::vector<Client> m_clients;
   // Per socket initiator (multi-socket index): its client number.
   std::vector<int> m_socket_client;

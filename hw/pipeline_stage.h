@@ -83,6 +83,14 @@ class PipelineStage : public sc_core::sc_module {
                            "' names a fragment site but reports no fragments");
   }
 
+  // Between frames (Topology::reset), from the process that resets the GPU
+  // at the new frame's first instant, after every FIFO's reset: the stage
+  // as elaborated (its counters zero, its own state as reset_state() puts
+  // it back, a decoupled stage's clock at the kernel's time), then its
+  // processes restarted from the top, as a hardware reset restarts a
+  // state machine, so that what a thread keeps in locals starts afresh too.
+  void reset();
+
   // Whether the stage may run decoupled (above): false unless the stage
   // declares it.
   virtual bool decouplable() const { return false; }
@@ -111,6 +119,12 @@ class PipelineStage : public sc_core::sc_module {
         m_busy_cycles(m_stats.counter("busy_cycles", "cycles", "cycles spent working")),
         m_tokens_in(m_stats.counter("tokens_in", "tokens", spec.tokens_in)),
         m_tokens_out(m_stats.counter("tokens_out", "tokens", spec.tokens_out)) {}
+
+  // The stage's members as its constructor left them, before reset()
+  // restarts its processes: what its threads keep from packet to packet
+  // (caches, loaded registers, sequence numbers). Counters in m_stats are
+  // reset() already; what a thread sets up before its loop it sets up again.
+  virtual void reset_state() {}
 
   sc_core::sc_time clock_cycles(uint64_t n) const {
     return sc_core::sc_time::from_value(m_cycle * n);

@@ -52,6 +52,12 @@ void TileCache::configure(const Layout& layout) {
   m_encoded.assign(m_entry_of_tile.size(), 0);
 }
 
+void TileCache::reset() {
+  for (Entry& e : m_entries) e = Entry{};
+  m_tick = 0;
+  m_writes_done = sc_core::SC_ZERO_TIME;
+}
+
 unsigned TileCache::lookup(int tx, int ty, sc_core::sc_time& t, bool overwrite) {
   const int tile = ty * m_tiles_x + tx;
   const int32_t hit = m_entry_of_tile[static_cast<size_t>(tile)];

@@ -115,6 +115,9 @@ class TileCache {
   // Sets the buffer and drops every entry and clear flag (without writing
   // anything back). Tile data is allocated lazily, per entry on first use.
   void configure(const Layout& layout);
+  // Between frames: every entry empty and unused, no write outstanding, as
+  // constructed (configure() follows).
+  void reset();
   const Layout& layout() const { return m_layout; }
 
   // The entry holding tile (tx, ty), loading it on a miss. `t` is the caller's

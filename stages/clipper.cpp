@@ -141,6 +141,15 @@ Clipper::ViewportRegs Clipper::viewport_regs(const DrawState& d) const {
   return v;
 }
 
+void Clipper::reset_state() {
+  m_vp = ViewportRegs{};
+  std::fill(m_cache.begin(), m_cache.end(), Vertex{});
+  m_reg = {};
+  m_batch_primitives = m_batch_extra = 0;
+  m_varying_count = 0;
+  m_state = nullptr;
+}
+
 void Clipper::run() {
   for (;;) {
     const ShadedBatch batch = receive(in);

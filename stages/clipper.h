@@ -137,6 +137,7 @@ class Clipper : public PipelineStage {
   };
 
   void run();
+  void reset_state() override;
   // Cycles the batch costs; its output primitives are appended to m_out.
   uint64_t process_batch(const ShadedBatch& batch);
   void assemble(const DrawState& draw, uint32_t draw_id, uint32_t slot, const Vertex& v);

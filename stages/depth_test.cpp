@@ -186,6 +186,22 @@ uint64_t DepthTest::stall_cycles(const sc_core::sc_time& t) const {
   return (t.value() + m_cycle - 1) / m_cycle;
 }
 
+void DepthTest::reset_state() {
+  m_offset = {};
+  m_step_x = m_step_y = {};
+  m_offset_valid = false;
+  m_pixel_offset = {};
+  m_clears_seen = 0;
+  m_hz_epoch = 0;
+  m_tiles_x = m_stamps_x = m_stamps_per_tile = 0;
+  m_hz_stamp.clear();
+  m_hz_known.clear();
+  m_hz_entry = 0;
+  m_hz_written.clear();
+  m_cache.reset();
+  m_overwrite = false;
+}
+
 void DepthTest::run() {
   // The frame's registers are final once the simulation runs.
   const FramebufferDesc& fb = m_frame.framebuffer;

@@ -106,6 +106,7 @@ class DepthTest : public PipelineStage {
 
  private:
   void run();
+  void reset_state() override;
   // Tests the batch's pixels, compacting its stamps in place; returns the
   // memory stall (local offset) through `t`.
   void test(StampBatch& batch, sc_core::sc_time& t);

@@ -81,6 +81,12 @@ Gpu::Gpu(sc_core::sc_module_name name, const GpuConfig& config, const FrameState
   declare_stats();
 }
 
+void Gpu::reset() {
+  m_topology.reset();
+  m_frame_cycles = 0;
+  m_reset_event.notify();
+}
+
 bool Gpu::frame_done() const {
   if (m_resolve) return m_resolve->frame_done();
   for (const Unit& u : m_units) {

@@ -62,6 +62,18 @@ class Gpu : public sc_core::sc_module {
   const Topology& topology() const { return m_topology; }
   Topology& topology() { return m_topology; }
 
+  // Between frames, from a process (the testbench's host) at the new
+  // frame's first instant, the previous frame complete and the kernel idle
+  // but for the caller: every stage, FIFO and link and the memory's arbiter
+  // and statistics as elaborated (Topology::reset), so that the next frame
+  // has the cycles and statistics of a freshly elaborated GPU. The frame's
+  // registers (the FrameState the GPU was made with) and the memory's
+  // contents (Memory::reset_contents) are the caller's to load first. A
+  // frame with another structure (needs_resolve()) needs another GPU.
+  void reset();
+  // Notified by reset() at once: observers (the watchdog) start over.
+  const sc_core::sc_event& reset_event() const { return m_reset_event; }
+
   // Every unit has flushed its tiles after end_of_frame (and the resolve
   // has written the output image, when there is one).
   bool frame_done() const;
@@ -117,6 +129,7 @@ class Gpu : public sc_core::sc_module {
   std::unique_ptr<Resolve> m_resolve;  // only when the frame needs one
   Fifo<Command>* m_commands = nullptr;
   sc_core::sc_event_or_list m_done_events;
+  sc_core::sc_event m_reset_event;
   uint64_t m_frame_cycles = 0;  // stats_json()'s
   StatGroup m_stats{"timing"};
 };

@@ -65,15 +65,23 @@ Interpolator::Interpolator(sc_core::sc_module_name name, const GpuConfig& config
       out("out"),
       m_stamp_shift(log2_side(config.stamp[0])),
       m_stamp_pixels(static_cast<int>(config.stamp[0] * config.stamp[1])),
-      m_lighting_cycles_per_pixel_total(uint64_t{config.lighting_cycles_per_pixel} +
-                                        uint64_t{config.lighting_cycles_per_light} *
-                                            frame.lights.size()),
       m_lighting(frame) {
   SC_HAS_PROCESS(Interpolator);
   SC_THREAD(run);
 }
 
+void Interpolator::reset_state() {
+  m_offset = {};
+  m_step_x = m_step_y = {};
+  m_offset_valid = false;
+  m_lighting.reset();
+}
+
 void Interpolator::run() {
+  // The frame's registers are final once the simulation runs.
+  m_lighting_cycles_per_pixel_total =
+      uint64_t{m_config.lighting_cycles_per_pixel} +
+      uint64_t{m_config.lighting_cycles_per_light} * m_frame.lights.size();
   // One packet object each way: the FIFOs recycle their buffers (hw/fifo.h),
   // so no batch allocates.
   StampBatch batch;

@@ -69,6 +69,7 @@ class Interpolator : public PipelineStage {
 
  private:
   void run();
+  void reset_state() override;
   void shade(const StampBatch& batch, ShadedStampBatch& result);
   // Fills m_offset for the triangle's edge steps (kept while they are unchanged).
   void update_offsets(const RasterPrimitive& tri);
@@ -87,7 +88,7 @@ class Interpolator : public PipelineStage {
   std::array<EdgeValue, 3> m_step_x{}, m_step_y{};
   bool m_offset_valid = false;
 
-  const uint64_t m_lighting_cycles_per_pixel_total;  // per lit pixel, all lights
+  uint64_t m_lighting_cycles_per_pixel_total = 0;  // per lit pixel, all lights (the frame's)
   LightingUnit m_lighting;  // the per-pixel lighting unit, loaded per lit draw
 
   uint64_t& m_stamps = m_stats.counter("stamps", "stamps", "stamps interpolated");

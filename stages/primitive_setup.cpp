@@ -516,6 +516,11 @@ std::shared_ptr<RasterPrimitive> PrimitiveSetup::setup_point(const ClippedPrimit
   return t;
 }
 
+void PrimitiveSetup::reset_state() {
+  m_samples = 1;
+  m_reach_x0 = m_reach_x1 = m_reach_y0 = m_reach_y1 = 0;
+}
+
 void PrimitiveSetup::run() {
   // The frame's registers are final once the simulation runs.
   m_samples = m_frame.framebuffer.samples;

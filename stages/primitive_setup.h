@@ -89,6 +89,7 @@ class PrimitiveSetup : public PipelineStage {
 
  private:
   void run();
+  void reset_state() override;
   // The setup of one triangle, without timing: nullptr when the triangle is
   // degenerate or culled (the reason goes to the counters). A RasterPrimitive
   // with an empty box (x0 > x1 or y0 > y1) is returned all the same.

@@ -50,6 +50,11 @@ Resolve::Resolve(sc_core::sc_module_name name, const GpuConfig& config, const Fr
   SC_THREAD(run);
 }
 
+void Resolve::reset_state() {
+  m_frame_done = false;
+  m_surface = SurfaceLayout{};
+}
+
 void Resolve::run() {
   const FramebufferDesc& fb = m_frame.framebuffer;
   const int k = static_cast<int>(fb.supersample);

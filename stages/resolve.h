@@ -59,6 +59,7 @@ class Resolve : public PipelineStage {
 
  private:
   void run();
+  void reset_state() override;
   // Filters output tile (tx, ty); returns its cycles, the read stall included.
   uint64_t resolve_tile(int tx, int ty);
   void read_tiles(int rx0, int ry0, int k, size_t row_bytes);

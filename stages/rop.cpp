@@ -213,6 +213,13 @@ Rop::Rop(sc_core::sc_module_name name, const GpuConfig& config, const FrameState
   SC_THREAD(run);
 }
 
+void Rop::reset_state() {
+  m_frame_done = false;
+  m_clears_seen = 0;
+  m_cache.reset();
+  m_overwrite = false;
+}
+
 void Rop::run() {
   // The frame's registers are final once the simulation runs.
   const FramebufferDesc& fb = m_frame.framebuffer;

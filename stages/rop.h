@@ -94,6 +94,7 @@ class Rop : public PipelineStage {
 
  private:
   void run();
+  void reset_state() override;
   void blend(const ShadedStampBatch& batch, sc_core::sc_time& t);
   void check_pixel(int x, int y, const FramebufferDesc& fb) const;
   void forget_last_writers();

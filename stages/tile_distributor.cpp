@@ -96,6 +96,10 @@ unsigned TileDistributor::target_units(const RasterPrimitive& t, std::vector<boo
   return found;
 }
 
+void TileDistributor::reset_state() {
+  m_targets.clear();
+}
+
 void TileDistributor::run() {
   const unsigned units = m_config.units;
   for (;;) {

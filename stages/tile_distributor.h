@@ -43,6 +43,7 @@ class TileDistributor : public PipelineStage {
 
  private:
   void run();
+  void reset_state() override;
   // targets[u]: unit u owns a tile of the triangle's box; returns how many do.
   unsigned target_units(const RasterPrimitive& t, std::vector<bool>& targets) const;
 

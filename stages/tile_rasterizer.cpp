@@ -101,6 +101,28 @@ TileRasterizer::TileRasterizer(sc_core::sc_module_name name, const GpuConfig& co
   SC_THREAD(run);
 }
 
+void TileRasterizer::reset_state() {
+  m_pixel_dx = m_pixel_dy = {};
+  m_offset = {};
+  m_offset_valid = false;
+  m_samples = 1;
+  m_full_samples = 1;
+  m_sample_dx = m_sample_dy = {};
+  m_sample_offset = {};
+  m_passes = 1;
+  m_pending_cycles = 0;
+  m_batch = StampBatch{};
+  m_line_stamps.clear();
+  m_tiles_x = 0;
+  m_hz_block.clear();
+  m_hz_seq.clear();
+  m_hz_epoch = 0;
+  m_clears_seen = 0;
+  m_hz_prim = HzRange{};
+  m_hz_func = CompareFunc::always;
+  m_hz_cull = m_hz_write = false;
+}
+
 void TileRasterizer::run() {
   // The frame's registers are final once the simulation runs.
   m_samples = m_frame.framebuffer.samples;

@@ -190,6 +190,7 @@ class TileRasterizer : public PipelineStage {
   static constexpr int kMaxStampPixels = 64;
 
   void run();
+  void reset_state() override;
   void rasterize(const std::shared_ptr<const RasterPrimitive>& tri);
   // The tile walk over N coverage edges (3 for a triangle, 2 for a
   // diamond-exit line, 0 for a point).

@@ -40,7 +40,23 @@ void Topology::add_fifo(FifoNode node, std::shared_ptr<FifoChannel> fifo, Pipeli
 void Topology::connect_memory(PipelineStage& stage, MemoryPort& port, Memory& memory) {
   if (m_finished) throw std::logic_error("Topology: connect_memory() after finish()");
   port.bind(memory);
-  m_memory_clients.push_back({port.client_name(), &stage});
+  m_memory_clients.push_back({port.client_name(), &stage, &memory});
+}
+
+void Topology::reset() {
+  if (!m_finished) throw std::logic_error("Topology: reset() before finish()");
+  const uint64_t start = sc_core::sc_time_stamp().value();
+  // The channels first: a stage's restarted thread runs until it waits,
+  // which may be on a read of the new frame's first item.
+  for (const FifoNode& f : m_fifos) f.channel->reset(start);
+  for (const LinkEdge& l : m_links) l.reset();
+  std::vector<Memory*> memories;
+  for (const MemoryEdge& m : m_memory_clients) {
+    if (std::find(memories.begin(), memories.end(), m.memory) != memories.end()) continue;
+    memories.push_back(m.memory);
+    m.memory->reset(start);
+  }
+  for (const StageNode& s : m_stages) s.stage->reset();
 }
 
 int Topology::index_of(const PipelineStage* stage) const {

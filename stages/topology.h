@@ -140,14 +140,15 @@ class Topology {
   void connect_memory(PipelineStage& stage, MemoryPort& port, Memory& memory);
   // A side channel of kind `kind` from `writer` to `reader` (unit -1: front
   // end) that is not a FIFO: made here from `args`, owned here, handed to
-  // both stages by the caller. Elaboration only.
+  // both stages by the caller; its reset() empties it between frames.
+  // Elaboration only.
   template <typename Link, typename... Args>
   Link& connect_link(const std::string& kind, int unit, PipelineStage& writer,
                      PipelineStage& reader, Args&&... args) {
     if (m_finished) throw std::logic_error("Topology: connect_link() after finish()");
     auto link = std::make_shared<Link>(std::forward<Args>(args)...);
-    m_links.push_back(
-        {PipelineStage::instance_name(kind, unit), kind, unit, &writer, &reader, link});
+    m_links.push_back({PipelineStage::instance_name(kind, unit), kind, unit, &writer, &reader, link,
+                       [l = link.get()] { l->reset(); }});
     return *link;
   }
 
@@ -157,6 +158,14 @@ class Topology {
   // std::logic_error otherwise), and adds each stage's stalled_cycles and
   // starved_cycles to its statistics. Call once, after the last connect().
   void finish();
+
+  // Between frames, from a process at the new frame's first instant (the
+  // GPU's reset, Gpu::reset): every FIFO, link and memory, then every stage
+  // as elaborated (PipelineStage::reset), so that the next frame's cycles
+  // and statistics are those of a freshly elaborated netlist. The kernel
+  // must be idle but for the caller: the previous frame complete, no
+  // process runnable, no event pending.
+  void reset();
 
   const std::vector<StageNode>& stages() const { return m_stages; }
   const std::vector<FifoNode>& fifos() const { return m_fifos; }
@@ -222,6 +231,7 @@ class Topology {
   struct MemoryEdge {
     std::string name;
     PipelineStage* stage;
+    Memory* memory;
   };
   std::vector<MemoryEdge> m_memory_clients;  // in client number order
   struct LinkEdge {
@@ -229,6 +239,7 @@ class Topology {
     int unit;
     PipelineStage *writer, *reader;
     std::shared_ptr<void> link;
+    std::function<void()> reset;  // Link::reset()
   };
   std::vector<LinkEdge> m_links;
   // Interposed stages, destroyed before the FIFOs they are bound to.

@@ -70,6 +70,13 @@ VertexFetch::VertexFetch(sc_core::sc_module_name name, const GpuConfig& config,
   SC_THREAD(run);
 }
 
+void VertexFetch::reset_state() {
+  std::fill(m_tag.begin(), m_tag.end(), kNoTag);
+  m_entry_of.clear();
+  m_next = 0;
+  m_batch = VertexBatch{};
+}
+
 void VertexFetch::run() {
   for (;;) {
     const Command cmd = receive(in);

@@ -57,6 +57,7 @@ class VertexFetch : public PipelineStage {
 
  private:
   void run();
+  void reset_state() override;
   void fetch_draw(uint32_t draw_id);
   // Fills slots, indices and attributes of `batch`; returns the memory time.
   sc_core::sc_time fetch_batch(const DrawState& draw, VertexBatch& batch);

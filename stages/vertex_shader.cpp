@@ -68,6 +68,11 @@ VertexShader::VertexShader(sc_core::sc_module_name name, const GpuConfig& config
   SC_THREAD(run);
 }
 
+void VertexShader::reset_state() {
+  m_out = ShadedBatch{};
+  m_lighting.reset();
+}
+
 void VertexShader::run() {
   for (;;) {
     const VertexBatch batch = receive(in);

@@ -40,6 +40,7 @@ class VertexShader : public PipelineStage {
 
  private:
   void run();
+  void reset_state() override;
 
   ShadedBatch m_out;
   LightingUnit m_lighting;  // loaded with each new draw's registers

@@ -33,6 +33,9 @@ ReplayOutcome replay_session(const ReplayRequest& request, Progress& progress,
   driver.set_capture(request.first == 0);
   if (callbacks.opened) callbacks.opened();
   ReplayOutcome outcome;
+  // One GPU for the replay, reset between frames (a frame with another
+  // netlist elaborates another).
+  GpuRunner gpu(request.config, GpuRunOptions{});
   gl::TraceCall call;
   Clock::time_point frame_start = Clock::now();
   while (reader.next(call)) {
@@ -73,7 +76,7 @@ ReplayOutcome replay_session(const ReplayRequest& request, Progress& progress,
     if (request.cycle) {
       GpuRunResult result;
       try {
-        result = run_gpu(scene, request.config, GpuRunOptions{});
+        result = gpu.run(scene);
       } catch (const SimulationError& e) {
         throw SessionError(request.trace + " frame " + n, e);
       }

@@ -28,17 +28,19 @@ uint64_t align(uint64_t v) {
   return (v + kAlignment - 1) / kAlignment * kAlignment;
 }
 
-// Host: streams the frame's commands and notes when every unit is done.
+// Host: streams each frame's commands and notes when every unit is done.
+// Its thread starts the first frame as the simulation starts and each later
+// one at the instant the runner gives (next_frame()), after resetting the
+// GPU there, so that every frame starts as the first did.
 class Host : public sc_core::sc_module {
  public:
   SC_HAS_PROCESS(Host);
   // `progress`: where the simulate phase's state goes, or null for none.
   Host(sc_core::sc_module_name name, Gpu& gpu, const GpuConfig& config, const FrameState& frame,
-       uint64_t primitives, Progress* progress, bool withhold_end_of_frame = false)
+       Progress* progress, bool withhold_end_of_frame = false)
       : sc_core::sc_module(name),
         m_gpu(gpu),
         m_frame(frame),
-        m_primitives(primitives),
         m_progress(progress),
         m_withhold_end_of_frame(withhold_end_of_frame),
         m_cycle(config.cycle()),
@@ -48,10 +50,35 @@ class Host : public sc_core::sc_module {
     if (progress) SC_THREAD(report_progress);
   }
   bool done = false;
-  sc_core::sc_time finished;
+  sc_core::sc_time started, finished;  // the frame's first instant and its end
+  uint64_t primitives = 0;             // of every kind in the frame (progress lines)
+
+  // Outside the simulation, the previous frame done and the kernel idle:
+  // the next frame starts at the next cycle boundary after now (a timed
+  // wake-up, so in the first delta of its time, as the first frame starts).
+  void next_frame() {
+    const uint64_t now = sc_core::sc_time_stamp().value(), cycle = m_cycle.value();
+    m_next.notify(sc_core::sc_time::from_value((now / cycle + 1) * cycle - now));
+  }
 
  private:
   void stream() {
+    for (;;) {
+      // Before the first wait: the observers the reset woke see the frame
+      // under way.
+      started = sc_core::sc_time_stamp();
+      done = false;
+      stream_frame();
+      while (!m_gpu.frame_done()) sc_core::wait(m_gpu.unit_done_events());
+      finished = sc_core::sc_time_stamp();
+      done = true;
+      m_stop.notify();
+      sc_core::wait(m_next);
+      m_gpu.reset();
+    }
+  }
+
+  void stream_frame() {
     Fifo<Command>& q = m_gpu.command_queue();
     // The frame clear, then the draws with the draw list's clears at their
     // places; a clear token carries no value (FrameState::clear).
@@ -65,22 +92,27 @@ class Host : public sc_core::sc_module {
     }
     // (Fault injection: a lost end_of_frame, which the watchdog must catch.)
     if (!m_withhold_end_of_frame) q.write(Command{PacketKind::end_of_frame, 0});
-    while (!m_gpu.frame_done()) sc_core::wait(m_gpu.unit_done_events());
-    finished = sc_core::sc_time_stamp();
-    done = true;
-    m_stop.notify();
   }
 
   // Wakes every 100k simulated cycles (a negligible cost) and hands the
   // state to the progress display, which shows it as often as its mode
   // allows. It wakes on simulated time only and only reads the GPU, so the
-  // host's clock never reaches the simulation (docs/robustness.md).
+  // host's clock never reaches the simulation (docs/robustness.md). It
+  // starts over with each frame, as the GPU's reset tells it.
   void report_progress() {
+    for (;;) {
+      report_frame();
+      sc_core::wait(m_gpu.reset_event());
+    }
+  }
+
+  void report_frame() {
     const auto start = std::chrono::steady_clock::now();
+    const sc_core::sc_time first = sc_core::sc_time_stamp();
     const sc_core::sc_event_or_list activity = activity_events(m_gpu.topology()) | m_stop;
     uint64_t moved = progress_count(m_gpu);
     const auto state = [&] {
-      const uint64_t cycles = static_cast<uint64_t>(sc_core::sc_time_stamp() / m_cycle);
+      const uint64_t cycles = static_cast<uint64_t>((sc_core::sc_time_stamp() - first) / m_cycle);
       const double wall =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       char buf[192];
@@ -88,7 +120,7 @@ class Host : public sc_core::sc_module {
                     "%llu of %llu primitives assembled, %llu cycles, %llu fragments, %.3g "
                     "cycles/s",
                     static_cast<unsigned long long>(m_gpu.primitives_assembled()),
-                    static_cast<unsigned long long>(m_primitives),
+                    static_cast<unsigned long long>(primitives),
                     static_cast<unsigned long long>(cycles),
                     static_cast<unsigned long long>(m_gpu.fragment_counts().generated),
                     static_cast<double>(cycles) / std::max(wall, 1e-9));
@@ -112,13 +144,13 @@ class Host : public sc_core::sc_module {
 
   Gpu& m_gpu;
   const FrameState& m_frame;
-  uint64_t m_primitives;  // primitives of every kind assembled in the frame
   Progress* m_progress;
   bool m_withhold_end_of_frame;
   sc_core::sc_time m_cycle;
   sc_core::sc_time m_interval;
   sc_core::sc_time m_memory_latency;
   sc_core::sc_event m_stop;
+  sc_core::sc_event m_next;  // the next frame's first instant
 };
 
 // Test-only faults (docs/robustness.md, "Watchdog"), by FIFO name.
@@ -279,8 +311,42 @@ LoadedFrame load_frame(const Scene& scene) {
   return out;
 }
 
-GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOptions& options) {
+// One elaborated GPU and the testbench around it.
+struct GpuRunner::Model {
+  sc_core::sc_simcontext* context = nullptr;  // the model's own (others may run in between)
+  FrameState frame;      // the frame's registers, which every stage reads: reloaded per frame
+  bool resolve = false;  // frame.needs_resolve() when elaborated: a Resolve stage or none
+  bool reusable = false;
+  std::unique_ptr<Gpu> gpu;
+  // Declared after the GPU, so destroyed before it: nothing calls a probe
+  // once the run is over.
+  std::unique_ptr<TraceRecorder> recorder;
+  std::unique_ptr<Host> host;
+  std::unique_ptr<Watchdog> watchdog;
+  size_t decoupled_stages = 0;
+};
+
+GpuRunner::GpuRunner(const GpuConfig& config, GpuRunOptions options)
+    : m_config(config), m_options(std::move(options)) {}
+
+GpuRunner::~GpuRunner() {
+  drop_model();
+}
+
+// SystemC objects leave their own context when destroyed: the model's is
+// made current for that, and the caller's restored.
+void GpuRunner::drop_model() {
+  if (!m_model) return;
+  sc_core::sc_simcontext* current = sc_core::sc_get_curr_simcontext();
+  use_simulation_context(m_model->context);
+  m_model.reset();
+  use_simulation_context(current);
+}
+
+GpuRunResult GpuRunner::run(const Scene& scene) {
   static_assert(sizeof(glm::vec4) == 16 && sizeof(glm::vec3) == 12, "packed attributes");
+  const GpuRunOptions& options = m_options;
+  const GpuConfig& config = m_config;
   const bool tracing = !options.trace_dir.empty();
   TraceFilter trace_filter;
   TraceFormats trace_formats;
@@ -295,32 +361,64 @@ GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOp
     trace_formats = TraceFormats::parse(options.trace_formats);
   }
   Progress* progress = options.progress;
-  if (progress) {
-    progress->begin("build", "laying out the scene in GPU memory, elaborating " +
-                                 std::to_string(config.units) + " raster unit" +
-                                 (config.units == 1 ? "" : "s"));
-  }
-  fresh_simulation_context();
-  // The memory image is built in the GPU's own memory (zero-filled, as the
-  // framebuffers and the padding start): no second copy of it.
-  LoadedFrame loaded;
   uint64_t memory_bytes = 0;
-  loaded.frame = layout_frame(scene, &memory_bytes);
-  Gpu gpu("gpu", config, loaded.frame, memory_bytes, options.unit_order, options.interposers);
+  FrameState frame = layout_frame(scene, &memory_bytes);
+  const bool reuse = m_model && m_model->reusable && m_model->resolve == frame.needs_resolve();
+  if (progress) {
+    progress->begin("build",
+                    reuse ? std::string("laying out the scene in GPU memory, resetting the GPU")
+                          : "laying out the scene in GPU memory, elaborating " +
+                                std::to_string(config.units) + " raster unit" +
+                                (config.units == 1 ? "" : "s"));
+  }
+  // A model whose frame failed is not run again.
+  try {
+    if (reuse) {
+      use_simulation_context(m_model->context);
+      // The frame's registers and a zero-filled memory of its size, as a
+      // fresh elaboration has them; the host resets the GPU at the frame's
+      // first instant.
+      m_model->frame = std::move(frame);
+      m_model->gpu->memory().reset_contents(memory_bytes);
+      m_model->host->next_frame();
+    } else {
+      elaborate(std::move(frame), memory_bytes, trace_filter, trace_formats);
+    }
+    return run_frame(scene, memory_bytes);
+  } catch (...) {
+    drop_model();
+    throw;
+  }
+}
+
+void GpuRunner::elaborate(FrameState frame, uint64_t memory_bytes, const TraceFilter& trace_filter,
+                          const TraceFormats& trace_formats) {
+  const GpuRunOptions& options = m_options;
+  const GpuConfig& config = m_config;
+  const bool tracing = !options.trace_dir.empty();
+  const bool faults = options.fault_withhold_end_of_frame ||
+                      !options.fault_disconnected_fifo.empty() ||
+                      !options.fault_stalled_fifo.empty();
+  // The old model goes first, in its own context.
+  drop_model();
+  sc_core::sc_simcontext* context = fresh_simulation_context();
+  ++m_elaborations;
+  m_model = std::make_unique<Model>();
+  Model& m = *m_model;
+  m.context = context;
+  m.frame = std::move(frame);
+  m.resolve = m.frame.needs_resolve();
+  // A traced frame writes its own trace files, and a fault breaks the
+  // model: neither is reset for another frame.
+  m.reusable = !tracing && !faults;
+  // The memory image is built in the GPU's own memory (zero-filled, as the
+  // framebuffers and the padding start; run_frame writes the arrays): no
+  // second copy of it.
+  m.gpu = std::make_unique<Gpu>("gpu", config, m.frame, memory_bytes, options.unit_order,
+                                options.interposers);
+  Gpu& gpu = *m.gpu;
   const Topology& netlist = gpu.topology();
   inject_faults(netlist, options, config);
-  write_frame_arrays(scene, loaded.frame, gpu.memory().data(0, memory_bytes));
-  uint64_t primitives = 0;
-  for (const Draw& d : scene.draws) primitives += primitive_count(d.primitive, d.vertex_count());
-  // The run reads nothing of the scene's arrays from here on.
-  if (options.scene_arrays_copied) options.scene_arrays_copied();
-  GpuRunResult result;
-  if (options.record_last_writer) {
-    result.last_writer.assign(static_cast<size_t>(loaded.frame.framebuffer.width) *
-                                  static_cast<size_t>(loaded.frame.framebuffer.height),
-                              -1);
-    gpu.set_last_writer(&result.last_writer);
-  }
   if (options.stall_probability > 0.0) {
     // Every FIFO its own stream, seeded by its name (MatchLib's rand_stall):
     // a stage added elsewhere in the netlist changes no other FIFO's stalls.
@@ -330,9 +428,6 @@ GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOp
                                          config.cycle()));
     }
   }
-  // Declared after the GPU, so destroyed before it: nothing calls a probe
-  // once the run is over.
-  std::unique_ptr<TraceRecorder> recorder;
   if (tracing) {
     const NetlistTables tables = netlist.trace_tables();
     trace_filter.stages_kept(tables);  // an unknown stage fails before anything is written
@@ -349,53 +444,74 @@ GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOp
     if (trace_formats.timeline) paths.timeline = files.add(dir + "/timeline.json");
     if (trace_formats.transactions) paths.transactions = files.add(dir + "/transactions.bin");
     if (trace_formats.fragments) paths.fragments = files.add(dir + "/fragments.bin");
-    recorder = std::make_unique<TraceRecorder>(tables, config, loaded.frame, trace_filter, paths,
-                                               options.trace_scene);
-    gpu.attach_trace(*recorder);
+    m.recorder = std::make_unique<TraceRecorder>(tables, config, m.frame, trace_filter, paths,
+                                                 options.trace_scene);
+    gpu.attach_trace(*m.recorder);
   }
-  const bool faults = options.fault_withhold_end_of_frame ||
-                      !options.fault_disconnected_fifo.empty() ||
-                      !options.fault_stalled_fifo.empty();
   if (options.temporal_decoupling && !tracing && !faults) {
-    result.decoupled_stages = gpu.topology().decouple();
+    m.decoupled_stages = gpu.topology().decouple();
   }
-  Host host("host", gpu, config, loaded.frame, primitives,
-            progress && progress->shown() ? progress : nullptr,
-            options.fault_withhold_end_of_frame);
-  std::unique_ptr<Watchdog> watchdog;
-  if (options.watchdog) watchdog = std::make_unique<Watchdog>("watchdog", gpu, config);
+  Progress* progress = options.progress;
+  m.host = std::make_unique<Host>("host", gpu, config, m.frame,
+                                  progress && progress->shown() ? progress : nullptr,
+                                  options.fault_withhold_end_of_frame);
+  if (options.watchdog) m.watchdog = std::make_unique<Watchdog>("watchdog", gpu, config);
+}
 
+GpuRunResult GpuRunner::run_frame(const Scene& scene, uint64_t memory_bytes) {
+  const GpuRunOptions& options = m_options;
+  const GpuConfig& config = m_config;
+  Model& m = *m_model;
+  Gpu& gpu = *m.gpu;
+  const Topology& netlist = gpu.topology();
+  write_frame_arrays(scene, m.frame, gpu.memory().data(0, memory_bytes));
+  uint64_t primitives = 0;
+  for (const Draw& d : scene.draws) primitives += primitive_count(d.primitive, d.vertex_count());
+  m.host->primitives = primitives;
+  // The run reads nothing of the scene's arrays from here on.
+  if (options.scene_arrays_copied) options.scene_arrays_copied();
+  GpuRunResult result;
+  if (options.record_last_writer) {
+    result.last_writer.assign(static_cast<size_t>(m.frame.framebuffer.width) *
+                                  static_cast<size_t>(m.frame.framebuffer.height),
+                              -1);
+  }
+  gpu.set_last_writer(options.record_last_writer ? &result.last_writer : nullptr);
+  result.decoupled_stages = m.decoupled_stages;
+
+  Progress* progress = options.progress;
   if (progress) {
     progress->begin("simulate", std::to_string(primitives) + " primitives in " +
                                     std::to_string(scene.draws.size()) + " draw" +
                                     (scene.draws.size() == 1 ? "" : "s"));
   }
   const auto start = std::chrono::steady_clock::now();
+  const auto frame_cycle = [&] {
+    return static_cast<uint64_t>((sc_core::sc_time_stamp() - m.host->started) / config.cycle());
+  };
   try {
     sc_core::sc_start();
   } catch (const sc_core::sc_report& e) {
     // A stage's SC_REPORT_ERROR: a model bug, reported with where items were.
     std::string what = e.what();
     while (!what.empty() && (what.back() == '\n' || what.back() == ' ')) what.pop_back();
-    throw SimulationError(
-        SimulationError::Kind::model_error,
-        "model error at cycle " +
-            std::to_string(static_cast<uint64_t>(sc_core::sc_time_stamp() / config.cycle())) +
-            ": " + what + "\n" + fifo_report(netlist));
+    throw SimulationError(SimulationError::Kind::model_error,
+                          "model error at cycle " + std::to_string(frame_cycle()) + ": " + what +
+                              "\n" + fifo_report(netlist));
   }
   result.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (progress) progress->begin("read back", "the frame and the counters, checking the ledger");
 
-  if (watchdog && watchdog->fired()) {
-    throw SimulationError(SimulationError::Kind::watchdog, watchdog->report());
+  if (m.watchdog && m.watchdog->fired()) {
+    throw SimulationError(SimulationError::Kind::watchdog, m.watchdog->report());
   }
-  if (!host.done) {
+  if (!m.host->done) {
     // The kernel ran out of events: every process waits for one that will
     // never come (the watchdog stops counting once every stage waits on a
     // FIFO). One more cycle of (empty) simulated time tells which FIFOs have
     // a reader or writer blocked on them.
-    const uint64_t stopped = static_cast<uint64_t>(sc_core::sc_time_stamp() / config.cycle());
+    const uint64_t stopped = frame_cycle();
     const NetlistSample before = sample(netlist);
     sc_core::sc_start(config.cycle());
     const NetlistSample after = sample(netlist);
@@ -407,14 +523,13 @@ GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOp
   }
 
   result.completed = true;
-  result.cycles = static_cast<uint64_t>(host.finished / config.cycle());
-  result.framebuffer = read_framebuffer(gpu.memory(), loaded.frame, config);
+  result.cycles = static_cast<uint64_t>((m.host->finished - m.host->started) / config.cycle());
+  result.framebuffer = read_framebuffer(gpu.memory(), m.frame, config);
   result.counts = gpu.pipeline_counts();
   result.timing = gpu.stats_json(result.cycles);
 
   result.netlist = netlist.trace_tables();
-  std::vector<std::string> errors =
-      conservation_errors(result.timing, result.netlist, loaded.frame);
+  std::vector<std::string> errors = conservation_errors(result.timing, result.netlist, m.frame);
   for (std::string& e : pipeline_count_errors(result.counts)) errors.push_back("pipeline: " + e);
   if (!errors.empty()) {
     std::string report = "conservation: the stages' counters do not balance (" +
@@ -423,9 +538,15 @@ GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOp
     for (const std::string& e : errors) report += "\n  " + e;
     throw SimulationError(SimulationError::Kind::conservation, report);
   }
-  if (recorder) recorder->finish(result.cycles, sc_core::sc_time_stamp().value());
+  if (m.recorder) m.recorder->finish(result.cycles, sc_core::sc_time_stamp().value());
+  // The ROPs keep no pointer into the result once it is returned.
+  gpu.set_last_writer(nullptr);
   if (progress) progress->end();
   return result;
+}
+
+GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOptions& options) {
+  return GpuRunner(config, options).run(scene);
 }
 
 }  // namespace gpusim

@@ -2,7 +2,8 @@
 // buffers, framebuffer), programs the per-draw state, streams commands
 // (clear, draws, end of frame) into the GPU and runs the simulation to
 // completion. Each run_gpu() gets a fresh SystemC simulation context, so a
-// process can run several frames one after the other.
+// process can run several frames one after the other; a GpuRunner runs
+// them on one GPU, reset between frames.
 //
 // A run that does not complete cleanly throws SimulationError: the watchdog
 // fired, every process blocked before the frame completed, a stage reported
@@ -12,6 +13,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
@@ -124,7 +126,44 @@ struct GpuRunResult {
   size_t decoupled_stages = 0;       // run ahead of the kernel's time (temporal_decoupling)
 };
 
-// Throws SimulationError when the frame does not complete cleanly.
+class TraceFilter;
+struct TraceFormats;
+
+// Runs frames one after the other on one elaborated GPU, as a replay does:
+// the first frame elaborates it (in a fresh simulation context) and each
+// later one resets it (Gpu::reset) at the first cycle boundary after the
+// previous frame's end, so that every frame's result is, to the bit, the
+// one a freshly elaborated GPU gives it. A frame whose netlist differs (a
+// resolve stage or none), a frame after a failed one, and every frame of a
+// traced run or one with an injected fault is elaborated afresh.
+class GpuRunner {
+ public:
+  // `options` apply to every frame.
+  GpuRunner(const GpuConfig& config, GpuRunOptions options);
+  ~GpuRunner();
+  GpuRunner(const GpuRunner&) = delete;
+  GpuRunner& operator=(const GpuRunner&) = delete;
+
+  // Throws SimulationError when the frame does not complete cleanly.
+  GpuRunResult run(const Scene& scene);
+  // GPUs elaborated so far.
+  unsigned elaborations() const { return m_elaborations; }
+
+ private:
+  struct Model;
+  void elaborate(FrameState frame, uint64_t memory_bytes, const TraceFilter& trace_filter,
+                 const TraceFormats& trace_formats);
+  GpuRunResult run_frame(const Scene& scene, uint64_t memory_bytes);
+  void drop_model();
+
+  const GpuConfig m_config;  // the stages keep references to it
+  const GpuRunOptions m_options;
+  std::unique_ptr<Model> m_model;
+  unsigned m_elaborations = 0;
+};
+
+// One frame on a GPU of its own (a GpuRunner's first frame). Throws
+// SimulationError when the frame does not complete cleanly.
 GpuRunResult run_gpu(const Scene& scene, const GpuConfig& config, const GpuRunOptions& options);
 
 }  // namespace gpusim

@@ -153,6 +153,15 @@ Watchdog::Watchdog(sc_core::sc_module_name name, const Gpu& gpu, const GpuConfig
 }
 
 void Watchdog::run() {
+  for (;;) {
+    watch_frame();
+    if (fired()) return;
+    sc_core::wait(m_gpu.reset_event());  // the next frame
+  }
+}
+
+void Watchdog::watch_frame() {
+  const sc_core::sc_time start = sc_core::sc_time_stamp();
   const Topology& topology = m_gpu.topology();
   const uint64_t limit = m_config.watchdog_cycles;
   const sc_core::sc_time cycle = m_config.cycle();
@@ -197,8 +206,9 @@ void Watchdog::run() {
     std::ostringstream head;
     head << "watchdog: no item moved through any FIFO or the memory for "
          << static_cast<uint64_t>((now - last_progress) / cycle) << " cycles (watchdog_cycles "
-         << limit << "; last progress by cycle " << static_cast<uint64_t>(last_progress / cycle)
-         << ", now cycle " << static_cast<uint64_t>(now / cycle) << "): ";
+         << limit << "; last progress by cycle "
+         << static_cast<uint64_t>((last_progress - start) / cycle) << ", now cycle "
+         << static_cast<uint64_t>((now - start) / cycle) << "): ";
     m_report = head.str() + state_report(topology, previous, current);
     // SystemC reports every sc_stop() as an info line on stdout ("Simulation
     // stopped by user."); the report above says why it stopped.

@@ -73,6 +73,8 @@ class Watchdog : public sc_core::sc_module {
 
  private:
   void run();
+  // One frame, from its first instant (cycles in the report count from it).
+  void watch_frame();
 
   const Gpu& m_gpu;
   const GpuConfig& m_config;
