@@ -8,11 +8,13 @@
 // their stamped FIFOs, random stalls, compression and tiled surfaces).
 #include <gtest/gtest.h>
 
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "testbench/scene/scene.h"
 #include "testbench/sim/gpu_run.h"
+#include "testbench/sim/progress.h"
 
 namespace gpusim {
 namespace {
@@ -141,6 +143,40 @@ TEST(GpuReset, AnotherNetlistElaboratesAnotherGpu) {
   // the fresh ones.
   const std::vector<std::string> names = {"clears_samples4", "clears", "clears", "aa_super2"};
   EXPECT_EQ(expect_fresh_results(cases()[0], names), 3u);
+}
+
+// The testbench's own threads start over with each frame: the progress
+// display reports each frame's figures from its first cycle. Neither it
+// nor the watchdog (on in every run here) moves a cycle.
+TEST(GpuReset, ProgressStartsOverWithEachFrame) {
+  std::ostringstream lines;
+  Progress shown(Progress::Mode::lines, lines, 0.0);
+  GpuRunOptions options;
+  options.progress = &shown;
+  GpuConfig config;
+  GpuRunner runner(config, options);
+  const std::vector<std::string> names = {"clears", "phong", "clears"};
+  std::vector<uint64_t> cycles;
+  for (const std::string& name : names) {
+    const Scene s = scene(name);
+    const GpuRunResult reused = runner.run(s);
+    const GpuRunResult fresh = run_gpu(s, config, {});
+    EXPECT_EQ(difference(figures(reused), figures(fresh)), "") << name;
+    cycles.push_back(reused.cycles);
+  }
+  EXPECT_EQ(runner.elaborations(), 1u);
+  // Each frame's simulate phase ("simulate: N primitives in D draws")
+  // ends with a state line of that frame's cycles.
+  std::vector<uint64_t> reported;
+  std::istringstream in(lines.str());
+  for (std::string line; std::getline(in, line);) {
+    if (line.find(" primitives in ") != std::string::npos) reported.push_back(0);
+    const size_t at = line.find(" cycles, ");
+    if (reported.empty() || line.find("simulate: ") != 0 || at == std::string::npos) continue;
+    const size_t from = line.rfind(", ", at) + 2;
+    reported.back() = std::stoull(line.substr(from, at - from));
+  }
+  EXPECT_EQ(reported, cycles) << lines.str();
 }
 
 // A lost end of frame leaves the model broken: each run elaborates anew,
