@@ -18,13 +18,10 @@
 // covering 1, 2, 4, 8 and 16 samples and supersampling 1, 2 and 3) and
 // configurations (units, tile and stamp sizes, FIFO depths, caches, samples
 // per pass), one chosen by the input's first byte (mod 9).
-// Between frames only the frame's registers (draws, clear values) and the
-// memory image change, as a driver would program them; the framebuffer's
-// size and formats are fixed per instance. The model keeps no state across
-// frames that affects results (a clear resets the framebuffer and the tile
-// caches, each indexed draw flushes the vertex cache), so a finding replays
-// on its own; the draws are unlit, since the vertex shader keeps a draw's
-// lighting terms while the draw id stays the same.
+// Between frames the frame's registers (draws, clear values) and the memory
+// image change, as a driver would program them, and the host resets the GPU
+// (Gpu::reset), so a finding replays on its own; the framebuffer's size and
+// formats are fixed per instance. The draws are unlit.
 #pragma once
 
 #include <cmath>
@@ -128,30 +125,17 @@ class DiffInstance {
   // models: "" when they agree, else the first difference.
   std::string check(const Scene& scene) {
     LoadedFrame loaded = load_frame(scene);
-    const PipelineCounts before = m_gpu->pipeline_counts();
     m_frame = loaded.frame;
     Memory& mem = m_gpu->memory();
-    if (mem.size() < loaded.memory.size()) mem.resize(loaded.memory.size());
+    mem.reset_contents(loaded.memory.size());
     std::memcpy(mem.data(0, loaded.memory.size()), loaded.memory.data(), loaded.memory.size());
     m_host->draws = scene.draws.size();
-    ++m_frames;
     m_host->go.notify(sc_core::SC_ZERO_TIME);
     sc_core::sc_start();  // returns when every stage is idle again
 
-    const nlohmann::json timing = m_gpu->stats_json(0);
-    for (unsigned u = 0; u < m_config.units; ++u) {
-      const uint64_t frames =
-          timing["stages"]["rop_" + std::to_string(u)]["frames"].get<uint64_t>();
-      if (frames != m_frames)
-        return "the frame did not complete (a hang) in unit " + std::to_string(u);
-    }
-    // This frame's counts: the GPU's since it was elaborated, less the
-    // earlier frames'.
-    PipelineCounts counts = m_gpu->pipeline_counts();
-    std::vector<uint64_t> earlier;
-    before.visit_fields([&earlier](const char*, uint64_t v) { earlier.push_back(v); });
-    size_t i = 0;
-    counts.visit_fields([&](const char*, uint64_t& v) { v -= earlier[i++]; });
+    if (!m_gpu->frame_done()) return "the frame did not complete (a hang)";
+    // This frame's counts: the host reset the GPU at its start.
+    const PipelineCounts counts = m_gpu->pipeline_counts();
     const golden::Result want = golden::render(scene);
     const Framebuffer got = read_framebuffer(m_gpu->memory(), m_frame, m_config);
     std::ostringstream os;
@@ -191,8 +175,11 @@ class DiffInstance {
 
    private:
     void stream() {
-      for (;;) {
+      for (bool first = true;; first = false) {
         sc_core::wait(go);
+        // Every frame after the first on a GPU reset to its elaborated
+        // state (Gpu::reset), so a finding replays on its own.
+        if (!first) m_gpu.reset();
         Fifo<Command>& q = m_gpu.command_queue();
         q.write(Command{PacketKind::clear, 0});
         for (size_t i = 0; i < draws; ++i)
@@ -208,7 +195,6 @@ class DiffInstance {
   FrameState m_frame;
   std::unique_ptr<Gpu> m_gpu;
   std::unique_ptr<Host> m_host;
-  uint64_t m_frames = 0;
 };
 
 inline std::vector<std::unique_ptr<DiffInstance>>& diff_instances() {

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "testbench/io/image_files.h"
+#include "testbench/tests/file_bytes.h"
 
 namespace gpusim {
 namespace {
@@ -46,13 +47,6 @@ CommandResult shell(const std::string& command) {
 
 CommandResult run(const std::string& args) {
   return shell(kGpusim + " " + args);
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
 }
 
 // Triangles of an OBJ file after fan triangulation: sum of (corners - 2) over "f" lines.
@@ -102,7 +96,7 @@ TEST_F(Cli, GoldenDefaultSceneWritesFrameAndStats) {
   ASSERT_EQ(r.status, 0) << r.out;
   EXPECT_NE(r.out.find("frame.exr"), std::string::npos) << r.out;
 
-  const nlohmann::json stats = nlohmann::json::parse(slurp(dir_ / "out/stats.json"));
+  const nlohmann::json stats = nlohmann::json::parse(file_bytes(dir_ / "out/stats.json"));
   const nlohmann::json& s = stats.at("stats");
   // default.json: a ground strip (2), the Wuson mesh, a 7-vertex fan (5), an
   // indexed quad (2) and a blended strip (2).
@@ -139,7 +133,7 @@ TEST_F(Cli, GoldenSpiderCountsTheMeshTriangles) {
   const CommandResult r =
       run("golden " + kScenes + "/spider.json --out " + (dir_ / "out").string());
   ASSERT_EQ(r.status, 0) << r.out;
-  const nlohmann::json s = nlohmann::json::parse(slurp(dir_ / "out/stats.json")).at("stats");
+  const nlohmann::json s = nlohmann::json::parse(file_bytes(dir_ / "out/stats.json")).at("stats");
   EXPECT_EQ(s.at("triangles_in").get<uint64_t>(),
             obj_triangles("/usr/share/assimp/models/OBJ/spider.obj"));
   expect_conservation(s);
@@ -151,14 +145,14 @@ TEST_F(Cli, SameInputGivesSameBytes) {
     ASSERT_EQ(run("golden " + kScenes + "/default.json --out " + (dir_ / out).string()).status, 0);
   }
   for (const char* f : {"frame.exr", "frame.png", "stats.json"}) {
-    EXPECT_EQ(slurp(dir_ / "a" / f), slurp(dir_ / "b" / f)) << f;
+    EXPECT_EQ(file_bytes(dir_ / "a" / f), file_bytes(dir_ / "b" / f)) << f;
   }
 }
 
 TEST_F(Cli, BadSceneFailsWithOneLineAndLeavesOutputsIntact) {
   const fs::path out = dir_ / "out";
   ASSERT_EQ(run("golden " + kScenes + "/quad_clipspace.json --out " + out.string()).status, 0);
-  const std::string before = slurp(out / "frame.exr");
+  const std::string before = file_bytes(out / "frame.exr");
   const fs::path bad = dir_ / "bad.json";
   std::ofstream(bad) << R"({"framebuffer": {"width": 0}})";
   const CommandResult r = run("golden " + bad.string() + " --out " + out.string());
@@ -166,7 +160,7 @@ TEST_F(Cli, BadSceneFailsWithOneLineAndLeavesOutputsIntact) {
   EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
   EXPECT_NE(r.out.find(bad.string()), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("framebuffer.width"), std::string::npos) << r.out;
-  EXPECT_EQ(slurp(out / "frame.exr"), before);
+  EXPECT_EQ(file_bytes(out / "frame.exr"), before);
   for (const auto& e : fs::directory_iterator(out)) {
     EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << e.path();
   }
@@ -422,7 +416,7 @@ TEST_F(Cli, MeshWithoutCameraIsFramed) {
             std::string::npos)
       << r.out;
   EXPECT_EQ(r.out.find("warning:"), std::string::npos) << r.out;
-  const nlohmann::json stats = nlohmann::json::parse(slurp(dir_ / "out/stats.json"));
+  const nlohmann::json stats = nlohmann::json::parse(file_bytes(dir_ / "out/stats.json"));
   const nlohmann::json& cam = stats.at("settings").at("camera");
   EXPECT_EQ(cam.at("auto"), true);
   EXPECT_EQ(cam.at("type"), "perspective");
@@ -563,7 +557,7 @@ TEST_F(Cli, WarningsNameTheProblemAndAHint) {
                                     (dir_ / "b").string() + " 2>/dev/null; }");
   ASSERT_EQ(quiet.status, 0);
   EXPECT_EQ(quiet.out.find("warning"), std::string::npos) << quiet.out;
-  EXPECT_EQ(slurp(dir_ / "a/stats.json"), slurp(dir_ / "b/stats.json"));
+  EXPECT_EQ(file_bytes(dir_ / "a/stats.json"), file_bytes(dir_ / "b/stats.json"));
 }
 
 // The summary counts off-screen triangles apart from rasterized ones, with
@@ -579,7 +573,8 @@ TEST_F(Cli, SummaryCountsOffscreenTrianglesApart) {
     const CommandResult r = run(std::string(model) + " " + (dir_ / "scene.json").string() +
                                 " --out " + (dir_ / model).string());
     ASSERT_EQ(r.status, 0) << r.out;
-    const nlohmann::json s = nlohmann::json::parse(slurp(dir_ / model / "stats.json")).at("stats");
+    const nlohmann::json s =
+        nlohmann::json::parse(file_bytes(dir_ / model / "stats.json")).at("stats");
     EXPECT_EQ(s.at("triangles_offscreen").get<uint64_t>(), 2u) << model;
     EXPECT_EQ(s.at("triangles_rasterized").get<uint64_t>(), 3u) << model;
     EXPECT_NE(r.out.find("  triangles: 3 in, 0 culled, 0 clipped, 1 rasterized, 2 off-screen or "
@@ -623,13 +618,13 @@ TEST_F(Cli, SceneGeneratorsWriteOnlyWhereTold) {
   const CommandResult out = python("make_test_scenes.py", "--out gen");
   EXPECT_EQ(out.status, 0) << out.out;
   for (const char* name : {"tiny_triangles.json", "clipping.json", "lines_random.json"}) {
-    EXPECT_EQ(slurp(dir_ / "gen" / name), slurp(fs::path(scenes) / name)) << name;
+    EXPECT_EQ(file_bytes(dir_ / "gen" / name), file_bytes(fs::path(scenes) / name)) << name;
   }
   const CommandResult lessons = python("make_lesson_scenes.py", "--out lessons");
   EXPECT_EQ(lessons.status, 0) << lessons.out;
   for (const auto& e : fs::directory_iterator(fs::path(scenes) / "lessons")) {
     if (e.path().filename() == "lessons.json") continue;  // the manifest, written by hand
-    EXPECT_EQ(slurp(dir_ / "lessons" / e.path().filename()), slurp(e.path())) << e.path();
+    EXPECT_EQ(file_bytes(dir_ / "lessons" / e.path().filename()), file_bytes(e.path())) << e.path();
   }
 }
 
@@ -639,7 +634,7 @@ TEST_F(Cli, SceneGeneratorsWriteOnlyWhereTold) {
 std::string run_split(const fs::path& dir, const std::string& args, CommandResult& r) {
   const fs::path err = dir / "err";
   r = shell("(" + kGpusim + " " + args + " 2>" + err.string() + ")");
-  return slurp(err);
+  return file_bytes(err);
 }
 
 std::vector<std::string> lines_of(const std::string& text) {
@@ -684,7 +679,7 @@ TEST_F(Cli, ProgressOffATerminalNamesPhasesAndShowsTheSimulationMoving) {
   EXPECT_EQ(lines.at(1),
             "load: importing /usr/share/assimp/models/OBJ/WusonOBJ.obj (draws[1].mesh)");
 
-  const nlohmann::json stats = nlohmann::json::parse(slurp(dir_ / "out/stats.json"));
+  const nlohmann::json stats = nlohmann::json::parse(file_bytes(dir_ / "out/stats.json"));
   const std::regex state(
       R"(simulate: (\d+) of (\d+) primitives assembled, (\d+) cycles, (\d+) fragments, .* cycles/s)");
   std::vector<std::array<uint64_t, 4>> states;  // assembled, total, cycles, fragments
@@ -780,7 +775,7 @@ TEST_F(Cli, RunSetOverridesConfigurationKeys) {
           " --set 'stamp=[8,8]' --set memory.bytes_per_cycle=64 --units 2 --set units=8");
   ASSERT_EQ(r.status, 0) << r.out;
   EXPECT_NE(r.out.find("quad_clipspace.json on 2 units: "), std::string::npos) << r.out;
-  const nlohmann::json stats = nlohmann::json::parse(slurp(dir_ / "out/stats.json"));
+  const nlohmann::json stats = nlohmann::json::parse(file_bytes(dir_ / "out/stats.json"));
   const nlohmann::json& c = stats.at("config");
   // The values given; primitive_setup keeps its default latency (16).
   EXPECT_EQ(c.at("stages").at("primitive_setup"),
@@ -839,8 +834,8 @@ TEST_F(Cli, RunConfigFromStandardInput) {
   const CommandResult from_stdin =
       run("run " + scene + " --out " + (dir_ / "b").string() + " --config - < " + config.string());
   ASSERT_EQ(from_stdin.status, 0) << from_stdin.out;
-  const nlohmann::json a = nlohmann::json::parse(slurp(dir_ / "a/stats.json"));
-  const nlohmann::json b = nlohmann::json::parse(slurp(dir_ / "b/stats.json"));
+  const nlohmann::json a = nlohmann::json::parse(file_bytes(dir_ / "a/stats.json"));
+  const nlohmann::json b = nlohmann::json::parse(file_bytes(dir_ / "b/stats.json"));
   EXPECT_EQ(a.at("config"), b.at("config"));
   EXPECT_EQ(b.at("config").at("units"), 2);
   EXPECT_EQ(b.at("config").at("stages").at("rop"),
@@ -850,8 +845,9 @@ TEST_F(Cli, RunConfigFromStandardInput) {
   const CommandResult set = run("run " + scene + " --out " + (dir_ / "c").string() +
                                 " --config - --set stages.rop.latency=9 < " + config.string());
   ASSERT_EQ(set.status, 0) << set.out;
-  EXPECT_EQ(nlohmann::json::parse(slurp(dir_ / "c/stats.json")).at("config").at("stages").at("rop"),
-            nlohmann::json::parse(R"({"ii":3,"latency":9})"));
+  EXPECT_EQ(
+      nlohmann::json::parse(file_bytes(dir_ / "c/stats.json")).at("config").at("stages").at("rop"),
+      nlohmann::json::parse(R"({"ii":3,"latency":9})"));
   // Errors name standard input.
   const CommandResult bad =
       shell("echo '{\"units\": 0}' | " + kGpusim + " run " + scene + " --config -");
@@ -877,7 +873,7 @@ TEST_F(Cli, TraceFormatsWriteOnlyTheChosenFiles) {
   std::sort(files.begin(), files.end());
   EXPECT_EQ(files, (std::vector<std::string>{"frame.exr", "manifest.json", "signals.gtkw",
                                              "signals.vcd", "stats.json"}));
-  const nlohmann::json manifest = nlohmann::json::parse(slurp(trace / "manifest.json"));
+  const nlohmann::json manifest = nlohmann::json::parse(file_bytes(trace / "manifest.json"));
   EXPECT_EQ(manifest.at("formats"), nlohmann::json::parse(R"(["vcd"])"));
   EXPECT_EQ(manifest.at("records").at("transactions"), 0);
   EXPECT_EQ(manifest.at("records").at("fragments"), 0);
@@ -891,9 +887,9 @@ TEST_F(Cli, TraceFormatsWriteOnlyTheChosenFiles) {
                 .status,
             0);
   for (const char* f : {"signals.vcd", "signals.gtkw"}) {
-    EXPECT_EQ(slurp(trace / f), slurp(dir_ / "full" / f)) << f;
+    EXPECT_EQ(file_bytes(trace / f), file_bytes(dir_ / "full" / f)) << f;
   }
-  EXPECT_EQ(nlohmann::json::parse(slurp(dir_ / "full/manifest.json")).at("formats"),
+  EXPECT_EQ(nlohmann::json::parse(file_bytes(dir_ / "full/manifest.json")).at("formats"),
             nlohmann::json::parse(R"(["vcd", "timeline", "transactions", "fragments"])"));
 
   // summary needs only the VCD and stats.json.
@@ -919,14 +915,14 @@ TEST_F(Cli, TraceFormatsWriteOnlyTheChosenFiles) {
   ASSERT_EQ(r2.status, 0) << r2.out;
   EXPECT_FALSE(fs::exists(dir_ / "trace2/signals.vcd"));
   EXPECT_FALSE(fs::exists(dir_ / "trace2/timeline.json"));
-  EXPECT_EQ(nlohmann::json::parse(slurp(dir_ / "trace2/manifest.json")).at("formats"),
+  EXPECT_EQ(nlohmann::json::parse(file_bytes(dir_ / "trace2/manifest.json")).at("formats"),
             nlohmann::json::parse(R"(["transactions", "fragments"])"));
   const CommandResult follow = run("trace follow " + t2 + " --pixel 64,64");
   EXPECT_EQ(follow.status, 0) << follow.out;
   EXPECT_NE(follow.out.find("fragment record"), std::string::npos) << follow.out;
   EXPECT_EQ(run("trace follow " + t2 + " --prim 0").status, 0);
   for (const char* f : {"transactions.bin", "fragments.bin"}) {
-    EXPECT_EQ(slurp(dir_ / "trace2" / f), slurp(dir_ / "full" / f)) << f;
+    EXPECT_EQ(file_bytes(dir_ / "trace2" / f), file_bytes(dir_ / "full" / f)) << f;
   }
   const CommandResult no_vcd = run("trace summary " + t2);
   EXPECT_EQ(no_vcd.status, 2) << no_vcd.out;
@@ -954,7 +950,7 @@ TEST_F(Cli, TraceFormatsRejectsUnknownNames) {
 }
 
 nlohmann::json read_json(const fs::path& p) {
-  return nlohmann::json::parse(slurp(p));
+  return nlohmann::json::parse(file_bytes(p));
 }
 
 // `stats summary` and `stats diff` on the default scene at 1 and 4 units:

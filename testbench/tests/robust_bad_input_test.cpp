@@ -17,6 +17,8 @@
 #include <string>
 #include <vector>
 
+#include "testbench/tests/file_bytes.h"
+
 namespace gpusim {
 namespace {
 
@@ -30,13 +32,6 @@ struct Output {
   std::string out, err;
 };
 
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
-
 // Runs build/gpusim with `args` (already quoted), stdout and stderr apart;
 // `prefix` wraps the command (e.g. setpriv to run it as another user).
 Output gpusim(const std::string& args, const fs::path& scratch, const std::string& prefix = "") {
@@ -46,14 +41,15 @@ Output gpusim(const std::string& args, const fs::path& scratch, const std::strin
   const int st = std::system(cmd.c_str());
   Output r;
   r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  r.out = slurp(out);
-  r.err = slurp(err);
+  r.out = file_bytes(out);
+  r.err = file_bytes(err);
   return r;
 }
 
 std::map<std::string, std::string> snapshot(const fs::path& dir) {
   std::map<std::string, std::string> files;
-  for (const auto& e : fs::directory_iterator(dir)) files[e.path().filename()] = slurp(e.path());
+  for (const auto& e : fs::directory_iterator(dir))
+    files[e.path().filename()] = file_bytes(e.path());
   return files;
 }
 
@@ -457,7 +453,7 @@ TEST_F(Cli, UnwritableOutput) {
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     EXPECT_NE(r.err.find((dir_ / "file").string()), std::string::npos) << r.err;
   }
-  EXPECT_EQ(slurp(dir_ / "file"), "a file, not a directory");
+  EXPECT_EQ(file_bytes(dir_ / "file"), "a file, not a directory");
 }
 
 // Command-line values: zero units, a limit the scene cannot fit.

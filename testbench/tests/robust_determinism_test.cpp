@@ -17,18 +17,12 @@
 
 #include "testbench/golden/golden_model.h"
 #include "testbench/sim/gpu_run.h"
+#include "testbench/tests/file_bytes.h"
 
 namespace gpusim {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
 
 class SameBytes : public ::testing::TestWithParam<const char*> {
  protected:
@@ -50,7 +44,7 @@ class SameBytes : public ::testing::TestWithParam<const char*> {
       ASSERT_TRUE(WIFEXITED(st) && WEXITSTATUS(st) == 0) << cmd;
     }
     for (const char* f : {"frame.exr", "frame.png", "stats.json"}) {
-      const std::string a = slurp(dir_ / "a" / f), b = slurp(dir_ / "b" / f);
+      const std::string a = file_bytes(dir_ / "a" / f), b = file_bytes(dir_ / "b" / f);
       EXPECT_FALSE(a.empty()) << f;
       EXPECT_TRUE(a == b) << f << " differs between two runs";
     }
@@ -98,7 +92,7 @@ class SameStats : public ::testing::Test {
         (wrapper.empty() ? gpusim : wrapper + " '" + gpusim + "' /dev/null") + " >/dev/null 2>&1";
     const int st = std::system(cmd.c_str());
     EXPECT_TRUE(WIFEXITED(st) && WEXITSTATUS(st) == 0) << cmd;
-    const std::string stats = slurp(dir_ / out / "stats.json");
+    const std::string stats = file_bytes(dir_ / out / "stats.json");
     EXPECT_FALSE(stats.empty()) << cmd;
     return stats;
   }
@@ -125,7 +119,7 @@ TEST_F(SameStats, ProgressOnATerminalForcedOrQuiet) {
                                     {"terminal", terminal},
                                     {"terminal_quiet", terminal_quiet}}) {
     EXPECT_TRUE(stats == quiet) << "stats.json differs between --quiet and " << name;
-    EXPECT_TRUE(slurp(dir_ / name / "frame.exr") == slurp(dir_ / "quiet" / "frame.exr"))
+    EXPECT_TRUE(file_bytes(dir_ / name / "frame.exr") == file_bytes(dir_ / "quiet" / "frame.exr"))
         << "frame.exr differs between --quiet and " << name;
   }
 }

@@ -12,6 +12,7 @@
 #include "testbench/scene/scene.h"
 #include "testbench/sim/gpu_run.h"
 #include "testbench/sim/progress.h"
+#include "testbench/tests/json_difference.h"
 
 namespace gpusim {
 namespace {
@@ -23,21 +24,6 @@ Scene scene(const char* name) {
 nlohmann::json run(const Scene& s, const GpuConfig& config, const GpuRunOptions& options) {
   const GpuRunResult r = run_gpu(s, config, options);
   return {{"timing", r.timing}, {"counts", r.counts.to_json()}};
-}
-
-// "" when equal, else the path of the first difference and both values.
-std::string difference(const nlohmann::json& a, const nlohmann::json& b,
-                       const std::string& path = "") {
-  if (a == b) return "";
-  if (a.is_object() && b.is_object()) {
-    for (const auto& item : a.items()) {
-      if (!b.contains(item.key())) return path + "." + item.key() + " missing";
-      const std::string d = difference(item.value(), b[item.key()], path + "." + item.key());
-      if (!d.empty()) return d;
-    }
-    return path + ": keys differ";
-  }
-  return path + ": " + a.dump() + " vs " + b.dump();
 }
 
 class Determinism : public ::testing::TestWithParam<const char*> {};
@@ -53,14 +39,16 @@ TEST_P(Determinism, StatsDoNotDependOnTestbenchProcessesOrElaborationOrder) {
     Progress shown(Progress::Mode::lines, lines, 0.0);
     GpuRunOptions progress;
     progress.progress = &shown;
-    EXPECT_EQ(difference(run(s, config, progress), plain), "") << units << " units, progress line";
+    EXPECT_EQ(json_difference(run(s, config, progress), plain), "")
+        << units << " units, progress line";
     EXPECT_NE(lines.str().find("simulate: "), std::string::npos) << lines.str();
     GpuRunOptions no_watchdog;
     no_watchdog.watchdog = false;
-    EXPECT_EQ(difference(run(s, config, no_watchdog), plain), "") << units << " units, no watchdog";
+    EXPECT_EQ(json_difference(run(s, config, no_watchdog), plain), "")
+        << units << " units, no watchdog";
     GpuRunOptions reversed;
     reversed.unit_order = Gpu::UnitOrder::descending;
-    EXPECT_EQ(difference(run(s, config, reversed), plain), "")
+    EXPECT_EQ(json_difference(run(s, config, reversed), plain), "")
         << units << " units, reversed elaboration";
   }
 }
@@ -95,7 +83,7 @@ TEST(HierarchicalZ, StatsDoNotDependOnProcessOrderUnderRandomStalls) {
       ASSERT_TRUE(a.completed && b.completed) << name;
       const nlohmann::json ja = {{"timing", a.timing}, {"counts", a.counts.to_json()}};
       const nlohmann::json jb = {{"timing", b.timing}, {"counts", b.counts.to_json()}};
-      EXPECT_EQ(difference(ja, jb), "") << name << ", seed " << seed;
+      EXPECT_EQ(json_difference(ja, jb), "") << name << ", seed " << seed;
       EXPECT_TRUE(a.framebuffer == golden::render(s).framebuffer) << name;
       // Updates were applied and tiles culled: the rule was exercised.
       uint64_t applied = 0, culled = 0;
@@ -169,7 +157,7 @@ TEST_P(TemporalDecoupling, SameStatsAndFrameAsLockstep) {
     EXPECT_EQ(decoupled.cycles, lockstep.cycles) << c.name;
     const nlohmann::json a = {{"timing", decoupled.timing}, {"counts", decoupled.counts.to_json()}};
     const nlohmann::json b = {{"timing", lockstep.timing}, {"counts", lockstep.counts.to_json()}};
-    EXPECT_EQ(difference(a, b), "") << c.name;
+    EXPECT_EQ(json_difference(a, b), "") << c.name;
     EXPECT_TRUE(decoupled.framebuffer == lockstep.framebuffer) << c.name;
   }
 }

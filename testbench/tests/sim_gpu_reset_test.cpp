@@ -15,33 +15,13 @@
 #include "testbench/scene/scene.h"
 #include "testbench/sim/gpu_run.h"
 #include "testbench/sim/progress.h"
+#include "testbench/tests/json_difference.h"
 
 namespace gpusim {
 namespace {
 
 Scene scene(const std::string& name) {
   return load_scene(std::string(GPUSIM_SOURCE_DIR) + "/testbench/scenes/" + name + ".json");
-}
-
-// "" when equal, else the path of the first difference and both values.
-std::string difference(const nlohmann::json& a, const nlohmann::json& b,
-                       const std::string& path = "") {
-  if (a == b) return "";
-  if (a.is_object() && b.is_object()) {
-    for (const auto& item : a.items()) {
-      if (!b.contains(item.key())) return path + "." + item.key() + " missing";
-      const std::string d = difference(item.value(), b[item.key()], path + "." + item.key());
-      if (!d.empty()) return d;
-    }
-    return path + ": keys differ";
-  }
-  if (a.is_array() && b.is_array() && a.size() == b.size()) {
-    for (size_t i = 0; i < a.size(); ++i) {
-      const std::string d = difference(a[i], b[i], path + "[" + std::to_string(i) + "]");
-      if (!d.empty()) return d;
-    }
-  }
-  return path + ": " + a.dump() + " vs " + b.dump();
 }
 
 nlohmann::json figures(const GpuRunResult& r) {
@@ -106,8 +86,8 @@ unsigned expect_fresh_results(const ResetCase& c, const std::vector<std::string>
     const std::string where =
         std::string(c.name) + ", frame " + std::to_string(i) + " (" + names[i] + ")";
     EXPECT_EQ(reused.cycles, fresh.cycles) << where;
-    EXPECT_EQ(difference(figures(reused), figures(fresh)), "") << where;
-    EXPECT_EQ(difference(reused.timing, fresh.timing), "") << where;
+    EXPECT_EQ(json_difference(figures(reused), figures(fresh)), "") << where;
+    EXPECT_EQ(json_difference(reused.timing, fresh.timing), "") << where;
     EXPECT_TRUE(reused.framebuffer == fresh.framebuffer) << where;
     EXPECT_EQ(reused.decoupled_stages, fresh.decoupled_stages) << where;
   }
@@ -161,7 +141,7 @@ TEST(GpuReset, ProgressStartsOverWithEachFrame) {
     const Scene s = scene(name);
     const GpuRunResult reused = runner.run(s);
     const GpuRunResult fresh = run_gpu(s, config, {});
-    EXPECT_EQ(difference(figures(reused), figures(fresh)), "") << name;
+    EXPECT_EQ(json_difference(figures(reused), figures(fresh)), "") << name;
     cycles.push_back(reused.cycles);
   }
   EXPECT_EQ(runner.elaborations(), 1u);

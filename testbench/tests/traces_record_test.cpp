@@ -31,18 +31,12 @@
 #include "testbench/io/output_file.h"
 #include "testbench/scene/scene.h"
 #include "testbench/sim/gpu_run.h"
+#include "testbench/tests/file_bytes.h"
 
 namespace gpusim {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
 
 std::string scene_path(const std::string& name) {
   return std::string(GPUSIM_SOURCE_DIR) + "/testbench/scenes/" + name + ".json";
@@ -105,7 +99,7 @@ void check_header(const std::string& b, const char* magic) {
 }
 
 std::vector<Tx> read_transactions(const fs::path& dir) {
-  const std::string b = slurp(dir / "transactions.bin");
+  const std::string b = file_bytes(dir / "transactions.bin");
   check_header(b, "GPUSIMTX");
   std::vector<Tx> out;
   for (size_t at = 16; at + 48 <= b.size(); at += 48) {
@@ -118,7 +112,7 @@ std::vector<Tx> read_transactions(const fs::path& dir) {
 }
 
 std::vector<Frag> read_fragments(const fs::path& dir) {
-  const std::string b = slurp(dir / "fragments.bin");
+  const std::string b = file_bytes(dir / "fragments.bin");
   check_header(b, "GPUSIMFR");
   std::vector<Frag> out;
   for (size_t at = 16; at + 48 <= b.size(); at += 48) {
@@ -134,7 +128,7 @@ std::vector<Frag> read_fragments(const fs::path& dir) {
 }
 
 nlohmann::json manifest(const fs::path& dir) {
-  return nlohmann::json::parse(slurp(dir / "manifest.json"));
+  return nlohmann::json::parse(file_bytes(dir / "manifest.json"));
 }
 
 // --- signals.vcd ------------------------------------------------------------------
@@ -154,7 +148,7 @@ struct Vcd {
 
 Vcd parse_vcd(const fs::path& path) {
   Vcd v;
-  std::istringstream in(slurp(path));
+  std::istringstream in(file_bytes(path));
   std::vector<std::string> scope;
   std::string tok;
   // Header: keyword sections up to $enddefinitions.
@@ -363,7 +357,7 @@ TEST_F(TraceRecord, MemoryChannelWiresIntegrateToTheirBusyCycles) {
 
 TEST_F(TraceRecord, TimelineIsTraceEventJson) {
   traced_run(scene_path("default"), dir_);
-  const nlohmann::json t = nlohmann::json::parse(slurp(dir_ / "timeline.json"));
+  const nlohmann::json t = nlohmann::json::parse(file_bytes(dir_ / "timeline.json"));
   EXPECT_EQ(t["displayTimeUnit"], "ns");
   ASSERT_TRUE(t["traceEvents"].is_array());
   std::map<std::string, uint64_t> by_phase;
@@ -415,7 +409,7 @@ TEST_F(TraceRecord, At300MHzVcdTimesAreRealAndSlicesDoNotOverlap) {
   const std::regex x(
       R"re("ph": "X", .*"ts": (\d+)\.(\d{3}), "dur": (\d+)\.(\d{3}), "pid": (\d+), "tid": (\d+), "args": \{"cycle_in": (\d+), "cycle_out": (\d+))re");
   std::map<std::pair<int, int>, std::vector<std::pair<uint64_t, uint64_t>>> slices;
-  std::istringstream in(slurp(dir_ / "timeline.json"));
+  std::istringstream in(file_bytes(dir_ / "timeline.json"));
   uint64_t n = 0, fractional = 0;
   for (std::string line; std::getline(in, line);) {
     std::smatch m;
@@ -623,7 +617,7 @@ TEST_F(TraceRecord, PrimsKeepOnlyTheirItemsAndControlTokens) {
   EXPECT_GT(fp.size(), 0u);
   for (const Frag& f : fp) ASSERT_TRUE(f.prim >= 100 && f.prim <= 199);
   // Signals are not filtered by primitive.
-  EXPECT_EQ(slurp(dir_ / "all" / "signals.vcd"), slurp(dir_ / "p" / "signals.vcd"));
+  EXPECT_EQ(file_bytes(dir_ / "all" / "signals.vcd"), file_bytes(dir_ / "p" / "signals.vcd"));
 }
 
 TEST_F(TraceRecord, StagesKeepOnlyThose) {
@@ -671,9 +665,9 @@ TEST_F(TraceRecord, TwoRunsGiveTheSameBytes) {
   traced_run(scene_path("spider"), dir_ / "b", {}, config);
   for (const char* f : {"manifest.json", "signals.vcd", "signals.gtkw", "timeline.json",
                         "transactions.bin", "fragments.bin"}) {
-    const std::string a = slurp(dir_ / "a" / f);
+    const std::string a = file_bytes(dir_ / "a" / f);
     EXPECT_FALSE(a.empty()) << f;
-    EXPECT_TRUE(a == slurp(dir_ / "b" / f)) << f << " differs between two runs";
+    EXPECT_TRUE(a == file_bytes(dir_ / "b" / f)) << f << " differs between two runs";
   }
 }
 
@@ -700,7 +694,7 @@ TEST_F(TraceRecord, BadFiltersFailBeforeAnythingIsWritten) {
 
 TEST_F(TraceRecord, AFailedRunLeavesAnEarlierTraceIntact) {
   traced_run(scene_path("tiny_triangles"), dir_);
-  const std::string before = slurp(dir_ / "transactions.bin");
+  const std::string before = file_bytes(dir_ / "transactions.bin");
   {
     OutputFiles files;
     GpuRunOptions options;
@@ -709,7 +703,7 @@ TEST_F(TraceRecord, AFailedRunLeavesAnEarlierTraceIntact) {
     options.fault_withhold_end_of_frame = true;  // the frame never completes
     EXPECT_THROW(run_gpu(load_scene(scene_path("default")), GpuConfig{}, options), SimulationError);
   }
-  EXPECT_EQ(slurp(dir_ / "transactions.bin"), before);
+  EXPECT_EQ(file_bytes(dir_ / "transactions.bin"), before);
   for (const auto& e : fs::directory_iterator(dir_)) {
     EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << e.path();
   }

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "hw/input_error.h"
+#include "testbench/tests/file_bytes.h"
 #include "traces/timeline_writer.h"
 #include "traces/trace_filter.h"
 #include "traces/trace_items.h"
@@ -128,13 +129,6 @@ TEST(TraceFilter, ParsesAndRejects) {
       << warned;
 }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
-
 TEST(VcdWriter, WritesTheWindowWithItsStartValues) {
   const fs::path path = fs::path(::testing::TempDir()) / ("vcd_" + std::to_string(getpid()));
   {
@@ -153,7 +147,7 @@ TEST(VcdWriter, WritesTheWindowWithItsStartValues) {
     w.finish(40);
     EXPECT_EQ(w.changes(), 3u);  // two in $dumpvars, one at 12
   }
-  EXPECT_EQ(slurp(path),
+  EXPECT_EQ(file_bytes(path),
             "$version gpusim $end\n$comment simulated time; one clock cycle is 1000 ps, 1 time "
             "unit $end\n$timescale 1 ns $end\n$scope module gpu $end\n$scope module s $end\n"
             "$var wire 1 ! busy $end\n$upscope $end\n$scope module fifos $end\n"
@@ -189,7 +183,7 @@ TEST(VcdWriter, TimesAreCyclesTimesThePeriod) {
     w.finish(9);
   }
   EXPECT_EQ(
-      slurp(path),
+      file_bytes(path),
       "$version gpusim $end\n$comment simulated time; one clock cycle is 3333 ps, 3333 time "
       "units $end\n$timescale 1 ps $end\n$scope module gpu $end\n$scope module front_end $end\n"
       "$scope module s $end\n$var wire 1 ! s_busy $end\n$upscope $end\n$upscope $end\n"
@@ -219,7 +213,7 @@ TEST(TimelineWriter, DurationIsTheDifferenceOfTheRoundedEnds) {
     w.counter(0, 0, "fifo f", 5, 3);
     w.finish();
   }
-  EXPECT_EQ(slurp(path),
+  EXPECT_EQ(file_bytes(path),
             "{\"displayTimeUnit\": \"ns\",\n\"otherData\": {},\n\"traceEvents\": [\n"
             "{\"ph\": \"X\", \"name\": \"a\", \"cat\": \"work\", \"ts\": 0.003, \"dur\": 0.004, "
             "\"pid\": 0, \"tid\": 0, \"args\": {\"cycle_in\": 1, \"cycle_out\": 2}},\n"
