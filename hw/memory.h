@@ -246,8 +246,6 @@ class Memory : public sc_core::sc_module {
   void reset_contents(uint64_t size) { m_data.assign(size, 0); }
 
   uint64_t size() const { return m_data.size(); }
-  // Grows (or shrinks) the store, zero-filling new bytes. Invalidates data().
-  void resize(uint64_t size) { m_data.resize(size); }
 
   // Backdoor for the testbench: no timing, no statistics. Out-of-range
   // accesses throw std::out_of_range.
