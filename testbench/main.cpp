@@ -49,6 +49,33 @@ namespace {
 constexpr int kExitError = 2;
 constexpr int kExitSimulation = 3;
 
+// A number from `low` to `high` (infinite: no bound), its error said in
+// words ("'abc' is not a number", "-1 is below 0"): CLI11's own validators
+// print an unbounded range up to DBL_MAX, all 309 digits of it.
+CLI::Validator number_in(double low, double high = HUGE_VAL) {
+  const auto text = [](double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", v);
+    return std::string(buf);
+  };
+  const std::string bounds =
+      std::isinf(high) ? ">= " + text(low) : "from " + text(low) + " to " + text(high);
+  return CLI::Validator(
+      [=](std::string& value) -> std::string {
+        char* end = nullptr;
+        errno = 0;
+        const double v = std::strtod(value.c_str(), &end);
+        if (value.empty() || end != value.c_str() + value.size() || errno == ERANGE ||
+            std::isnan(v)) {
+          return "'" + value + "' is not a number";
+        }
+        if (v < low) return value + " is below " + text(low) + ": it must be " + bounds;
+        if (v > high) return value + " is above " + text(high) + ": it must be " + bounds;
+        return std::string();
+      },
+      "NUMBER " + bounds);
+}
+
 // A simulation failure: "gpusim: <scene>: <report>" on stderr, exit 3.
 int report_simulation_error(const std::string& scene_path, const SimulationError& e) {
   std::cerr << "gpusim: " << printable(scene_path) << ": " << printable_report(e.what()) << "\n";
@@ -98,7 +125,7 @@ void add_progress_options(CLI::App* cmd, ProgressArgs& p) {
   cmd->add_option("--progress-interval", p.interval,
                   "Seconds between progress lines when stderr is not a terminal")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(number_in(0.0));
 }
 
 // The progress display on stderr; its phases' wall times end the summary.
@@ -823,7 +850,7 @@ int main_with_errors(int argc, char** argv) {
   replay_cmd->add_option("trace", replay.trace, "apitrace trace file (.trace)")->required();
   CLI::Option* frame_option =
       replay_cmd->add_option("--frame", replay.frame, "Render only frame N (from 0)")
-          ->check(CLI::NonNegativeNumber);
+          ->check(number_in(0.0));
   replay_cmd
       ->add_option("--frames", replay.frames,
                    "Render frames A to B inclusive: A:B, either side may be empty (default: all)")
@@ -858,7 +885,7 @@ int main_with_errors(int argc, char** argv) {
       compare
           ->add_option("--fail,--tolerance", cmp.options.fail,
                        "Fail threshold: a pixel fails when any channel's |a - b| exceeds it")
-          ->check(CLI::NonNegativeNumber)
+          ->check(number_in(0.0))
           ->capture_default_str();
   CLI::Option* channel_tolerance = compare->add_option(
       "--channel-tolerance", cmp.channel_tolerances,
@@ -868,25 +895,25 @@ int main_with_errors(int argc, char** argv) {
       compare
           ->add_option("--warn", cmp.options.warn,
                        "Warn threshold of every channel (default: each channel's fail threshold)")
-          ->check(CLI::NonNegativeNumber);
+          ->check(number_in(0.0));
   compare
       ->add_option("--failpercent", cmp.options.fail_percent,
                    "FAILURE only when more than this % of the pixels fail")
-      ->check(CLI::Range(0.0, 100.0))
+      ->check(number_in(0.0, 100.0))
       ->capture_default_str();
   compare
       ->add_option("--warnpercent", cmp.options.warn_percent,
                    "WARNING only when more than this % of the pixels warn")
-      ->check(CLI::Range(0.0, 100.0))
+      ->check(number_in(0.0, 100.0))
       ->capture_default_str();
   compare
       ->add_option("--hardfail", cmp.options.hard_fail,
                    "FAILURE when any channel's error exceeds this, whatever --failpercent")
-      ->check(CLI::NonNegativeNumber);
+      ->check(number_in(0.0));
   compare
       ->add_option("--hardwarn", cmp.options.hard_warn,
                    "WARNING when any channel's error exceeds this, whatever --warnpercent")
-      ->check(CLI::NonNegativeNumber);
+      ->check(number_in(0.0));
   compare->add_option(
       "--diff", cmp.diff_png,
       "Write a heat-map PNG of the failing pixels with a legend bar below (docs/validation.md)");

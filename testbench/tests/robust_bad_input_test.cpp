@@ -470,5 +470,34 @@ TEST_F(Cli, BadCommandLineValues) {
   EXPECT_FALSE(fs::exists(dir_ / "o"));
 }
 
+// Numeric options say what is wrong in words, on one short line (not the
+// range up to DBL_MAX, all 309 digits of it).
+TEST_F(Cli, BadNumbersAreSaidInWords) {
+  std::ofstream(dir_ / "scene.json") << kTriangle;
+  const std::string scene = (dir_ / "scene.json").string();
+  // The exit status is the command's for a bad command line: 4 for compare
+  // (as idiff's, docs/validation.md), 2 for run.
+  const struct {
+    std::string args, says;
+    int status;
+  } cases[] = {
+      {"compare --fail -1 a.exr b.exr", "--fail: -1 is below 0: it must be >= 0", 4},
+      {"compare --hardwarn abc a.exr b.exr", "--hardwarn: 'abc' is not a number", 4},
+      {"compare --failpercent 150 a.exr b.exr",
+       "--failpercent: 150 is above 100: it must be from 0 to 100", 4},
+      {"run " + scene + " --progress-interval abc --out o",
+       "--progress-interval: 'abc' is not a number", 2},
+      {"run " + scene + " --progress-interval -0.5 --out o", "-0.5 is below 0", 2},
+  };
+  for (const auto& c : cases) {
+    const Output r = gpusim(c.args, dir_);
+    EXPECT_EQ(r.status, c.status) << c.args;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_NE(r.err.find(c.says), std::string::npos) << r.err;
+    EXPECT_LT(r.err.size(), 200u) << r.err;
+  }
+  EXPECT_FALSE(fs::exists(dir_ / "o"));
+}
+
 }  // namespace
 }  // namespace gpusim
