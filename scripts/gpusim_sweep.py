@@ -233,7 +233,10 @@ def is_done(pdir):
 
 def prepare(out, spec, points):
     """Writes DIR/sweep.json and each point's point.json and config.json."""
-    os.makedirs(os.path.join(out, "points"), exist_ok=True)
+    try:
+        os.makedirs(os.path.join(out, "points"), exist_ok=True)
+    except OSError as e:
+        raise SweepError(f"{out}: cannot create the directory: {e.strerror}; give another --out")
     write_atomic(os.path.join(out, "sweep.json"), dump(spec))
     for p in points:
         pdir = point_dir(out, p["index"])
@@ -245,7 +248,10 @@ def prepare(out, spec, points):
 
 
 def check_out_dir(out, spec):
-    """A rerun must be the same sweep: refuses a DIR holding another one."""
+    """A rerun must be the same sweep: refuses a DIR holding another one, or
+    a file."""
+    if os.path.exists(out) and not os.path.isdir(out):
+        raise SweepError(f"{out} is a file, not a directory; give a new --out")
     old = os.path.join(out, "sweep.json")
     if os.path.exists(old):
         try:

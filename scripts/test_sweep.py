@@ -287,6 +287,17 @@ def test_local(gpusim, tmp):
     other = write_sweep(os.path.join(tmp, "other.json"), {"scenes": [SCENES[1]], "parameters": {"units": [3]}})
     r = run([gpusim, "sweep", other, "--out", a])
     check(r.returncode == 2 and "holds another sweep" in r.stderr, "another sweep into the same DIR: exit 2")
+    # --out a file, or a path that cannot be created: one line, exit 2.
+    a_file = os.path.join(tmp, "a_file")
+    with open(a_file, "w", encoding="utf-8") as f:
+        f.write("kept")
+    for out, says in ((a_file, "is a file, not a directory"),
+                      (os.path.join(a_file, "below"), "cannot create the directory")):
+        r = run([gpusim, "sweep", small_sweep(tmp), "--out", out])
+        lines = r.stderr.strip().splitlines()
+        check(r.returncode == 2 and len(lines) == 1 and says in lines[0] and read(a_file) == b"kept",
+              f"--out {os.path.basename(out)}: exit 2, one line ({says}), the file kept: "
+              f"{r.returncode} {lines}")
 
     # collect and plot.
     before = read(os.path.join(a, "results.csv"))
