@@ -173,6 +173,13 @@ std::vector<ImportedMesh> import_mesh(const std::string& file) {
   return import_mesh_with_assimp(file);
 }
 
+bool is_mesh_file_name(const std::string& file) {
+  std::string ext = std::filesystem::path(file).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
+  return ext.size() > 1 && ext != ".json" && Assimp::Importer().IsExtensionSupported(ext);
+}
+
 std::vector<ImportedMesh> import_mesh_with_assimp(const std::string& file) {
   std::error_code ec;
   if (std::filesystem::is_directory(file, ec)) throw MeshImportError("is a directory");

@@ -41,6 +41,9 @@ struct ImportedMesh {
 // A binary PLY of the layout in binary_ply.h is read directly, with the
 // same result.
 std::vector<ImportedMesh> import_mesh(const std::string& file);
+// Whether `file`'s name ends in an extension assimp imports (".obj", ".glb",
+// ".ply", ...; not ".json"): what `gpusim run` renders as a scene of its own.
+bool is_mesh_file_name(const std::string& file);
 // The same through assimp for every file (the direct PLY path's tests
 // compare the two).
 std::vector<ImportedMesh> import_mesh_with_assimp(const std::string& file);

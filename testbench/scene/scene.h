@@ -69,6 +69,9 @@ struct Scene {
   // The loader chose the camera: the scene has mesh draws and no "camera"
   // key, or "camera": "auto" (docs/scene-format.md).
   bool auto_camera = false;
+  // The file given was a mesh, not a scene file: the loader made the scene
+  // (the mesh, the automatic camera, one light; docs/scene-format.md).
+  bool from_mesh_file = false;
   glm::vec4 global_ambient{0.2f, 0.2f, 0.2f, 1.0f};
   std::vector<Light> lights;
   std::vector<Draw> draws;

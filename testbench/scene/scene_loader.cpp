@@ -351,6 +351,17 @@ Json SceneReader::parse(const std::string& text) const {
 Scene SceneReader::read() {
   std::error_code ec;
   if (fs::is_directory(file_, ec)) fail("", "is a directory, not a scene file");
+  if (is_mesh_file_name(file_)) {
+    // A mesh given as the scene: the mesh alone, framed by the automatic
+    // camera and lit by one directional light travelling about as the
+    // automatic camera looks (kAutoDirection), from a little above it.
+    const nlohmann::json scene = {
+        {"lights", {{{"type", "directional"}, {"direction", {-0.5, -1.5, -2.0}}}}},
+        {"draws", {{{"mesh", fs::path(file_).filename().string()}}}}};
+    Scene s = read_text(scene.dump());
+    s.from_mesh_file = true;
+    return s;
+  }
   std::ifstream in(file_, std::ios::binary);
   if (!in) fail("", std::string("cannot open: ") + std::strerror(errno));
   std::ostringstream text;
@@ -366,6 +377,10 @@ Scene SceneReader::read_text(const std::string& text) {
   }
   // nlohmann reads a NUL byte as the end of the input: say what it is.
   const size_t nul = text.find('\0');
+  // apitrace's files start with "at", then binary (its snappy container).
+  if (nul != std::string::npos && text.compare(0, 2, "at") == 0) {
+    fail("", "is an apitrace trace, not a scene file: gpusim replay renders it (docs/replay.md)");
+  }
   if (nul != std::string::npos) {
     fail("", "byte " + std::to_string(nul) + " is NUL: not a JSON text file");
   }

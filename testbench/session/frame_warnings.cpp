@@ -24,6 +24,13 @@ bool saturates(const Scene& scene, const Material& m) {
 
 }  // namespace
 
+std::string mesh_file_note(const Scene& scene) {
+  if (!scene.from_mesh_file) return "";
+  return "gpusim: " + printable(scene.path) +
+         " is a mesh, not a scene file: rendering it alone, lit by one directional light (a "
+         "scene file sets the camera, lights and states: docs/scene-format.md)";
+}
+
 std::string auto_camera_note(const Scene& scene) {
   if (!scene.auto_camera) return "";
   const nlohmann::json& c = scene.resolved["camera"];

@@ -14,6 +14,9 @@ namespace gpusim {
 // "gpusim: scene has no camera: framing ..." when the loader framed the
 // meshes (the frame depends on it); empty otherwise.
 std::string auto_camera_note(const Scene& scene);
+// The note for a mesh given in place of a scene file (Scene::from_mesh_file),
+// or "".
+std::string mesh_file_note(const Scene& scene);
 
 // "warning: ..." lines: a lit material that saturates (white on every colour
 // channel even where the surface is turned 60 degrees from each light), no

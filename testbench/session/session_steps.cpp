@@ -19,8 +19,9 @@ Scene prepare_scene(const std::string& path, const std::function<void(const std:
   progress.begin("load", "reading " + printable(path));
   Scene scene =
       load_scene(path, [&](const std::string& what) { progress.update(printable(what), true); });
-  const std::string camera = auto_camera_note(scene);
-  if (!camera.empty() && note) note(camera);
+  for (const std::string& line : {mesh_file_note(scene), auto_camera_note(scene)}) {
+    if (!line.empty() && note) note(line);
+  }
   if (scene.visibility == Visibility::painter)
     progress.begin("driver", "sorting the draws back to front (painter)");
   if (const auto painter = painter::apply_visibility(scene))

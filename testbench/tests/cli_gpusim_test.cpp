@@ -12,6 +12,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <regex>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -407,6 +408,36 @@ TEST_F(Cli, RunSummarySaysUnitOrUnits) {
 // first scene (the same glTF engine, no camera) is now framed: fragments,
 // the camera in stats.json, one line saying so, the model inside the frame
 // (the border is all clear colour) and covering a fair part of it.
+// A mesh file in place of the scene renders as a scene of its own (the
+// mesh, framed, lit), and says so; an apitrace trace says to replay it.
+TEST_F(Cli, MeshOrTraceGivenAsTheScene) {
+  const std::string spider = "/usr/share/assimp/models/OBJ/spider.obj";
+  CommandResult r = run("run " + spider + " --check --out " + (dir_ / "out").string());
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("gpusim: " + spider + " is a mesh, not a scene file: rendering it alone"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("check: bit-exact"), std::string::npos) << r.out;
+  const nlohmann::json stats = nlohmann::json::parse(file_bytes(dir_ / "out/stats.json"));
+  EXPECT_EQ(stats.at("stats").at("triangles_in").get<uint64_t>(), obj_triangles(spider));
+  EXPECT_EQ(stats.at("settings").at("camera").at("auto"), true);
+  EXPECT_EQ(stats.at("settings").at("lights").size(), 1u);
+  // Lit: the spider's fragments take more than its one material colour.
+  const Image img = read_exr((dir_ / "out/frame.exr").string());
+  const std::vector<float>* red = img.find("R");
+  ASSERT_NE(red, nullptr);
+  std::set<float> shades(red->begin(), red->end());
+  EXPECT_GT(shades.size(), 20u);
+
+  std::ofstream(dir_ / "x.trace", std::ios::binary) << std::string("at\x02\0\x01\0\0\0", 8);
+  r = run("run " + (dir_ / "x.trace").string() + " --out " + (dir_ / "t").string());
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.out.find("x.trace: is an apitrace trace, not a scene file: gpusim replay renders it"),
+            std::string::npos)
+      << r.out;
+  EXPECT_FALSE(fs::exists(dir_ / "t"));
+}
+
 TEST_F(Cli, MeshWithoutCameraIsFramed) {
   const CommandResult r =
       run("run " + kScenes + "/model.json --check --out " + (dir_ / "out").string());
