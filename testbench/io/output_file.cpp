@@ -26,6 +26,22 @@ void create_output_directory(const std::string& dir) {
   }
 }
 
+OutputDirectory::OutputDirectory(const std::string& dir) {
+  std::error_code ec;
+  for (fs::path p = dir; !p.empty() && !fs::exists(p, ec); p = p.parent_path()) {
+    m_made.push_back(p.string());
+    if (p == p.parent_path()) break;
+  }
+  create_output_directory(dir);
+}
+
+OutputDirectory::~OutputDirectory() {
+  std::error_code ec;
+  for (const std::string& d : m_made) {
+    if (!fs::remove(d, ec)) break;  // not empty (or gone): leave it and its parents
+  }
+}
+
 std::string temporary_path_for(const std::string& final_path) {
   const fs::path p(final_path);
   const std::string name = "." + p.filename().string() + ".tmp." + std::to_string(::getpid());

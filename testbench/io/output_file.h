@@ -15,6 +15,23 @@ namespace gpusim {
 // directory: <reason>" when it cannot be created or exists as a non-directory.
 void create_output_directory(const std::string& dir);
 
+// An output directory that a session may end up writing nothing into (a
+// replay that fails before its first frame): created as
+// create_output_directory() does, and at destruction, unless keep() was
+// called, the directories it created are removed again, deepest first and
+// only while empty, so a failed session leaves no empty folder behind.
+class OutputDirectory {
+ public:
+  explicit OutputDirectory(const std::string& dir);
+  ~OutputDirectory();
+  OutputDirectory(const OutputDirectory&) = delete;
+  OutputDirectory& operator=(const OutputDirectory&) = delete;
+  void keep() { m_made.clear(); }
+
+ private:
+  std::vector<std::string> m_made;  // deepest first
+};
+
 // The temporary name for final_path: "<dir>/.<name>.tmp.<pid>", in the same
 // directory so that the final rename never crosses file systems.
 std::string temporary_path_for(const std::string& final_path);

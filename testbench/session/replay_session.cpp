@@ -28,7 +28,7 @@ ReplayOutcome replay_session(const ReplayRequest& request, Progress& progress,
   const std::string model = request.cycle ? "cycle" : "golden";
   progress.begin("driver", "reading " + printable(request.trace));
   gl::ApitraceReader reader(request.trace);
-  create_output_directory(request.out_dir);
+  OutputDirectory out_dir(request.out_dir);
   gl::GlDriver driver;
   driver.set_capture(request.first == 0);
   if (callbacks.opened) callbacks.opened();
@@ -107,6 +107,7 @@ ReplayOutcome replay_session(const ReplayRequest& request, Progress& progress,
     write_text_file_atomically(files.add(request.out_dir + "/stats_" + n + ".json"),
                                stats.dump(2) + "\n");
     files.commit();
+    out_dir.keep();
     progress.begin("driver", "reading " + printable(request.trace));
     outcome.features.merge(frame.features);
     ++outcome.rendered;

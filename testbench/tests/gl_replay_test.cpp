@@ -126,6 +126,12 @@ TEST_F(GlReplay, GlxgearsFrameMatchesLlvmpipe) {
               err2.find("truncated trace: the data ends inside an event") != std::string::npos)
       << err2;
   EXPECT_EQ(run(kGpusim + " replay " + trace.string() + " --frames 3:1 2> /dev/null"), 2);
+  // A replay that rendered nothing leaves no folder, nested ones included.
+  EXPECT_FALSE(fs::exists(dir / "none"));
+  EXPECT_EQ(run(kGpusim + " replay " + trace.string() + " --frame 1000000 --quiet --out " +
+                (dir / "nested" / "deeper").string() + " > /dev/null 2>&1"),
+            2);
+  EXPECT_FALSE(fs::exists(dir / "nested"));
 }
 
 }  // namespace
