@@ -348,6 +348,13 @@ int run_replay(const ReplayArgs& args, const ProgressArgs& progress_args) {
   }
   const uint32_t rendered = outcome.rendered, frames_seen = outcome.frames_seen;
   const gl::FeatureReport& total = outcome.features;
+  if (frames_seen == 0) {
+    // Without --frame or --frames, the only way to render nothing.
+    throw InputError("replay: " + printable(args.trace) +
+                     " has no complete frame: no glXSwapBuffers or eglSwapBuffers ends one; a "
+                     "program that draws through EGL is recorded with apitrace trace --api egl "
+                     "(docs/replay.md, \"Recording traces\")");
+  }
   if (rendered == 0 || (last != UINT32_MAX && first + rendered <= last)) {
     throw InputError("replay: " + printable(args.trace) + " has " + std::to_string(frames_seen) +
                      " complete frame" + (frames_seen == 1 ? "" : "s") + " (numbered from 0); " +

@@ -126,6 +126,21 @@ TEST_F(GlReplay, GlxgearsFrameMatchesLlvmpipe) {
               err2.find("truncated trace: the data ends inside an event") != std::string::npos)
       << err2;
   EXPECT_EQ(run(kGpusim + " replay " + trace.string() + " --frames 3:1 2> /dev/null"), 2);
+  // A trace with no swap (its first calls, cut by apitrace trim) says why
+  // it has no frame, and how to record one, not what --frames asks.
+  ASSERT_EQ(run("apitrace trim --calls=0-10 -o " + (dir / "noswap.trace").string() + " " +
+                trace.string() + " > /dev/null 2>&1"),
+            0);
+  EXPECT_EQ(run(kGpusim + " replay " + (dir / "noswap.trace").string() + " --quiet --out " +
+                (dir / "noswap").string() + " > /dev/null 2> " + (dir / "err3.log").string()),
+            2);
+  const std::string err3 = read_text(dir / "err3.log");
+  EXPECT_EQ(std::count(err3.begin(), err3.end(), '\n'), 1) << err3;
+  EXPECT_NE(err3.find("has no complete frame: no glXSwapBuffers or eglSwapBuffers ends one"),
+            std::string::npos)
+      << err3;
+  EXPECT_EQ(err3.find("--frames"), std::string::npos) << err3;
+  EXPECT_FALSE(fs::exists(dir / "noswap"));
   // A replay that rendered nothing leaves no folder, nested ones included.
   EXPECT_FALSE(fs::exists(dir / "none"));
   EXPECT_EQ(run(kGpusim + " replay " + trace.string() + " --frame 1000000 --quiet --out " +
