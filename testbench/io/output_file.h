@@ -23,10 +23,12 @@ void create_output_directory(const std::string& dir);
 class OutputDirectory {
  public:
   explicit OutputDirectory(const std::string& dir);
+  // Something was written into it: it stays.
+  void keep() { m_made.clear(); }
   ~OutputDirectory();
+  // One owner removes what it made.
   OutputDirectory(const OutputDirectory&) = delete;
   OutputDirectory& operator=(const OutputDirectory&) = delete;
-  void keep() { m_made.clear(); }
 
  private:
   std::vector<std::string> m_made;  // deepest first
