@@ -156,6 +156,14 @@ bool starts_utf16(const std::string& file) {
   return in.gcount() == 2 && ((b[0] == 0xFE && b[1] == 0xFF) || (b[0] == 0xFF && b[1] == 0xFE));
 }
 
+// ".PLY" -> ".ply": assimp matches extensions in any case.
+std::string lowercase_extension(const std::string& file) {
+  std::string ext = std::filesystem::path(file).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
+  return ext;
+}
+
 }  // namespace
 
 std::vector<ImportedMesh> import_mesh(const std::string& file) {
@@ -163,9 +171,7 @@ std::vector<ImportedMesh> import_mesh(const std::string& file) {
   if (std::filesystem::is_directory(file, ec)) throw MeshImportError("is a directory");
   // assimp picks its importer by the name's extension: only a .ply may take
   // the direct path, which gives what assimp would (binary_ply.h).
-  std::string ext = std::filesystem::path(file).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return std::tolower(c); });
+  const std::string ext = lowercase_extension(file);
   if (ext == ".ply") {
     if (std::optional<std::vector<ImportedMesh>> mesh = read_binary_ply(file))
       return std::move(*mesh);
@@ -174,9 +180,7 @@ std::vector<ImportedMesh> import_mesh(const std::string& file) {
 }
 
 bool is_mesh_file_name(const std::string& file) {
-  std::string ext = std::filesystem::path(file).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return std::tolower(c); });
+  const std::string ext = lowercase_extension(file);
   return ext.size() > 1 && ext != ".json" && Assimp::Importer().IsExtensionSupported(ext);
 }
 
