@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "hw/render_state.h"
+#include "hw/texture_state.h"
 #include "hw/varying_layout.h"
 
 namespace gpusim {
@@ -73,12 +74,14 @@ struct Material {
 
 // Where a draw's arrays live in GPU memory. Attributes are tightly packed
 // float32: position 16 bytes (x, y, z, w), normal 12 (x, y, z), colour 16
-// (r, g, b, a); indices are uint32. An address of kNoBuffer means absent.
+// (r, g, b, a), texture coordinate 8 (s, t); indices are uint32. An address
+// of kNoBuffer means absent.
 constexpr uint64_t kNoBuffer = ~uint64_t{0};
 struct DrawBuffers {
   uint64_t positions = kNoBuffer;
   uint64_t normals = kNoBuffer;
   uint64_t colors = kNoBuffer;
+  uint64_t texcoords = kNoBuffer;
   uint64_t indices = kNoBuffer;
   uint32_t vertex_count = 0;  // positions
   uint32_t slot_count = 0;    // indices when indexed, else vertex_count
@@ -93,6 +96,9 @@ struct DrawState {
   glm::mat4 mvp{1.0f};
   glm::mat3 normal_matrix{1.0f};
   RenderState state;
+  // Texturing (docs/pipeline-spec.md, section 9c): the texture stage's
+  // binding; off unless the draw is textured (it then has texcoords).
+  TextureBinding texture;
   int64_t first_primitive_id = 0;  // id of the draw's first assembled primitive
   // What the components of its vertices' Varyings hold: varying_layout_for()
   // of this draw, set when the frame state is built. The default is the same
@@ -105,7 +111,8 @@ struct DrawState {
 // its colour (a point's, or a flat primitive's, even in a Phong draw). A lit
 // Phong draw (lighting on, normals present) adds the eye-space normal and
 // position (docs/pipeline-spec.md, section 9b): components 0-3 colour, 4-6
-// normal, 7-9 position.
+// normal, 7-9 position. A textured draw adds its texture coordinate (s, t)
+// after them (section 9c).
 inline bool lit_per_pixel(const DrawState& draw) {
   return draw.state.shading == Shading::phong && draw.lighting && draw.buffers.normals != kNoBuffer;
 }
@@ -117,6 +124,7 @@ inline VaryingLayout varying_layout_for(const DrawState& draw) {
     layout.normal = static_cast<uint8_t>(layout.append(3));
     layout.eye = static_cast<uint8_t>(layout.append(3));
   }
+  if (draw.texture.enabled()) layout.texcoord = static_cast<uint8_t>(layout.append(2));
   return layout;
 }
 
@@ -147,6 +155,13 @@ struct FrameState {
     return ClearState{true, true, framebuffer.clear_color, framebuffer.clear_depth, 0};
   }
   bool needs_resolve() const { return framebuffer.samples > 1 || framebuffer.supersample > 1; }
+  // Whether a draw is textured: the units then have texture units.
+  bool textured() const {
+    for (const DrawState& d : draws) {
+      if (d.texture.enabled()) return true;
+    }
+    return false;
+  }
 };
 
 inline unsigned color_bytes_per_pixel(ColorFormat f) {

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "hw/stage_spec.h"
+#include "hw/texture_state.h"
 
 namespace gpusim {
 namespace {
@@ -165,7 +166,8 @@ bool GpuConfig::operator==(const GpuConfig& o) const {
       tile_test_overlap != o.tile_test_overlap ||
       lighting_cycles_per_pixel != o.lighting_cycles_per_pixel ||
       lighting_cycles_per_light != o.lighting_cycles_per_light ||
-      watchdog_cycles != o.watchdog_cycles || hierarchical_z != o.hierarchical_z) {
+      watchdog_cycles != o.watchdog_cycles || hierarchical_z != o.hierarchical_z ||
+      texture != o.texture) {
     return false;
   }
   for (const auto& n : fifo_names()) {
@@ -178,11 +180,12 @@ GpuConfig gpu_config_from_json(const nlohmann::json& j, const std::string& sourc
   const Reader r(source_name);
   GpuConfig c;
   r.expect_object(j, "");
-  r.check_keys(j, "",
-               {"clock_mhz", "units", "tile_size", "stamp", "fifo_depth", "fifo_depths", "stages",
-                "memory", "surfaces", "compression", "hierarchical_z", "vertex_cache_entries",
-                "tile_cache_entries", "samples_per_pass", "tile_test_overlap",
-                "lighting_cycles_per_pixel", "lighting_cycles_per_light", "watchdog_cycles"});
+  r.check_keys(
+      j, "",
+      {"clock_mhz", "units", "tile_size", "stamp", "fifo_depth", "fifo_depths", "stages", "memory",
+       "surfaces", "compression", "hierarchical_z", "texture", "vertex_cache_entries",
+       "tile_cache_entries", "samples_per_pass", "tile_test_overlap", "lighting_cycles_per_pixel",
+       "lighting_cycles_per_light", "watchdog_cycles"});
 
   if (j.contains("clock_mhz")) {
     const auto& v = j["clock_mhz"];
@@ -348,6 +351,29 @@ GpuConfig gpu_config_from_json(const nlohmann::json& j, const std::string& sourc
     if (h.contains("update_latency")) {
       c.hierarchical_z.update_latency =
           r.get_unsigned(h["update_latency"], "hierarchical_z.update_latency", 0, kMaxStageCycles);
+    }
+  }
+  if (j.contains("texture")) {
+    const auto& t = j["texture"];
+    r.expect_object(t, "texture");
+    r.check_keys(t, "texture",
+                 {"cache_sets", "cache_ways", "cache_line_bytes", "prefetch_fragments"});
+    const auto power_of_two = [&](const char* key, unsigned lo, unsigned hi, unsigned& out) {
+      if (!t.contains(key)) return;
+      const std::string path = std::string("texture.") + key;
+      out = r.get_unsigned(t[key], path, lo, hi);
+      if (!is_power_of_two(out)) r.fail(path, std::to_string(out) + " is not a power of two");
+    };
+    power_of_two("cache_sets", 1, 4096, c.texture.cache_sets);
+    // A line holds at least one texel of every format (4 bytes) and a texel
+    // of 3 bytes straddles at most two lines.
+    power_of_two("cache_line_bytes", 16, kMaxTextureCacheLine, c.texture.cache_line_bytes);
+    if (t.contains("cache_ways")) {
+      c.texture.cache_ways = r.get_unsigned(t["cache_ways"], "texture.cache_ways", 1, 64);
+    }
+    if (t.contains("prefetch_fragments")) {
+      c.texture.prefetch_fragments =
+          r.get_unsigned(t["prefetch_fragments"], "texture.prefetch_fragments", 1, 4096);
     }
   }
   if (j.contains("vertex_cache_entries")) {
@@ -533,6 +559,10 @@ Json config_json(const GpuConfig& c) {
   j["hierarchical_z"] = {{"enabled", c.hierarchical_z.enabled},
                          {"access_latency", c.hierarchical_z.access_latency},
                          {"update_latency", c.hierarchical_z.update_latency}};
+  j["texture"] = {{"cache_sets", c.texture.cache_sets},
+                  {"cache_ways", c.texture.cache_ways},
+                  {"cache_line_bytes", c.texture.cache_line_bytes},
+                  {"prefetch_fragments", c.texture.prefetch_fragments}};
   j["vertex_cache_entries"] = c.vertex_cache_entries;
   j["tile_cache_entries"] = c.tile_cache_entries;
   j["samples_per_pass"] = c.samples_per_pass;

@@ -88,6 +88,25 @@ struct HierarchicalZConfig {
   bool operator!=(const HierarchicalZConfig& o) const { return !(*this == o); }
 };
 
+// Texture units (stages/texture_unit.h): each unit's texture cache and the
+// fragment FIFO between its address and filter stages. The cache's defaults
+// are GPGPU-Sim's L1 texture cache (32 sets x 4 ways x 128-byte lines, 16
+// KiB), the FIFO's depth the order of Igehy, Eldridge and Proudfoot's
+// (1998) fragment FIFO, which hides a memory latency of about as many
+// fragments.
+struct TextureConfig {
+  unsigned cache_sets = 32;
+  unsigned cache_ways = 4;
+  unsigned cache_line_bytes = 128;
+  unsigned prefetch_fragments = 64;  // fragments addressed ahead of the filter
+
+  bool operator==(const TextureConfig& o) const {
+    return cache_sets == o.cache_sets && cache_ways == o.cache_ways &&
+           cache_line_bytes == o.cache_line_bytes && prefetch_fragments == o.prefetch_fragments;
+  }
+  bool operator!=(const TextureConfig& o) const { return !(*this == o); }
+};
+
 struct GpuConfig {
   double clock_mhz = 1000.0;
   unsigned units = 4;                   // tile rasterizer units
@@ -104,6 +123,7 @@ struct GpuConfig {
   SurfaceConfig surfaces;
   CompressionConfig compression;
   HierarchicalZConfig hierarchical_z;
+  TextureConfig texture;
   unsigned vertex_cache_entries = 32;  // post-transform vertex cache; 0 disables it
   unsigned tile_cache_entries = 16;    // framebuffer tiles cached per unit, per buffer
   // Multisampling: samples of a pixel the rasterizer's edge core, the depth

@@ -355,6 +355,18 @@ class MemoryPort : public sc_core::sc_object {
     issue(true, addr, const_cast<void*>(src), len, offset);
   }
 
+  // A read whose own completion the caller wants (a texture cache's line
+  // fills: each fragment waits for its own lines, not for the group's last):
+  // `sink` receives it in the round's update phase, and the caller keeps it
+  // alive until then. wait_round() waits for it as for any other request.
+  void read_tracked(uint64_t addr, void* dst, uint64_t len, sc_core::sc_time offset,
+                    MemoryArbiter::Sink& sink) {
+    if (m_clock && !wait_until(*m_clock)) report_behind_kernel(name(), "a request");
+    if (!m_memory || !m_memory->issue(m_client, false, addr, dst, len, offset, sink))
+      fail(false, addr, len);
+    m_tracked_pending = true;
+  }
+
   // Untimed access to the same store (Memory::debug_read/debug_write): for a
   // client whose timed traffic is smaller than the data it holds (a
   // compressed tile moves its encoded size; the store keeps the decoded
@@ -372,10 +384,11 @@ class MemoryPort : public sc_core::sc_object {
   // already (posted writes from an earlier delta) returns at once; no
   // request at all gives zero times. Threads only, when it waits.
   MemoryCompletion wait_round() {
-    if (m_sink.pending) {
+    if (m_sink.pending || m_tracked_pending) {
       sc_core::wait(sc_core::SC_ZERO_TIME);
       if (m_clock) *m_clock = kernel_stamp();
     }
+    m_tracked_pending = false;
     const MemoryCompletion done = m_sink.done;
     m_sink.done = MemoryCompletion{};
     return done;
@@ -393,6 +406,7 @@ class MemoryPort : public sc_core::sc_object {
   unsigned m_client = 0;
   std::string m_client_name;
   MemoryArbiter::Sink m_sink;
+  bool m_tracked_pending = false;  // a read_tracked() since the last wait_round()
   SuperdenseTime* m_clock = nullptr;
 };
 

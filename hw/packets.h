@@ -346,6 +346,10 @@ struct ShadedStampBatch {
   std::vector<Stamp> stamps;
   std::vector<glm::vec4> colors;
   std::vector<uint16_t> samples;  // as StampBatch: the samples each colour goes to
+  // Textured draws, interpolator -> texture unit (docs/pipeline-spec.md,
+  // section 9c): per covered pixel its texture coordinate (s, t); empty
+  // otherwise, and once the texture unit has applied the texture.
+  std::vector<glm::vec2> texcoords;
 
   static constexpr const char* kPacketName = "ShadedStampBatch";
   template <typename V>
@@ -356,6 +360,7 @@ struct ShadedStampBatch {
     v("stamps", &ShadedStampBatch::stamps);
     v("colors", &ShadedStampBatch::colors);
     v("samples", &ShadedStampBatch::samples);
+    v("texcoords", &ShadedStampBatch::texcoords);
   }
   friend void swap(ShadedStampBatch& a, ShadedStampBatch& b) noexcept {
     std::swap(a.kind, b.kind);
@@ -363,6 +368,7 @@ struct ShadedStampBatch {
     a.stamps.swap(b.stamps);
     a.colors.swap(b.colors);
     a.samples.swap(b.samples);
+    a.texcoords.swap(b.texcoords);
   }
 };
 static_assert(packet_bits<ShadedStampBatch>() == 2 + packet_bits<RasterPrimitive>(),

@@ -34,6 +34,19 @@ constexpr NameTable<ProvokingVertex, 2> kProvokingVertexNames{"last", "first"};
 constexpr NameTable<Interpolation, 2> kInterpolationNames{"perspective", "screen"};
 constexpr NameTable<ColorFormat, 2> kColorFormatNames{"rgba8", "rgba16f"};
 constexpr NameTable<DepthFormat, 3> kDepthFormatNames{"unorm16", "unorm24", "float32"};
+constexpr NameTable<TextureFormat, 8> kTextureFormatNames{
+    "alpha8", "luminance8", "luminance_alpha8", "intensity8",
+    "rgb8",   "rgba8",      "rgb565",           "rgba4444"};
+constexpr NameTable<TextureWrap, 4> kTextureWrapNames{"repeat", "clamp_to_edge", "clamp",
+                                                      "mirrored_repeat"};
+constexpr NameTable<TextureFilter, 6> kTextureFilterNames{"nearest",
+                                                          "linear",
+                                                          "nearest_mipmap_nearest",
+                                                          "linear_mipmap_nearest",
+                                                          "nearest_mipmap_linear",
+                                                          "linear_mipmap_linear"};
+constexpr NameTable<TextureEnvMode, 5> kTextureEnvModeNames{"modulate", "replace", "decal", "blend",
+                                                            "add"};
 
 template <typename Enum>
 constexpr const auto& names_of();
@@ -89,6 +102,22 @@ template <>
 constexpr const auto& names_of<DepthFormat>() {
   return kDepthFormatNames;
 }
+template <>
+constexpr const auto& names_of<TextureFormat>() {
+  return kTextureFormatNames;
+}
+template <>
+constexpr const auto& names_of<TextureWrap>() {
+  return kTextureWrapNames;
+}
+template <>
+constexpr const auto& names_of<TextureFilter>() {
+  return kTextureFilterNames;
+}
+template <>
+constexpr const auto& names_of<TextureEnvMode>() {
+  return kTextureEnvModeNames;
+}
 
 template <typename Enum>
 std::string_view name_of(Enum v) {
@@ -138,6 +167,18 @@ std::string_view to_string(ColorFormat v) {
 std::string_view to_string(DepthFormat v) {
   return name_of(v);
 }
+std::string_view to_string(TextureFormat v) {
+  return name_of(v);
+}
+std::string_view to_string(TextureWrap v) {
+  return name_of(v);
+}
+std::string_view to_string(TextureFilter v) {
+  return name_of(v);
+}
+std::string_view to_string(TextureEnvMode v) {
+  return name_of(v);
+}
 
 template <typename Enum>
 std::optional<Enum> enum_from_string(std::string_view name) {
@@ -174,6 +215,10 @@ GPUSIM_INSTANTIATE(LineRasterization)
 GPUSIM_INSTANTIATE(PolygonMode)
 GPUSIM_INSTANTIATE(ColorFormat)
 GPUSIM_INSTANTIATE(DepthFormat)
+GPUSIM_INSTANTIATE(TextureFormat)
+GPUSIM_INSTANTIATE(TextureWrap)
+GPUSIM_INSTANTIATE(TextureFilter)
+GPUSIM_INSTANTIATE(TextureEnvMode)
 #undef GPUSIM_INSTANTIATE
 
 PrimitiveKind primitive_kind_of(PrimitiveType t) {

@@ -64,6 +64,28 @@ enum class ProvokingVertex : uint8_t { last, first };
 // sections 4 and 9). Depth is affine in window space either way.
 enum class Interpolation : uint8_t { perspective, screen };
 enum class ColorFormat : uint8_t { rgba8, rgba16f };
+// Texturing (docs/pipeline-spec.md, section 9c; hw/texture_state.h): stored
+// texel formats, wrap modes, filters and texture environments, GL 1.x's.
+enum class TextureFormat : uint8_t {
+  alpha8,
+  luminance8,
+  luminance_alpha8,
+  intensity8,
+  rgb8,
+  rgba8,
+  rgb565,
+  rgba4444,
+};
+enum class TextureWrap : uint8_t { repeat, clamp_to_edge, clamp, mirrored_repeat };
+enum class TextureFilter : uint8_t {
+  nearest,
+  linear,
+  nearest_mipmap_nearest,
+  linear_mipmap_nearest,
+  nearest_mipmap_linear,
+  linear_mipmap_linear,
+};
+enum class TextureEnvMode : uint8_t { modulate, replace, decal, blend, add };
 enum class DepthFormat : uint8_t { unorm16, unorm24, float32 };
 
 // A rectangle of window pixels, [x, x + width) x [y, y + height): a viewport
@@ -148,6 +170,10 @@ std::string_view to_string(LineRasterization v);
 std::string_view to_string(PolygonMode v);
 std::string_view to_string(ColorFormat v);
 std::string_view to_string(DepthFormat v);
+std::string_view to_string(TextureFormat v);
+std::string_view to_string(TextureWrap v);
+std::string_view to_string(TextureFilter v);
+std::string_view to_string(TextureEnvMode v);
 
 // Parse a name; std::nullopt when it names no value.
 template <typename Enum>

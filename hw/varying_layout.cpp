@@ -20,6 +20,7 @@ std::ostream& operator<<(std::ostream& os, const VaryingLayout& l) {
   os << "VaryingLayout{" << unsigned{l.count} << " components, colour at " << unsigned{l.color};
   if (l.per_pixel_lighting())
     os << ", normal at " << unsigned{l.normal} << ", eye position at " << unsigned{l.eye};
+  if (l.textured()) os << ", texture coordinate at " << unsigned{l.texcoord};
   return os << "}";
 }
 

@@ -58,6 +58,9 @@ struct VaryingLayout {
   // interpolator lights every pixel; kNoVarying in every other draw.
   uint8_t normal = kNoVarying;
   uint8_t eye = kNoVarying;
+  // Texturing (section 9c): the texture coordinate (s, t); kNoVarying in an
+  // untextured draw.
+  uint8_t texcoord = kNoVarying;
 
   // Reserves `components` more components after the last in use and returns
   // the first of them. Throws std::length_error past kMaxVaryings.
@@ -66,9 +69,11 @@ struct VaryingLayout {
   unsigned groups() const { return (count + kVaryingGroup - 1) / kVaryingGroup; }
   // Whether the draw's pixels are lit per pixel (it carries a normal).
   bool per_pixel_lighting() const { return normal != kNoVarying; }
+  bool textured() const { return texcoord != kNoVarying; }
 
   bool operator==(const VaryingLayout& o) const {
-    return count == o.count && color == o.color && normal == o.normal && eye == o.eye;
+    return count == o.count && color == o.color && normal == o.normal && eye == o.eye &&
+           texcoord == o.texcoord;
   }
   bool operator!=(const VaryingLayout& o) const { return !(*this == o); }
 };

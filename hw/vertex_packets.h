@@ -79,11 +79,13 @@ struct BatchHeader {
 
 // Vertex fetch -> vertex shader: the raw attributes of the fetched vertices,
 // as read from memory. `normals` is filled only for lit draws with a normal
-// array, `colors` only for draws with a colour array.
+// array, `colors` only for draws with a colour array, `texcoords` only for
+// textured draws.
 struct VertexBatch : BatchHeader {
   std::array<glm::vec4, kVertexBatchSlots> positions{};
   std::array<glm::vec3, kVertexBatchSlots> normals{};
   std::array<glm::vec4, kVertexBatchSlots> colors{};
+  std::array<glm::vec2, kVertexBatchSlots> texcoords{};
 
   static constexpr const char* kPacketName = "VertexBatch";
   template <typename V>
@@ -93,9 +95,10 @@ struct VertexBatch : BatchHeader {
     v("positions", &VertexBatch::positions, used(&BatchHeader::vertex_count));
     v("normals", &VertexBatch::normals, used(&BatchHeader::vertex_count));
     v("colors", &VertexBatch::colors, used(&BatchHeader::vertex_count));
+    v("texcoords", &VertexBatch::texcoords, used(&BatchHeader::vertex_count));
   }
 };
-static_assert(packet_bits<VertexBatch>() == 1326 + 32 * (128 + 96 + 128),
+static_assert(packet_bits<VertexBatch>() == 1326 + 32 * (128 + 96 + 128 + 64),
               "a header (2 + 3 x 32 + 2 x 6 + 32 slots x 39 bits) and 32 fetched vertices");
 
 // A vertex after transform and lighting (docs/pipeline-spec.md, section 2):

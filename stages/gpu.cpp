@@ -55,8 +55,17 @@ Gpu::Gpu(sc_core::sc_module_name name, const GpuConfig& config, const FrameState
               unit.depth->in);
     t.connect("depth_to_interpolator", n, unit.depth.get(), &unit.depth->out, *unit.interpolator,
               unit.interpolator->in);
-    t.connect("interpolator_to_rop", n, unit.interpolator.get(), &unit.interpolator->out, *unit.rop,
-              unit.rop->in);
+    if (frame.textured()) {
+      // The ROP's FIFO keeps its name: a FIFO belongs to its reader.
+      unit.texture = std::make_unique<TextureUnit>(named("texture_unit").c_str(), config, frame, u);
+      t.connect("interpolator_to_texture", n, unit.interpolator.get(), &unit.interpolator->out,
+                *unit.texture, unit.texture->in);
+      t.connect("interpolator_to_rop", n, unit.texture.get(), &unit.texture->out, *unit.rop,
+                unit.rop->in);
+    } else {
+      t.connect("interpolator_to_rop", n, unit.interpolator.get(), &unit.interpolator->out,
+                *unit.rop, unit.rop->in);
+    }
   }
   if (frame.needs_resolve()) {
     m_resolve = std::make_unique<Resolve>("resolve", config, frame);
@@ -71,6 +80,7 @@ Gpu::Gpu(sc_core::sc_module_name name, const GpuConfig& config, const FrameState
   for (const Unit& unit : m_units) {
     t.connect_memory(*unit.depth, unit.depth->mem, m_memory);
     t.connect_memory(*unit.rop, unit.rop->mem, m_memory);
+    if (unit.texture) t.connect_memory(*unit.texture, unit.texture->mem, m_memory);
     m_done_events |= unit.rop->frame_done_event();
   }
   if (m_resolve) {

@@ -34,6 +34,7 @@
 #include "stages/primitive_setup.h"
 #include "stages/resolve.h"
 #include "stages/rop.h"
+#include "stages/texture_unit.h"
 #include "stages/tile_distributor.h"
 #include "stages/tile_rasterizer.h"
 #include "stages/topology.h"
@@ -113,6 +114,7 @@ class Gpu : public sc_core::sc_module {
     std::unique_ptr<TileRasterizer> rasterizer;
     std::unique_ptr<DepthTest> depth;
     std::unique_ptr<Interpolator> interpolator;
+    std::unique_ptr<TextureUnit> texture;  // only when the frame has a textured draw
     std::unique_ptr<Rop> rop;
   };
 

@@ -93,7 +93,10 @@ void Interpolator::run() {
     result.samples.clear();
     // A work batch's colours are resized by shade(): the stale packet's
     // vector is only cut or extended, not cleared and refilled with zeros.
-    if (batch.kind != PacketKind::work) result.colors.clear();
+    if (batch.kind != PacketKind::work) {
+      result.colors.clear();
+      result.texcoords.clear();
+    }
     uint64_t cycles = m_cost.ii;
     if (batch.kind == PacketKind::work) {
       cycles = m_cost.ii * std::max<uint64_t>(batch.stamps.size(), 1);
@@ -226,6 +229,35 @@ void Interpolator::shade_phong(const std::vector<Stamp>& stamps, const EdgeOffse
   }
 }
 
+void Interpolator::interpolate_texcoords(const std::vector<Stamp>& stamps,
+                                         const RasterPrimitive& prim, unsigned slot, size_t n,
+                                         std::vector<glm::vec2>& out) {
+  out.resize(n);
+  if (prim.primitive_kind == PrimitiveKind::point) {
+    // A point samples at its vertex's coordinate (spec section 9c).
+    out.assign(n, glm::vec2(prim.flat_varyings[slot], prim.flat_varyings[slot + 1]));
+    return;
+  }
+  // Whatever the shading, by section 9's formula, as any varying.
+  update_offsets(prim);
+  const std::array<float, 3>& q = prim.inv_w;
+  const float* vw0 = prim.varyings_over_w[0].data() + slot;
+  const float* vw1 = prim.varyings_over_w[1].data() + slot;
+  const float* vw2 = prim.varyings_over_w[2].data() + slot;
+  glm::vec2* tc = out.data();
+  for (const Stamp& s : stamps) {
+    for (uint64_t bits = s.mask; bits != 0; bits &= bits - 1) {
+      const int idx = __builtin_ctzll(bits);
+      const float f0 = static_cast<float>(s.e[0] + m_offset[0][idx]);
+      const float f1 = static_cast<float>(s.e[1] + m_offset[1][idx]);
+      const float f2 = static_cast<float>(s.e[2] + m_offset[2][idx]);
+      const float den = f0 * q[0] + f1 * q[1] + f2 * q[2];
+      for (int k = 0; k < 2; ++k) (*tc)[k] = (f0 * vw0[k] + f1 * vw1[k] + f2 * vw2[k]) / den;
+      ++tc;
+    }
+  }
+}
+
 void Interpolator::shade(const StampBatch& batch, ShadedStampBatch& result) {
   const RasterPrimitive& prim = *batch.primitive;
   const DrawState& draw = m_frame.draws.at(prim.draw_id);
@@ -240,6 +272,12 @@ void Interpolator::shade(const StampBatch& batch, ShadedStampBatch& result) {
   for (const Stamp& s : batch.stamps) {
     n += s.mask == full ? static_cast<size_t>(m_stamp_pixels)
                         : static_cast<size_t>(__builtin_popcountll(s.mask));
+  }
+  if (layout.textured()) {
+    interpolate_texcoords(batch.stamps, prim, layout.texcoord, n, result.texcoords);
+    m_texcoords += n;
+  } else {
+    result.texcoords.clear();
   }
   if (st.shading == Shading::flat || prim.primitive_kind == PrimitiveKind::point) {
     // Every pixel takes the provoking vertex's varyings; the ROP its colour.

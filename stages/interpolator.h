@@ -26,8 +26,10 @@
 // present and costs nothing in a draw that is not lit per pixel.
 //
 // Output: the batch's stamps unchanged and one colour per covered pixel,
-// stamp order, then mask bit order. Only the colour leaves: it is all the
-// ROP consumes.
+// stamp order, then mask bit order. Only the colour leaves, and in a
+// textured draw the texture coordinate (s, t) of each pixel (section 9c:
+// interpolated as any varying, whatever the shading; a point's is its
+// vertex's), which the texture unit consumes.
 //
 // Cost model, per token read at time t: busy = ii * stamps (at least ii for
 // any token, control tokens included), plus, for a batch lit per pixel,
@@ -73,6 +75,10 @@ class Interpolator : public PipelineStage {
   void shade(const StampBatch& batch, ShadedStampBatch& result);
   // Fills m_offset for the triangle's edge steps (kept while they are unchanged).
   void update_offsets(const RasterPrimitive& tri);
+  // Section 9c: the texture coordinate of every covered pixel, from the
+  // varyings at `slot` (the layout's texcoord), into `out` (n pixels).
+  void interpolate_texcoords(const std::vector<Stamp>& stamps, const RasterPrimitive& prim,
+                             unsigned slot, size_t n, std::vector<glm::vec2>& out);
   // Phong (section 9b): the lit colour of every covered pixel to `out`.
   void shade_phong(const std::vector<Stamp>& stamps, const EdgeOffsets& o,
                    const RasterPrimitive& prim, const VaryingLayout& layout, glm::vec4* out);
@@ -98,6 +104,8 @@ class Interpolator : public PipelineStage {
                       "pixels of flat-shaded primitives and of points (no interpolation)");
   uint64_t& m_pixels_lit =
       m_stats.counter("pixels_lit", "fragments", "pixels lit per pixel (Phong shading)");
+  uint64_t& m_texcoords = m_stats.counter("texcoords", "fragments",
+                                          "pixels given a texture coordinate (textured draws)");
   uint64_t& m_light_evaluations = m_stats.counter("light_evaluations", "evaluations",
                                                   "lights evaluated for pixels lit per pixel");
 };

@@ -9,9 +9,11 @@ constexpr uint32_t kNoTag = ~uint32_t{0};
 constexpr uint64_t kPositionBytes = 16;
 constexpr uint64_t kNormalBytes = 12;
 constexpr uint64_t kColorBytes = 16;
+constexpr uint64_t kTexcoordBytes = 8;
 // Bursts are read straight into the packet's arrays, which must therefore be
 // laid out like memory: tightly packed float32.
-static_assert(sizeof(glm::vec4) == kPositionBytes && sizeof(glm::vec3) == kNormalBytes,
+static_assert(sizeof(glm::vec4) == kPositionBytes && sizeof(glm::vec3) == kNormalBytes &&
+                  sizeof(glm::vec2) == kTexcoordBytes,
               "glm vectors must be tightly packed floats");
 
 }  // namespace
@@ -165,6 +167,7 @@ sc_core::sc_time VertexFetch::fetch_batch(const DrawState& draw, VertexBatch& ba
   const sc_core::sc_time issue = memory;
   const bool normals = draw.lighting && b.normals != kNoBuffer;
   const bool colors = b.colors != kNoBuffer;
+  const bool texcoords = b.texcoords != kNoBuffer;
   const auto read = [&](uint64_t base, uint32_t index, void* dst, uint64_t bytes, uint32_t count) {
     const uint64_t len = bytes * count;
     mem.read(base + bytes * index, dst, len, issue);
@@ -179,6 +182,7 @@ sc_core::sc_time VertexFetch::fetch_batch(const DrawState& draw, VertexBatch& ba
     read(b.positions, index, &batch.positions[first], kPositionBytes, count);
     if (normals) read(b.normals, index, &batch.normals[first], kNormalBytes, count);
     if (colors) read(b.colors, index, &batch.colors[first], kColorBytes, count);
+    if (texcoords) read(b.texcoords, index, &batch.texcoords[first], kTexcoordBytes, count);
     first += count;
   }
   if (fetched > 0) memory = std::max(memory, mem.wait_round().reads - now);

@@ -109,6 +109,10 @@ void VertexShader::run() {
           color = clamp01(colors ? batch.colors[v] : draw.material.diffuse);
         }
         for (unsigned k = 0; k < kColorComponents; ++k) sv.varyings[color_slot + k] = color[k];
+        if (layout.textured()) {
+          sv.varyings[layout.texcoord] = batch.texcoords[v].x;
+          sv.varyings[layout.texcoord + 1] = batch.texcoords[v].y;
+        }
       }
       m_vertices += batch.vertex_count;
       if (lit) m_lit += batch.vertex_count;

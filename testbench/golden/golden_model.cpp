@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "hw/sample_pattern.h"
+#include "testbench/golden/texture_sampling.h"
 
 namespace gpusim::golden {
 namespace {
@@ -170,16 +171,17 @@ ShadedVertex clip_intersection(const ShadedVertex& p, float dp, const ShadedVert
     v.normal[k] = a.normal[k] + t * (b.normal[k] - a.normal[k]);
     v.eye[k] = a.eye[k] + t * (b.eye[k] - a.eye[k]);
   }
+  for (int k = 0; k < 2; ++k) v.texcoord[k] = a.texcoord[k] + t * (b.texcoord[k] - a.texcoord[k]);
   // Rounding can leave a cut on the w plane at or below 0; 1/w must stay finite.
   if (plane == 0) v.clip.w = std::max(v.clip.w, kMinClipW);
   return v;
 }
 
 // Screen interpolation at the clipper (spec section 4): a vertex made by a
-// cut takes the primitive's varyings (colour, and a Phong draw's normal and
-// eye position) extended affinely over the window plane, at its own
-// projection. A vertex equal to an original keeps that vertex's varyings;
-// where the formula is not finite the cut's perspective-correct ones stay.
+// cut takes the primitive's varyings (colour, a Phong draw's normal and eye
+// position, a textured draw's texture coordinate) extended affinely over the window plane, at its
+// own projection. A vertex equal to an original keeps that vertex's varyings; where the formula is
+// not finite the cut's perspective-correct ones stay.
 template <int N>
 glm::vec<N, float> extend_affine(const glm::vec<N, float>& a, const glm::vec<N, float>& b,
                                  const glm::vec<N, float>* c, float b1, float b2) {
@@ -205,6 +207,7 @@ void screen_colors(std::vector<ShadedVertex>& poly, const ShadedVertex* orig, in
       v.color = same->color;
       v.normal = same->normal;
       v.eye = same->eye;
+      v.texcoord = same->texcoord;
       continue;
     }
     const float qx = v.clip.x / v.clip.w, qy = v.clip.y / v.clip.w;
@@ -227,6 +230,8 @@ void screen_colors(std::vector<ShadedVertex>& poly, const ShadedVertex* orig, in
     v.normal =
         extend_affine(orig[0].normal, orig[1].normal, tri ? &orig[2].normal : nullptr, b1, b2);
     v.eye = extend_affine(orig[0].eye, orig[1].eye, tri ? &orig[2].eye : nullptr, b1, b2);
+    v.texcoord = extend_affine(orig[0].texcoord, orig[1].texcoord,
+                               tri ? &orig[2].texcoord : nullptr, b1, b2);
   }
 }
 
@@ -322,6 +327,7 @@ class Renderer {
   void render_draw(const Draw& draw) {
     m_draw = &draw;
     m_phong = lit_per_pixel(draw);
+    m_texture = draw.texture >= 0 ? &m_scene.textures[static_cast<size_t>(draw.texture)] : nullptr;
     // Supersampling: widths and sizes keep their size in output pixels.
     RenderState state = draw.state;
     state.line_width = state.line_width * static_cast<float>(m_k);
@@ -623,6 +629,8 @@ class Renderer {
     const float z = to_window(v, m_viewport).z;
     const glm::vec2 xy = window_xy(v, m_viewport.rect);
     const PointSquare sq = point_square(xy.x, xy.y, st.point_size);
+    // Textured: every fragment samples at the vertex's texture coordinate.
+    const glm::vec4 fragment_color = m_texture ? textured(v.texcoord, color) : color;
     // Section 8c's space has pixel centres at 256 x: sample s of pixel x is at
     // 256 x + dx_s, covered iff x0 <= it < x0 + side (likewise y).
     scan_samples(st, id, sq.x0 + kSubpixelHalf, sq.x0 + sq.side - 1 + kSubpixelHalf,
@@ -636,7 +644,7 @@ class Renderer {
                      mask |= 1u << s;
                      zs[s] = z;
                    }
-                   return color;
+                   return fragment_color;
                  });
   }
 
@@ -703,6 +711,37 @@ class Renderer {
   // draw's lit from the normal and eye position interpolated so (9b).
   glm::vec4 color_at(const RenderState& st, const SetupTriangle& t, const glm::vec4& flat_color,
                      const std::array<EdgeValue, 3>& e) const {
+    const glm::vec4 c = untextured_color_at(st, t, flat_color, e);
+    if (m_texture == nullptr) return c;
+    // The texture coordinate is interpolated as the colour is (section 9c),
+    // whatever the shading.
+    const float f0 = static_cast<float>(e[0]);
+    const float f1 = static_cast<float>(e[1]);
+    const float f2 = static_cast<float>(e[2]);
+    const WindowVertex &v0 = t.v[0], &v1 = t.v[1], &v2 = t.v[2];
+    const float den = f0 * v0.inv_w + f1 * v1.inv_w + f2 * v2.inv_w;
+    glm::vec2 tc;
+    for (int i = 0; i < 2; ++i) {
+      tc[i] =
+          (f0 * v0.texcoord_over_w[i] + f1 * v1.texcoord_over_w[i] + f2 * v2.texcoord_over_w[i]) /
+          den;
+    }
+    return textured(tc, c);
+  }
+
+  // Section 9c: the texture sampled at `tc` and combined with the colour.
+  // One level and a single filter for now: the loader refuses mipmap filters
+  // and a minification filter other than the magnification one, which is
+  // what the level of detail would choose between.
+  glm::vec4 textured(const glm::vec2& tc, const glm::vec4& color) const {
+    const Texel texel =
+        sample_level(*m_texture, m_texture->levels[0], m_texture->sampler.mag_filter, tc.x, tc.y);
+    return apply_texture_env(m_draw->texture_env, m_texture->format, texel, color);
+  }
+
+  glm::vec4 untextured_color_at(const RenderState& st, const SetupTriangle& t,
+                                const glm::vec4& flat_color,
+                                const std::array<EdgeValue, 3>& e) const {
     if (st.shading == Shading::flat) return flat_color;
     const float f0 = static_cast<float>(e[0]);
     const float f1 = static_cast<float>(e[1]);
@@ -773,11 +812,12 @@ class Renderer {
   }
 
   const Scene& m_scene;
-  const Draw* m_draw = nullptr;  // the draw being rendered
-  bool m_phong = false;          // it is lit per pixel
-  const unsigned m_k;            // supersample factor
-  const unsigned m_samples;      // per pixel
-  Framebuffer m_fb;              // the render target, m_samples per pixel
+  const Draw* m_draw = nullptr;        // the draw being rendered
+  bool m_phong = false;                // it is lit per pixel
+  const Texture* m_texture = nullptr;  // the texture it samples, if any
+  const unsigned m_k;                  // supersample factor
+  const unsigned m_samples;            // per pixel
+  Framebuffer m_fb;                    // the render target, m_samples per pixel
   // The current draw's viewport transform, guard band and draw rectangle.
   ViewportTransform m_viewport;
   GuardBand m_guard_band{};
@@ -812,6 +852,7 @@ ShadedVertex shade_vertex(const Scene& scene, const Draw& draw, uint32_t i) {
   } else {
     out.color = clamp01(i < draw.colors.size() ? draw.colors[i] : draw.material.diffuse);
   }
+  if (draw.texture >= 0) out.texcoord = draw.texcoords[i];
   return out;
 }
 
@@ -1032,6 +1073,7 @@ WindowVertex to_window(const ShadedVertex& v, const ViewportTransform& vp,
     w.normal_over_w[k] = v.normal[k] * w.inv_w;
     w.eye_over_w[k] = v.eye[k] * w.inv_w;
   }
+  for (int k = 0; k < 2; ++k) w.texcoord_over_w[k] = v.texcoord[k] * w.inv_w;
   return w;
 }
 

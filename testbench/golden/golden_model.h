@@ -21,12 +21,14 @@ namespace gpusim::golden {
 
 // A vertex after transform and lighting: clip-space position and colour; in
 // a lit Phong draw also its eye-space unit normal and position, interpolated
-// per pixel (spec section 9b); 0 otherwise.
+// per pixel (spec section 9b); in a textured draw its texture coordinate
+// (section 9c); 0 otherwise.
 struct ShadedVertex {
   glm::vec4 clip{0.0f};
   glm::vec4 color{0.0f};
   glm::vec3 normal{0.0f};
   glm::vec3 eye{0.0f};
+  glm::vec2 texcoord{0.0f};
 };
 
 // Transform and light vertex `i` of the draw (spec: "Vertex transform and lighting").
@@ -130,6 +132,7 @@ struct WindowVertex {
   glm::vec4 color_over_w{0.0f};   // colour * inv_w, for perspective correction
   glm::vec3 normal_over_w{0.0f};  // Phong: normal * inv_w
   glm::vec3 eye_over_w{0.0f};     // Phong: eye position * inv_w
+  glm::vec2 texcoord_over_w{0.0f};  // textured: (s, t) * inv_w
 };
 // The viewport transform's parameters (spec section 5): the viewport in
 // render-target pixels and the depth range.

@@ -15,8 +15,23 @@
 #include "hw/draw_state.h"
 #include "hw/input_error.h"
 #include "hw/render_state.h"
+#include "hw/texture_state.h"
 
 namespace gpusim {
+
+// A texture of the scene (docs/scene-format.md, "textures"): its stored
+// texels level by level, each row-major from the bottom row, tightly packed
+// in `format` (texel_bytes per texel), and its sampling state.
+struct TextureImage {
+  int width = 0, height = 0;
+  std::vector<uint8_t> texels;
+};
+struct Texture {
+  std::string name;
+  TextureFormat format = TextureFormat::rgba8;
+  TextureSampler sampler;
+  std::vector<TextureImage> levels;  // level 0 first; at least one
+};
 
 struct Draw {
   std::string name;  // "draws[3] spider.obj mesh 0", "draws[2] wide lines": for stats
@@ -25,6 +40,12 @@ struct Draw {
   std::vector<glm::vec3> normals;    // object space; empty, or one per position
   std::vector<glm::vec4> colors;     // empty, or one per position
   std::vector<uint32_t> indices;     // empty: non-indexed
+  // Texturing (spec section 9c): the scene texture the draw samples (an
+  // index into Scene::textures; -1: untextured), its texture coordinates
+  // (s, t), one per position, and the texture environment.
+  int texture = -1;
+  std::vector<glm::vec2> texcoords;
+  TextureEnv texture_env;
   // lighting: colours come from the lights and material (needs normals);
   // otherwise from `colors`, or the material's diffuse colour when empty.
   bool lighting = false;
@@ -74,6 +95,7 @@ struct Scene {
   bool from_mesh_file = false;
   glm::vec4 global_ambient{0.2f, 0.2f, 0.2f, 1.0f};
   std::vector<Light> lights;
+  std::vector<Texture> textures;
   std::vector<Draw> draws;
   // Clear entries of the file's draw list, in order, each placed by its
   // before_draw (the number of Draws before it; a mesh entry may give

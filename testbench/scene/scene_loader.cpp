@@ -184,6 +184,10 @@ class SceneReader {
   void read_lights(const At& root, Scene& scene);
   Light read_light(const At& a, Out& resolved);
   void place_lights(Scene& scene) const;
+  void read_textures(const At& root, Scene& scene);
+  Texture read_texture(const At& a, const std::string& name) const;
+  // A draw's "texture", "texcoords" and "texture_env" keys.
+  void read_draw_texturing(const At& a, const Scene& scene, Draw& d) const;
   void read_draw(const At& a, Scene& scene);
   void read_clear(const At& a, Scene& scene);
   glm::mat4 read_transform(const At& a) const;
@@ -387,7 +391,8 @@ Scene SceneReader::read_text(const std::string& text) {
   const Json json = parse(text);
   const At root{json, ""};
   expect_object(root);
-  check_keys(root, {"framebuffer", "camera", "ambient", "lights", "draws", "visibility"});
+  check_keys(root,
+             {"framebuffer", "camera", "ambient", "lights", "textures", "draws", "visibility"});
 
   Scene scene;
   scene.path = file_;
@@ -410,6 +415,7 @@ Scene SceneReader::read_text(const std::string& text) {
   // Only a painter's frame says so: z-buffered frames' stats.json is unchanged.
   if (scene.visibility == Visibility::painter) scene.resolved["visibility"] = "painter";
 
+  read_textures(root, scene);
   scene.resolved["draws"] = Out::array();
   if (has(root, "draws")) {
     const At draws = member(root, "draws");
@@ -945,14 +951,179 @@ void SceneReader::read_clear(const At& a, Scene& scene) {
   scene.clears.push_back(clear);
 }
 
+void SceneReader::read_textures(const At& root, Scene& scene) {
+  if (!has(root, "textures")) return;
+  const At textures = member(root, "textures");
+  if (!textures.v.is_object()) fail_value(textures, "expected an object of named textures");
+  Out resolved = Out::object();
+  for (const auto& item : textures.v.items()) {
+    const At a{item.value(), member_path(textures.path, item.key())};
+    Texture t = read_texture(a, item.key());
+    Out out = {{"format", std::string(to_string(t.format))},
+               {"width", t.levels[0].width},
+               {"height", t.levels[0].height},
+               {"levels", t.levels.size()},
+               {"wrap_s", std::string(to_string(t.sampler.wrap_s))},
+               {"wrap_t", std::string(to_string(t.sampler.wrap_t))},
+               {"min_filter", std::string(to_string(t.sampler.min_filter))},
+               {"mag_filter", std::string(to_string(t.sampler.mag_filter))}};
+    resolved[item.key()] = std::move(out);
+    scene.textures.push_back(std::move(t));
+  }
+  scene.resolved["textures"] = std::move(resolved);
+}
+
+Texture SceneReader::read_texture(const At& a, const std::string& name) const {
+  expect_object(a);
+  check_keys(a, {"format", "width", "height", "texels", "wrap", "wrap_s", "wrap_t", "min_filter",
+                 "mag_filter"});
+  Texture t;
+  t.name = name;
+  if (has(a, "format")) t.format = enumeration<TextureFormat>(member(a, "format"));
+  TextureImage level;
+  level.width = static_cast<int>(integer(member(a, "width"), 1, kMaxTextureSize));
+  level.height = has(a, "height")
+                     ? static_cast<int>(integer(member(a, "height"), 1, kMaxTextureSize))
+                     : 1;  // a 1D texture
+  // Inline texels: one array per texel, rows from the bottom, each with the
+  // format's channels in its own precision (rgb565: [r 0..31, g 0..63,
+  // b 0..31]; rgba4444: four of 0..15; the 8-bit formats 0..255 each).
+  const At texels = member(a, "texels");
+  const size_t count = static_cast<size_t>(level.width) * static_cast<size_t>(level.height);
+  if (!texels.v.is_array() || texels.v.size() != count) {
+    fail_value(texels,
+               "expected an array of " + std::to_string(count) + " texels (width x height)");
+  }
+  struct Channels {
+    unsigned count;
+    std::array<unsigned, 4> bits;
+  };
+  const auto channels = [](TextureFormat f) -> Channels {
+    switch (f) {
+      case TextureFormat::alpha8:
+      case TextureFormat::luminance8:
+      case TextureFormat::intensity8:
+        return {1, {8}};
+      case TextureFormat::luminance_alpha8:
+        return {2, {8, 8}};
+      case TextureFormat::rgb8:
+        return {3, {8, 8, 8}};
+      case TextureFormat::rgba8:
+        return {4, {8, 8, 8, 8}};
+      case TextureFormat::rgb565:
+        return {3, {5, 6, 5}};
+      case TextureFormat::rgba4444:
+        return {4, {4, 4, 4, 4}};
+    }
+    return {4, {8, 8, 8, 8}};
+  };
+  const Channels ch = channels(t.format);
+  level.texels.reserve(count * texel_bytes(t.format));
+  for (size_t i = 0; i < count; ++i) {
+    const At texel = element(texels, i);
+    if (!texel.v.is_array() || texel.v.size() != ch.count) {
+      fail_value(texel, "expected " + std::to_string(ch.count) + " channels for format " +
+                            std::string(to_string(t.format)));
+    }
+    std::array<unsigned, 4> v{};
+    for (unsigned c = 0; c < ch.count; ++c) {
+      v[c] = static_cast<unsigned>(integer(element(texel, c), 0, (1 << ch.bits[c]) - 1));
+    }
+    if (t.format == TextureFormat::rgb565 || t.format == TextureFormat::rgba4444) {
+      const unsigned packed = t.format == TextureFormat::rgb565
+                                  ? v[0] << 11 | v[1] << 5 | v[2]
+                                  : v[0] << 12 | v[1] << 8 | v[2] << 4 | v[3];
+      level.texels.push_back(static_cast<uint8_t>(packed & 0xff));
+      level.texels.push_back(static_cast<uint8_t>(packed >> 8));
+    } else {
+      for (unsigned c = 0; c < ch.count; ++c) level.texels.push_back(static_cast<uint8_t>(v[c]));
+    }
+  }
+  t.levels.push_back(std::move(level));
+
+  if (has(a, "wrap")) {
+    t.sampler.wrap_s = t.sampler.wrap_t = enumeration<TextureWrap>(member(a, "wrap"));
+  }
+  if (has(a, "wrap_s")) t.sampler.wrap_s = enumeration<TextureWrap>(member(a, "wrap_s"));
+  if (has(a, "wrap_t")) t.sampler.wrap_t = enumeration<TextureWrap>(member(a, "wrap_t"));
+  // Without a mipmap chain GL's default minification filter would make the
+  // texture incomplete: a texture given one level minifies with "linear"
+  // unless it says otherwise.
+  t.sampler.min_filter = TextureFilter::linear;
+  if (has(a, "min_filter"))
+    t.sampler.min_filter = enumeration<TextureFilter>(member(a, "min_filter"));
+  if (has(a, "mag_filter")) {
+    const At m = member(a, "mag_filter");
+    t.sampler.mag_filter = enumeration<TextureFilter>(m);
+    if (uses_mipmaps(t.sampler.mag_filter)) fail_value(m, "expected nearest or linear");
+  }
+  // What the texture unit does not sample yet: say so rather than render it otherwise.
+  for (const char* key : {"wrap", "wrap_s", "wrap_t"}) {
+    if (!has(a, key)) continue;
+    const At w = member(a, key);
+    const TextureWrap mode = enumeration<TextureWrap>(w);
+    if (mode != TextureWrap::repeat && mode != TextureWrap::clamp_to_edge) {
+      fail_value(w,
+                 "wrap modes clamp and mirrored_repeat are not supported yet; expected repeat "
+                 "or clamp_to_edge");
+    }
+  }
+  if (uses_mipmaps(t.sampler.min_filter)) {
+    fail_value(member(a, "min_filter"),
+               "mipmap filters are not supported yet; expected nearest or linear");
+  }
+  if (t.sampler.min_filter != t.sampler.mag_filter) {
+    fail(a.path,
+         "a min_filter other than the mag_filter needs the level of detail, which is not "
+         "supported yet: give both the same filter");
+  }
+  return t;
+}
+
+void SceneReader::read_draw_texturing(const At& a, const Scene& scene, Draw& d) const {
+  if (!has(a, "texture")) {
+    for (const char* key : {"texcoords", "texture_env"}) {
+      if (has(a, key)) fail(member_path(a.path, key), "needs a \"texture\" in the same draw");
+    }
+    return;
+  }
+  const At tex = member(a, "texture");
+  const std::string name = string(tex);
+  const auto it = std::find_if(scene.textures.begin(), scene.textures.end(),
+                               [&](const Texture& t) { return t.name == name; });
+  if (it == scene.textures.end()) fail_value(tex, "expected the name of one of \"textures\"");
+  d.texture = static_cast<int>(it - scene.textures.begin());
+  const At tc = member(a, "texcoords");
+  if (!tc.v.is_array() || tc.v.size() != d.positions.size()) {
+    fail_value(tc, "expected an array of " + std::to_string(d.positions.size()) +
+                       " texture coordinates [s, t] (one per position)");
+  }
+  for (size_t i = 0; i < tc.v.size(); ++i) {
+    glm::vec2 st{0.0f};
+    numbers(element(tc, i), 1, 2, glm::value_ptr(st));
+    d.texcoords.push_back(st);
+  }
+  if (has(a, "texture_env")) {
+    const At env = member(a, "texture_env");
+    if (env.v.is_string()) {
+      d.texture_env.mode = enumeration<TextureEnvMode>(env);
+    } else {
+      expect_object(env);
+      check_keys(env, {"mode", "color"});
+      d.texture_env.mode = enumeration<TextureEnvMode>(member(env, "mode"));
+      if (has(env, "color")) d.texture_env.color = color(member(env, "color"));
+    }
+  }
+}
+
 void SceneReader::read_draw(const At& a, Scene& scene) {
   expect_object(a);
   const bool is_mesh = has(a, "mesh");
   if (is_mesh) {
     check_keys(a, {"name", "mesh", "transform", "material", "lighting", "state"});
   } else if (has(a, "positions") || has(a, "primitive")) {
-    check_keys(a, {"name", "primitive", "positions", "colors", "indices", "transform", "material",
-                   "state"});
+    check_keys(a, {"name", "primitive", "positions", "colors", "indices", "texture", "texcoords",
+                   "texture_env", "transform", "material", "state"});
   } else {
     fail(a.path, "expected a \"mesh\", \"positions\" or \"clear\" key");
   }
@@ -1006,6 +1177,7 @@ void SceneReader::read_draw(const At& a, Scene& scene) {
             integer(element(idx, i), 0, std::numeric_limits<uint32_t>::max())));
       }
     }
+    read_draw_texturing(a, scene, d);
     d.lighting = false;  // no normals
     d.material = material.value_or(Material{});
     d.state = state;
@@ -1070,6 +1242,12 @@ void SceneReader::finish_draw(Draw& d, const glm::mat4& model, const At& a, Scen
   resolved["normals"] = d.normals.size();
   resolved["colors"] = d.colors.size();
   resolved["indices"] = d.indices.size();
+  if (d.texture >= 0) {
+    resolved["texture"] = scene.textures[static_cast<size_t>(d.texture)].name;
+    resolved["texcoords"] = d.texcoords.size();
+    resolved["texture_env"] = {{"mode", std::string(to_string(d.texture_env.mode))},
+                               {"color", out_vec(d.texture_env.color)}};
+  }
   resolved["primitives"] = primitive_count(d.primitive, n);
   resolved["lighting"] = d.lighting;
   resolved["material"] = out_material(d.material);

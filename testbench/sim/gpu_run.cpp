@@ -254,6 +254,19 @@ FrameState layout_frame(const Scene& scene, uint64_t* memory_bytes) {
     return addr;
   };
 
+  // Every scene texture's levels, one after another, each on and padded to
+  // kMaxTextureCacheLine bytes (hw/texture_state.h).
+  std::vector<std::vector<TextureLevel>> texture_levels;
+  for (const Texture& t : scene.textures) {
+    std::vector<TextureLevel>& levels = texture_levels.emplace_back();
+    for (const TextureImage& image : t.levels) {
+      const uint64_t addr =
+          (end + kMaxTextureCacheLine - 1) / kMaxTextureCacheLine * kMaxTextureCacheLine;
+      end = addr + (image.texels.size() + kMaxTextureCacheLine - 1) / kMaxTextureCacheLine *
+                       kMaxTextureCacheLine;
+      levels.push_back({addr, image.width, image.height});
+    }
+  }
   int64_t next_primitive = 0;
   for (const Draw& d : scene.draws) {
     DrawState s;
@@ -278,6 +291,16 @@ FrameState layout_frame(const Scene& scene, uint64_t* memory_bytes) {
     b.positions = place(d.positions.size(), sizeof(glm::vec4));
     if (s.lighting) b.normals = place(d.normals.size(), sizeof(glm::vec3));
     if (!d.colors.empty()) b.colors = place(d.colors.size(), sizeof(glm::vec4));
+    if (d.texture >= 0) {
+      // The texture stage's registers; its texels are placed once per scene
+      // texture (below), so draws sharing a texture share its memory.
+      const Texture& t = scene.textures[static_cast<size_t>(d.texture)];
+      b.texcoords = place(d.texcoords.size(), sizeof(glm::vec2));
+      s.texture.format = t.format;
+      s.texture.sampler = t.sampler;
+      s.texture.env = d.texture_env;
+      s.texture.levels = texture_levels.at(static_cast<size_t>(d.texture));
+    }
     if (!d.indices.empty()) b.indices = place(d.indices.size(), sizeof(uint32_t));
     s.varyings = varying_layout_for(s);  // after the buffers: a Phong layout needs normals
     next_primitive += static_cast<int64_t>(primitive_count(d.primitive, b.slot_count));
@@ -298,7 +321,13 @@ void write_frame_arrays(const Scene& scene, const FrameState& frame, uint8_t* me
     copy(b.positions, d.positions);
     copy(b.normals, d.normals);
     copy(b.colors, d.colors);
+    copy(b.texcoords, d.texcoords);
     copy(b.indices, d.indices);
+    if (d.texture >= 0) {
+      const Texture& t = scene.textures[static_cast<size_t>(d.texture)];
+      const std::vector<TextureLevel>& levels = frame.draws[i].texture.levels;
+      for (size_t l = 0; l < levels.size(); ++l) copy(levels[l].address, t.levels[l].texels);
+    }
   }
 }
 
@@ -314,8 +343,9 @@ LoadedFrame load_frame(const Scene& scene) {
 // One elaborated GPU and the testbench around it.
 struct GpuRunner::Model {
   sc_core::sc_simcontext* context = nullptr;  // the model's own (others may run in between)
-  FrameState frame;      // the frame's registers, which every stage reads: reloaded per frame
-  bool resolve = false;  // frame.needs_resolve() when elaborated: a Resolve stage or none
+  FrameState frame;       // the frame's registers, which every stage reads: reloaded per frame
+  bool resolve = false;   // frame.needs_resolve() when elaborated: a Resolve stage or none
+  bool textured = false;  // frame.textured() when elaborated: texture units or none
   bool reusable = false;
   std::unique_ptr<Gpu> gpu;
   // Declared after the GPU, so destroyed before it: nothing calls a probe
@@ -363,7 +393,8 @@ GpuRunResult GpuRunner::run(const Scene& scene) {
   Progress* progress = options.progress;
   uint64_t memory_bytes = 0;
   FrameState frame = layout_frame(scene, &memory_bytes);
-  const bool reuse = m_model && m_model->reusable && m_model->resolve == frame.needs_resolve();
+  const bool reuse = m_model && m_model->reusable && m_model->resolve == frame.needs_resolve() &&
+                     m_model->textured == frame.textured();
   if (progress) {
     progress->begin("build",
                     reuse ? std::string("laying out the scene in GPU memory, resetting the GPU")
@@ -408,6 +439,7 @@ void GpuRunner::elaborate(FrameState frame, uint64_t memory_bytes, const TraceFi
   m.context = context;
   m.frame = std::move(frame);
   m.resolve = m.frame.needs_resolve();
+  m.textured = m.frame.textured();
   // A traced frame writes its own trace files, and a fault breaks the
   // model: neither is reset for another frame.
   m.reusable = !tracing && !faults;

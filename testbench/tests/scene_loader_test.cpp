@@ -1242,3 +1242,66 @@ TEST_F(SceneLoaderTest, ClearEntryErrors) {
 
 }  // namespace
 }  // namespace gpusim
+
+// ---------------------------------------------------------------- textures
+
+namespace gpusim {
+namespace {
+
+constexpr const char* kTexturedDraw =
+    R"("draws": [{"positions": [[0,0,0],[1,0,0],[0,1,0]], "texture": "t",
+                  "texcoords": [[0,0],[1,0],[0,1]]}])";
+
+TEST_F(SceneLoaderTest, TextureTexelsAreStoredInTheirFormat) {
+  const Scene s = load(std::string(R"({"textures": {"t": {"format": "rgb565", "width": 2,
+      "texels": [[31, 0, 1], [0, 63, 0]], "wrap_s": "clamp_to_edge",
+      "min_filter": "nearest", "mag_filter": "nearest"}}, )") +
+                       kTexturedDraw + "}");
+  ASSERT_EQ(s.textures.size(), 1u);
+  const Texture& t = s.textures[0];
+  EXPECT_EQ(t.levels[0].width, 2);
+  EXPECT_EQ(t.levels[0].height, 1);
+  // 31 << 11 | 1 = 0xF801, 63 << 5 = 0x07E0, little endian.
+  EXPECT_EQ(t.levels[0].texels, (std::vector<uint8_t>{0x01, 0xF8, 0xE0, 0x07}));
+  EXPECT_EQ(t.sampler.wrap_s, TextureWrap::clamp_to_edge);
+  EXPECT_EQ(t.sampler.wrap_t, TextureWrap::repeat);
+  EXPECT_EQ(t.sampler.mag_filter, TextureFilter::nearest);
+  ASSERT_EQ(s.draws.size(), 1u);
+  EXPECT_EQ(s.draws[0].texture, 0);
+  EXPECT_EQ(s.draws[0].texcoords[1], glm::vec2(1.0f, 0.0f));
+  EXPECT_EQ(s.draws[0].texture_env.mode, TextureEnvMode::modulate);
+}
+
+TEST_F(SceneLoaderTest, TextureMistakesAreOneLineErrors) {
+  const std::string tex = R"({"textures": {"t": {"width": 2, "texels": [[1,2,3,4],[5,6,7,8]]}}, )";
+  EXPECT_NE(error_of(tex + R"("draws": [{"positions": [[0,0,0]], "texture": "t",
+                               "texcoords": [[0,0],[1,1]]}]})")
+                .find("expected an array of 1 texture coordinates"),
+            std::string::npos);
+  EXPECT_NE(error_of(tex + R"("draws": [{"positions": [[0,0,0]], "texture": "u",
+                               "texcoords": [[0,0]]}]})")
+                .find("expected the name of one of \"textures\""),
+            std::string::npos);
+  EXPECT_NE(error_of(tex + R"("draws": [{"positions": [[0,0,0]], "texcoords": [[0,0]]}]})")
+                .find("needs a \"texture\""),
+            std::string::npos);
+  EXPECT_NE(error_of(R"({"textures": {"t": {"width": 2, "texels": [[1,2,3,4]]}}})")
+                .find("expected an array of 2 texels"),
+            std::string::npos);
+  EXPECT_NE(error_of(R"({"textures": {"t": {"width": 1, "texels": [[1,2,3,256]]}}})")
+                .find("textures.t.texels[0][3]"),
+            std::string::npos);
+  EXPECT_NE(error_of(R"({"textures": {"t": {"width": 5000, "texels": []}}})").find("width"),
+            std::string::npos);
+  EXPECT_NE(error_of(R"({"textures": {"t": {"width": 1, "texels": [[1,2,3,4]],
+                                            "wrap": "mirrored_repeat"}}})")
+                .find("not supported yet"),
+            std::string::npos);
+  EXPECT_NE(error_of(R"({"textures": {"t": {"width": 1, "texels": [[1,2,3,4]],
+                                            "min_filter": "nearest"}}})")
+                .find("level of detail"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace gpusim

@@ -173,9 +173,36 @@ INSTANTIATE_TEST_SUITE_P(
                           "clears_super2", "viewport_scissor", "viewport_scissor_aa", "phong",
                           "aa_phong_samples4", "painter_default", "painter_cycle",
                           "painter_interpenetrate", "painter_features", "provoking_interpolation",
-                          "hiz_funcs", "hiz_funcs_samples4"),
+                          "hiz_funcs", "hiz_funcs_samples4", "textured", "textured_samples4"),
         ::testing::Range(0, 18)),
     case_name);
+
+// The texture unit's cache and fragment FIFO change only the timing: the
+// textured scenes under three rows of the covering array and three texture
+// configurations: 0 one 16-byte line, no prefetch (every texel a miss, a
+// 3-byte texel straddling two lines); 1 two ways of 32-byte lines in 8 sets,
+// 4 fragments ahead; 2 the default cache with 1024-byte lines.
+using TextureCase = std::tuple<std::string, int, int>;
+
+class BitExactTexture : public ::testing::TestWithParam<TextureCase> {};
+
+TEST_P(BitExactTexture, FrameAndCountersEqualGolden) {
+  const auto& [scene_name, row, mode] = GetParam();
+  GpuConfig config = config_for(matrix_row(row));
+  const std::array<TextureConfig, 3> textures{
+      TextureConfig{1, 1, 16, 1}, TextureConfig{8, 2, 32, 4}, TextureConfig{32, 4, 1024, 64}};
+  config.texture = textures[static_cast<size_t>(mode)];
+  expect_recorded_run_equals_golden(test_scene(scene_name), config);
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, BitExactTexture,
+                         ::testing::Combine(::testing::Values("textured", "textured_samples4"),
+                                            ::testing::Values(1, 5, 16), ::testing::Range(0, 3)),
+                         [](const ::testing::TestParamInfo<TextureCase>& info) {
+                           return std::get<0>(info.param) + "_row" +
+                                  std::to_string(std::get<1>(info.param)) + "_texture" +
+                                  std::to_string(std::get<2>(info.param));
+                         });
 
 // Tiled surfaces, bursts, compression and the no-fill path
 // (docs/architecture.md, "Tiled surfaces and compression") change only the

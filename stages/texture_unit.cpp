@@ -1,0 +1,316 @@
+#include "stages/texture_unit.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "hw/pixel_formats.h"
+
+namespace gpusim {
+namespace {
+
+// Conservation (testbench/sim/conservation.h): textures exactly the pixels
+// the interpolator gave a texture coordinate, and passes every stamp on.
+void conserve(ConservationLedger& l) {
+  const std::string ip = l.upstream("interpolator");
+  l.equal("tokens_out", l.get("tokens_out"), "tokens_in", l.get("tokens_in"));
+  l.equal("fragments", l.get("fragments"), ip + ".texcoords", l.stage(ip, "texcoords"));
+  l.equal("texels", l.get("texels"), "nearest_samples + 4 x bilinear_samples",
+          l.get("nearest_samples") + 4 * l.get("bilinear_samples"));
+  l.equal("fragments", l.get("fragments"), "nearest_samples + bilinear_samples",
+          l.get("nearest_samples") + l.get("bilinear_samples"));
+}
+
+// A texel index wrapped onto a side of `size` texels.
+int32_t wrap(int64_t i, int32_t size, TextureWrap mode) {
+  if (mode == TextureWrap::repeat) {
+    if ((size & (size - 1)) == 0) return static_cast<int32_t>(i & (size - 1));
+    const int64_t r = i % size;
+    return static_cast<int32_t>(r < 0 ? r + size : r);
+  }
+  return static_cast<int32_t>(std::clamp<int64_t>(i, 0, size - 1));
+}
+
+// NEAREST along one axis. A subnormal coordinate is 0 (the datapath flushes
+// them); REPEAT on a side that is not a power of two scales the coordinate's
+// fraction, kept below 1.
+int32_t nearest_axis(float s, int32_t size, TextureWrap mode) {
+  if (std::fpclassify(s) == FP_SUBNORMAL) s = 0.0f;
+  if (mode == TextureWrap::repeat && (size & (size - 1)) != 0) {
+    const float f = std::min(s - std::floor(s), kBelowOne);
+    return static_cast<int32_t>(f * static_cast<float>(size));
+  }
+  return wrap(static_cast<int64_t>(std::floor(s * static_cast<float>(size))), size, mode);
+}
+
+// LINEAR along one axis: the 24.8 texel coordinate, split.
+struct AxisTexels {
+  int32_t i0, i1;
+  unsigned weight;
+};
+AxisTexels linear_axis(float s, int32_t size, TextureWrap mode) {
+  if (mode == TextureWrap::repeat && (size & (size - 1)) != 0) s -= std::floor(s);
+  const int64_t u =
+      static_cast<int64_t>(std::nearbyint(s * static_cast<float>(size) * 256.0f)) - 128;
+  return {wrap(u >> 8, size, mode), wrap((u >> 8) + 1, size, mode),
+          static_cast<unsigned>(u & 0xff)};
+}
+
+// v0 + (w (v1 - v0) + 128) >> 8: the filter's 8.8 lerp, rounded.
+uint8_t lerp(uint8_t v0, uint8_t v1, unsigned w) {
+  return static_cast<uint8_t>(v0 + ((static_cast<int>(w) * (v1 - v0) + 128) >> 8));
+}
+
+// GL 1.5's texture environment (tables 3.22 and 3.23) for a texture of base
+// format `base`: the filtered texel ct (each channel / 255) and the
+// fragment's colour cf.
+glm::vec4 environment(const TextureEnv& env, BaseFormat base, const Texel& texel,
+                      const glm::vec4& cf) {
+  const glm::vec4 ct(texel_value(texel[0]), texel_value(texel[1]), texel_value(texel[2]),
+                     texel_value(texel[3]));
+  const bool color = base != BaseFormat::alpha;
+  const bool alpha = base == BaseFormat::alpha || base == BaseFormat::luminance_alpha ||
+                     base == BaseFormat::intensity || base == BaseFormat::rgba;
+  const bool intensity = base == BaseFormat::intensity;
+  glm::vec4 r = cf;
+  for (int c = 0; c < 3; ++c) {
+    switch (env.mode) {
+      case TextureEnvMode::replace:
+        if (color) r[c] = ct[c];
+        break;
+      case TextureEnvMode::modulate:
+        if (color) r[c] = cf[c] * ct[c];
+        break;
+      case TextureEnvMode::decal:
+        if (base == BaseFormat::rgb) r[c] = ct[c];
+        if (base == BaseFormat::rgba) r[c] = cf[c] * (1.0f - ct[3]) + ct[c] * ct[3];
+        break;
+      case TextureEnvMode::blend:
+        if (color) r[c] = cf[c] * (1.0f - ct[c]) + env.color[c] * ct[c];
+        break;
+      case TextureEnvMode::add:
+        if (color) r[c] = cf[c] + ct[c];
+        break;
+    }
+  }
+  switch (env.mode) {
+    case TextureEnvMode::replace:
+      if (alpha) r[3] = ct[3];
+      break;
+    case TextureEnvMode::modulate:
+      if (alpha) r[3] = cf[3] * ct[3];
+      break;
+    case TextureEnvMode::decal:
+      break;
+    case TextureEnvMode::blend:
+      if (intensity) {
+        r[3] = cf[3] * (1.0f - ct[3]) + env.color[3] * ct[3];
+      } else if (alpha) {
+        r[3] = cf[3] * ct[3];
+      }
+      break;
+    case TextureEnvMode::add:
+      if (intensity) {
+        r[3] = cf[3] + ct[3];
+      } else if (alpha) {
+        r[3] = cf[3] * ct[3];
+      }
+      break;
+  }
+  for (int c = 0; c < 4; ++c) r[c] = clamp01(r[c]);
+  return r;
+}
+
+}  // namespace
+
+const StageSpec& TextureUnit::spec() {
+  static const StageSpec s{
+      "texture_unit",
+      StagePlacement::per_unit,
+      /*optional=*/true,
+      {/*ii=*/1, /*latency=*/8},
+      "stamp",
+      "passes a stamp a cycle; texturing filters a pixel a cycle (a bilinear sample), after "
+      "address, cache tag and a fragment FIFO (8 cycles of latency, as ATTILA's address and "
+      "filter ALUs, 6 + 4, less the overlap)",
+      "shaded batches and control tokens read",
+      "textured batches and control tokens written",
+      {"interpolator_to_texture"},
+      &conserve,
+      StageTrace{TraceItem::stamp_batch, {"", "", ""}, FragmentSite::none},
+      {{"textured batch", "max(`ii` × stamps, the filter's last pixel + 1)",
+        "A pixel a cycle through address and filter; misses go to memory as soon as their pixel "
+        "is addressed, up to texture.prefetch_fragments pixels ahead of the filter "
+        "(stages/texture_unit.h)."},
+       {"other tokens", "`ii` × stamps (at least `ii`)", "Passed through."}}};
+  return s;
+}
+GPUSIM_REGISTER_STAGE(TextureUnit);
+
+TextureUnit::TextureUnit(sc_core::sc_module_name name, const GpuConfig& config,
+                         const FrameState& frame, unsigned unit)
+    : PipelineStage(name, spec(), static_cast<int>(unit), config, frame),
+      in("in"),
+      out("out"),
+      mem("mem"),
+      m_cache(config.texture) {
+  SC_HAS_PROCESS(TextureUnit);
+  SC_THREAD(run);
+}
+
+void TextureUnit::reset_state() {
+  m_cache.reset();
+}
+
+void TextureUnit::run() {
+  attach_clock(mem);
+  ShadedStampBatch batch;
+  for (;;) {
+    receive(in, batch);
+    uint64_t cycles = m_cost.ii * std::max<uint64_t>(batch.stamps.size(), 1);
+    if (batch.kind == PacketKind::work && !batch.texcoords.empty()) {
+      const TextureBinding& binding = m_frame.draws.at(batch.primitive->draw_id).texture;
+      const uint64_t textured = texture(batch, binding);
+      const uint64_t unstalled = std::max<uint64_t>(cycles, batch.texcoords.size());
+      if (textured > unstalled) m_memory_stall_cycles += textured - unstalled;
+      cycles = std::max(cycles, textured);
+      batch.texcoords.clear();
+    }
+    work(cycles);
+    emit(out, std::move(batch));
+  }
+}
+
+uint64_t TextureUnit::texture(ShadedStampBatch& batch, const TextureBinding& binding) {
+  const TextureLevel& level = binding.levels.front();
+  const TextureSampler& sampler = binding.sampler;
+  // One level and one filter: the scene loader refuses the rest for now.
+  const bool bilinear = sampler.mag_filter == TextureFilter::linear;
+  const unsigned bytes = texel_bytes(binding.format);
+  const unsigned line_bytes = m_cache.line_bytes();
+  const size_t n = batch.texcoords.size();
+  const uint64_t start = mem.now().value();
+  const uint64_t depth = m_config.texture.prefetch_fragments;
+
+  // Per pixel: the cycle it is addressed and its filter's cycle, from `start`.
+  std::vector<uint64_t> address(n), filter(n);
+  std::vector<Texel> filtered(n);
+  m_fills.clear();
+  m_fills.reserve(n * 8);  // at most 4 texels x 2 lines a pixel: no reallocation under a round
+  m_pixels.resize(n);
+
+  // Lines in flight in this batch: slot -> fill index (the fill's arrival
+  // is known once its round is resolved).
+  std::vector<std::pair<uint32_t, int32_t>> in_flight;
+  const auto arrival = [&](const Footprint& p) {
+    uint64_t ready = p.ready;
+    for (int32_t f : p.fill) {
+      if (f >= 0) {
+        ready = std::max<uint64_t>(ready, m_fills[static_cast<size_t>(f)].done.reads.value());
+      }
+    }
+    return ready;
+  };
+  size_t next_address = 0, next_filter = 0;
+  while (next_filter < n) {
+    // Address as far as the fragment FIFO allows: pixel i needs pixel
+    // i - D's filter cycle, known once that pixel's fills have arrived.
+    for (; next_address < n && (next_address < depth || next_address - depth < next_filter);
+         ++next_address) {
+      const size_t i = next_address;
+      uint64_t at = i == 0 ? 0 : address[i - 1] + 1;
+      if (i >= depth) at = std::max(at, filter[i - depth]);
+      address[i] = at;
+      const glm::vec2& st = batch.texcoords[i];
+      Footprint& p = m_pixels[i];
+      p.fill.fill(-1);
+      p.ready = 0;
+      std::array<int32_t, 2> xs{}, ys{};
+      if (bilinear) {
+        const AxisTexels x = linear_axis(st.x, level.width, sampler.wrap_s);
+        const AxisTexels y = linear_axis(st.y, level.height, sampler.wrap_t);
+        xs = {x.i0, x.i1};
+        ys = {y.i0, y.i1};
+        p.weight_s = x.weight;
+        p.weight_t = y.weight;
+        p.texels = 4;
+      } else {
+        xs[0] = nearest_axis(st.x, level.width, sampler.wrap_s);
+        ys[0] = nearest_axis(st.y, level.height, sampler.wrap_t);
+        p.texels = 1;
+      }
+      std::array<Texel, 4> texel;
+      unsigned waits = 0;
+      for (unsigned k = 0; k < p.texels; ++k) {
+        const uint64_t addr =
+            level.address +
+            (uint64_t(ys[k >> 1]) * uint64_t(level.width) + uint64_t(xs[k & 1])) * bytes;
+        uint8_t raw[4];
+        // A texel's bytes (3 of them may straddle two lines), line by line.
+        for (uint64_t a = addr; a < addr + bytes;) {
+          const TextureCache::Lookup line = m_cache.lookup(a);
+          const uint64_t line_start = a & ~uint64_t{line_bytes - 1};
+          int32_t fill = -1;
+          if (!line.hit) {
+            ++m_misses;
+            fill = static_cast<int32_t>(m_fills.size());
+            m_fills.emplace_back();
+            mem.read_tracked(line_start, m_cache.data(line.slot), line_bytes, clock_cycles(at),
+                             m_fills.back());
+            in_flight.emplace_back(line.slot, fill);
+          } else {
+            ++m_hits;
+            const auto it = std::find_if(in_flight.rbegin(), in_flight.rend(),
+                                         [&](const auto& f) { return f.first == line.slot; });
+            if (it != in_flight.rend()) {
+              fill = it->second;
+            } else {
+              p.ready = std::max(p.ready, m_cache.ready(line.slot));
+            }
+          }
+          if (fill >= 0 &&
+              std::find(p.fill.begin(), p.fill.begin() + waits, fill) == p.fill.begin() + waits) {
+            p.fill[waits++] = fill;
+          }
+          const uint64_t end = std::min<uint64_t>(addr + bytes, line_start + line_bytes);
+          std::copy(m_cache.data(line.slot) + (a - line_start),
+                    m_cache.data(line.slot) + (end - line_start), raw + (a - addr));
+          a = end;
+        }
+        texel[k] = expand_texel(binding.format, raw);
+      }
+      m_texels += p.texels;
+      if (bilinear) {
+        for (int c = 0; c < 4; ++c) {
+          filtered[i][c] = lerp(lerp(texel[0][c], texel[1][c], p.weight_s),
+                                lerp(texel[2][c], texel[3][c], p.weight_s), p.weight_t);
+        }
+        ++m_bilinear;
+      } else {
+        filtered[i] = texel[0];
+        ++m_nearest;
+      }
+    }
+    // The fills issued so far complete in this delta's round.
+    mem.wait_round();
+    for (; next_filter < next_address; ++next_filter) {
+      const size_t i = next_filter;
+      const uint64_t ready = arrival(m_pixels[i]);
+      const uint64_t lines = ready > start ? (ready - start + m_cycle - 1) / m_cycle : 0;
+      filter[i] = std::max({i == 0 ? uint64_t{0} : filter[i - 1] + 1, address[i] + 1, lines});
+    }
+    // The lines filled in this round are present from their fills' arrival.
+    for (const auto& [slot, fill] : in_flight) {
+      m_cache.ready(slot) = m_fills[static_cast<size_t>(fill)].done.reads.value();
+    }
+    in_flight.clear();
+  }
+  const BaseFormat base = base_format(binding.format);
+  const TextureEnv& env = m_frame.draws.at(batch.primitive->draw_id).texture.env;
+  for (size_t i = 0; i < n; ++i) {
+    batch.colors[i] = environment(env, base, filtered[i], batch.colors[i]);
+  }
+  m_fragments += n;
+  return n == 0 ? 0 : filter[n - 1] + 1;
+}
+
+}  // namespace gpusim
