@@ -833,16 +833,17 @@ TEST_F(Cli, RunSetErrorsNameTheOption) {
   expect_message("--set stages.primitive_setup.ii=0",
                  "--set stages.primitive_setup.ii=0: stages.primitive_setup.ii: 0 is out of range "
                  "1..1000000");
-  expect_message("--set units=2 --set fifo_depths.clipper_to_setp=4",
-                 "--set fifo_depths.clipper_to_setp=4: fifo_depths.clipper_to_setp: unknown key "
-                 "(allowed: clipper_to_setup, command_to_fetch, commands, "
-                 "depth_to_interpolator, distributor_to_rasterizer, fetch_to_shader, "
-                 "interpolator_to_rop, rasterizer_to_depth, rop_to_resolve, "
-                 "setup_to_distributor, shader_to_clipper)");
+  expect_message(
+      "--set units=2 --set fifo_depths.clipper_to_setp=4",
+      "--set fifo_depths.clipper_to_setp=4: fifo_depths.clipper_to_setp: unknown key "
+      "(allowed: clipper_to_setup, command_to_fetch, commands, "
+      "depth_to_interpolator, distributor_to_rasterizer, fetch_to_shader, "
+      "interpolator_to_rop, interpolator_to_texture, rasterizer_to_depth, rop_to_resolve, "
+      "setup_to_distributor, shader_to_clipper)");
   expect_message("--set tile_sise=32",
                  "--set tile_sise=32: tile_sise: unknown key (allowed: clock_mhz, units, "
                  "tile_size, stamp, fifo_depth, fifo_depths, stages, memory, surfaces, "
-                 "compression, hierarchical_z, vertex_cache_entries, tile_cache_entries, "
+                 "compression, hierarchical_z, texture, vertex_cache_entries, tile_cache_entries, "
                  "samples_per_pass, tile_test_overlap, "
                  "lighting_cycles_per_pixel, lighting_cycles_per_light, watchdog_cycles)");
   expect_message("--set units=four", "--set units=four: units: expected an integer, got string");

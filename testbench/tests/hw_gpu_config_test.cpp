@@ -84,16 +84,17 @@ TEST(GpuConfig, Defaults) {
   // The registered stages' kinds (hw/stage_spec.h), by name.
   EXPECT_EQ(GpuConfig::stage_names(),
             (std::vector<std::string>{"clipper", "command_processor", "depth_test", "interpolator",
-                                      "primitive_setup", "resolve", "rop", "tile_distributor",
-                                      "tile_rasterizer", "vertex_fetch", "vertex_shader"}));
-  EXPECT_EQ(
-      GpuConfig::fifo_names(),
-      (std::vector<std::string>{"clipper_to_setup", "command_to_fetch", "commands",
-                                "depth_to_interpolator", "distributor_to_rasterizer",
-                                "fetch_to_shader", "interpolator_to_rop", "rasterizer_to_depth",
-                                "rop_to_resolve", "setup_to_distributor", "shader_to_clipper"}));
+                                      "primitive_setup", "resolve", "rop", "texture_unit",
+                                      "tile_distributor", "tile_rasterizer", "vertex_fetch",
+                                      "vertex_shader"}));
+  EXPECT_EQ(GpuConfig::fifo_names(),
+            (std::vector<std::string>{
+                "clipper_to_setup", "command_to_fetch", "commands", "depth_to_interpolator",
+                "distributor_to_rasterizer", "fetch_to_shader", "interpolator_to_rop",
+                "interpolator_to_texture", "rasterizer_to_depth", "rop_to_resolve",
+                "setup_to_distributor", "shader_to_clipper"}));
   for (const auto& n : GpuConfig::fifo_names()) EXPECT_EQ(c.fifo_depth_of(n), 16u) << n;
-  EXPECT_EQ(c.stages.size(), 11u);
+  EXPECT_EQ(c.stages.size(), 12u);
   for (const auto& n : GpuConfig::stage_names()) EXPECT_GE(c.stage(n).ii, 1u) << n;
   EXPECT_EQ(c.stage("tile_rasterizer"), (StageCost{1, 2}));
   EXPECT_EQ(c.stage("vertex_shader"), (StageCost{4, 24}));
@@ -200,21 +201,27 @@ TEST(GpuConfig, UnknownKeysNameTheirPathAndTheAllowedKeys) {
   EXPECT_EQ(error_of(json{{"unitz", 4}}),
             "gpu.json: unitz: unknown key (allowed: clock_mhz, units, tile_size, stamp, "
             "fifo_depth, fifo_depths, stages, memory, surfaces, compression, hierarchical_z, "
-            "vertex_cache_entries, "
+            "texture, vertex_cache_entries, "
             "tile_cache_entries, samples_per_pass, tile_test_overlap, lighting_cycles_per_pixel, "
             "lighting_cycles_per_light, watchdog_cycles)");
   // The old name of the tile rasterizer is refused with the list of stages.
-  EXPECT_EQ(error_of(json::parse(R"({"stages": {"rasterizer": {"ii": 1}}})")),
-            "gpu.json: stages.rasterizer: unknown key (allowed: clipper, command_processor, "
-            "depth_test, interpolator, primitive_setup, resolve, rop, tile_distributor, "
-            "tile_rasterizer, vertex_fetch, vertex_shader)");
+  EXPECT_EQ(
+      error_of(json::parse(R"({"stages": {"rasterizer": {"ii": 1}}})")),
+      "gpu.json: stages.rasterizer: unknown key (allowed: clipper, command_processor, "
+      "depth_test, interpolator, primitive_setup, resolve, rop, texture_unit, tile_distributor, "
+      "tile_rasterizer, vertex_fetch, vertex_shader)");
   EXPECT_EQ(error_of(json::parse(R"({"stages": {"tile_rasterizer": {"iii": 1}}})")),
             "gpu.json: stages.tile_rasterizer.iii: unknown key (allowed: ii, latency)");
   EXPECT_EQ(error_of(json::parse(R"({"fifo_depths": {"fetch_to_shadr": 4}})")),
             "gpu.json: fifo_depths.fetch_to_shadr: unknown key (allowed: clipper_to_setup, "
             "command_to_fetch, commands, depth_to_interpolator, distributor_to_rasterizer, "
-            "fetch_to_shader, interpolator_to_rop, rasterizer_to_depth, rop_to_resolve, "
+            "fetch_to_shader, interpolator_to_rop, interpolator_to_texture, rasterizer_to_depth, "
+            "rop_to_resolve, "
             "setup_to_distributor, shader_to_clipper)");
+  EXPECT_EQ(error_of(json::parse(R"({"texture": {"cache_sets": 3}})")),
+            "gpu.json: texture.cache_sets: 3 is not a power of two");
+  EXPECT_EQ(error_of(json::parse(R"({"texture": {"cache_line_bytes": 2048}})")),
+            "gpu.json: texture.cache_line_bytes: 2048 is out of range 16..1024");
   EXPECT_EQ(error_of(json::parse(R"({"memory": {"latancy": 4}})")),
             "gpu.json: memory.latancy: unknown key (allowed: latency, bytes_per_cycle, channels, "
             "interleave_bytes)");
@@ -465,7 +472,7 @@ TEST(GpuConfigOverrides, ErrorsNameTheOverride) {
   EXPECT_EQ(override_error(json::object(), sets({"unitz=4"})),
             "--set unitz=4: unitz: unknown key (allowed: clock_mhz, units, tile_size, stamp, "
             "fifo_depth, fifo_depths, stages, memory, surfaces, compression, hierarchical_z, "
-            "vertex_cache_entries, "
+            "texture, vertex_cache_entries, "
             "tile_cache_entries, samples_per_pass, tile_test_overlap, lighting_cycles_per_pixel, "
             "lighting_cycles_per_light, watchdog_cycles)");
   // A renamed stage's former names: the kind, and a unit's instance of it.
@@ -496,7 +503,7 @@ TEST(GpuConfigOverrides, ErrorsNameTheOverride) {
   EXPECT_EQ(override_error(json::object(), sets({"stages.setup.ii=1"})),
             "--set stages.setup.ii=1: stages.setup: unknown key (allowed: clipper, "
             "command_processor, depth_test, interpolator, primitive_setup, resolve, rop, "
-            "tile_distributor, tile_rasterizer, vertex_fetch, vertex_shader)");
+            "texture_unit, tile_distributor, tile_rasterizer, vertex_fetch, vertex_shader)");
   // A key below a value that is not an object.
   EXPECT_EQ(override_error(json::object(), sets({"units.x=1"})),
             "--set units.x=1: units: expected an integer, got object");
