@@ -88,7 +88,14 @@ namespace {
   X(PFNGLUNIFORM4FVPROC, glUniform4fv)                                         \
   X(PFNGLLINEWIDTHPROC, glLineWidth)                                           \
   X(PFNGLPOINTSIZEPROC, glPointSize)                                           \
-  X(PFNGLPOLYGONMODEPROC, glPolygonMode)
+  X(PFNGLPOLYGONMODEPROC, glPolygonMode)                                       \
+  X(PFNGLGENTEXTURESPROC, glGenTextures)                                       \
+  X(PFNGLDELETETEXTURESPROC, glDeleteTextures)                                 \
+  X(PFNGLBINDTEXTUREPROC, glBindTexture)                                       \
+  X(PFNGLACTIVETEXTUREPROC, glActiveTexture)                                   \
+  X(PFNGLTEXIMAGE2DPROC, glTexImage2D)                                         \
+  X(PFNGLTEXPARAMETERIPROC, glTexParameteri)                                   \
+  X(PFNGLTEXPARAMETERIVPROC, glTexParameteriv)
 
 struct Gl {
 #define GPUSIM_GL_MEMBER(type, name) type name = nullptr;
@@ -126,6 +133,8 @@ layout(location = 4) in vec3 a_normal;
 layout(location = 5) in vec3 a_eye;
 layout(location = 6) in vec3 a_normal_over_w;
 layout(location = 7) in vec3 a_eye_over_w;
+layout(location = 8) in vec2 a_texcoord;
+layout(location = 9) in vec2 a_texcoord_over_w;
 smooth out vec4 v_color;
 flat out vec4 v_flat_color;
 noperspective out vec4 v_color_over_w;
@@ -134,6 +143,8 @@ smooth out vec3 v_normal;
 smooth out vec3 v_eye;
 noperspective out vec3 v_normal_over_w;
 noperspective out vec3 v_eye_over_w;
+smooth out vec2 v_texcoord;
+noperspective out vec2 v_texcoord_over_w;
 void main() {
   gl_Position = a_position;
   v_color = a_color;
@@ -144,14 +155,18 @@ void main() {
   v_eye = a_eye;
   v_normal_over_w = a_normal_over_w;
   v_eye_over_w = a_eye_over_w;
+  v_texcoord = a_texcoord;
+  v_texcoord_over_w = a_texcoord_over_w;
 }
 )";
 
-// Compiled twice: without PHONG for every other draw, and with it for Phong
-// draws. llvmpipe runs both sides of a branch on a uniform under its
-// execution mask, so one shader with the per-fragment lighting in it would
-// pay for the lighting loop on every fragment of every draw (measured: the
-// fill-bound benchmark frame 47 times slower).
+// Compiled four times: with and without PHONG (Phong draws) and TEXTURED
+// (textured draws). llvmpipe runs both sides of a branch on a uniform under
+// its execution mask, so one shader with the per-fragment lighting in it
+// would pay for the lighting loop on every fragment of every draw
+// (measured: the fill-bound benchmark frame 47 times slower); likewise the
+// texture fetch. The program without either is the untextured shader
+// unchanged (its fragments' colours bit for bit).
 const char* const kFragmentShaderBody = R"(
 uniform int u_mode;
 smooth in vec4 v_color;
@@ -212,6 +227,67 @@ vec4 phong(vec3 normal, vec3 e) {
   return vec4(c, u_diffuse.a);
 }
 #endif
+#ifdef TEXTURED
+// Texturing (spec section 9c): the draw's texture on unit 0; its base
+// format (kBase*: 0 alpha, 1 luminance, 2 luminance_alpha, 3 intensity,
+// 4 rgb, 5 rgba); the environment mode (shader_env_mode: 0 modulate,
+// 1 replace, 2 decal, 3 blend, 4 add) and colour. The texture coordinate
+// is interpolated as the colour is whatever the shading (flat shading is
+// the colour's alone): u_texcoord_window, (s, t)/w over 1/w; otherwise
+// OpenGL's perspective correction.
+uniform sampler2D u_texture;
+uniform int u_base_format;
+uniform int u_env_mode;
+uniform vec4 u_env_color;
+uniform bool u_texcoord_window;
+smooth in vec2 v_texcoord;
+noperspective in vec2 v_texcoord_over_w;
+// GL 1.5's texture environment, tables 3.22 and 3.23: the fragment colour
+// cf and the filtered texel ct. The swizzles give ct GL's expansion of the
+// base format, but the table still depends on it: a channel the format
+// lacks leaves cf's, and DECAL is defined for RGB and RGBA only (others
+// leave the fragment unchanged).
+vec4 texture_env(vec4 cf, vec4 ct) {
+  bool has_color = u_base_format != 0;
+  bool has_alpha = u_base_format == 0 || u_base_format == 2 || u_base_format == 3 ||
+                   u_base_format == 5;
+  bool intensity = u_base_format == 3;
+  vec4 c = cf;
+  if (u_env_mode == 0) {
+    if (has_color) c.rgb = cf.rgb * ct.rgb;
+    if (has_alpha) c.a = cf.a * ct.a;
+  } else if (u_env_mode == 1) {
+    if (has_color) c.rgb = ct.rgb;
+    if (has_alpha) c.a = ct.a;
+  } else if (u_env_mode == 2) {
+    if (u_base_format == 4) {
+      c.rgb = ct.rgb;
+    } else if (u_base_format == 5) {
+      c.rgb = cf.rgb * (1.0 - ct.a) + ct.rgb * ct.a;
+    }
+  } else if (u_env_mode == 3) {
+    if (has_color) c.rgb = cf.rgb * (1.0 - ct.rgb) + u_env_color.rgb * ct.rgb;
+    if (intensity) {
+      c.a = cf.a * (1.0 - ct.a) + u_env_color.a * ct.a;
+    } else if (has_alpha) {
+      c.a = cf.a * ct.a;
+    }
+  } else {
+    if (has_color) c.rgb = cf.rgb + ct.rgb;
+    if (intensity) {
+      c.a = cf.a + ct.a;
+    } else if (has_alpha) {
+      c.a = cf.a * ct.a;
+    }
+  }
+  return c;
+}
+#endif
+// The spec's clamp01 (NaN -> 0).
+vec4 clamp01(vec4 c) {
+  return vec4(c.r > 0.0 ? min(c.r, 1.0) : 0.0, c.g > 0.0 ? min(c.g, 1.0) : 0.0,
+              c.b > 0.0 ? min(c.b, 1.0) : 0.0, c.a > 0.0 ? min(c.a, 1.0) : 0.0);
+}
 out vec4 o_color;
 void main() {
   vec4 c;
@@ -228,11 +304,96 @@ void main() {
   } else {
     c = v_flat_color;
   }
-  // The spec's clamp01 (NaN -> 0); a float buffer keeps the clamped value.
-  o_color = vec4(c.r > 0.0 ? min(c.r, 1.0) : 0.0, c.g > 0.0 ? min(c.g, 1.0) : 0.0,
-                 c.b > 0.0 ? min(c.b, 1.0) : 0.0, c.a > 0.0 ? min(c.a, 1.0) : 0.0);
+#ifdef TEXTURED
+  // The environment takes the colour clamped, as GL's fixed function does
+  // (and the spec's interpolated colour is).
+  vec2 st = u_texcoord_window ? v_texcoord_over_w / v_inv_w : v_texcoord;
+  c = texture_env(clamp01(c), texture(u_texture, st));
+#endif
+  // Clamped; a float buffer keeps the clamped value.
+  o_color = clamp01(c);
 }
 )";
+
+// Texturing's constants as the fragment shader takes them: the base format
+// (u_base_format) and the environment mode (u_env_mode).
+constexpr int kBaseAlpha = 0, kBaseLuminance = 1, kBaseLuminanceAlpha = 2, kBaseIntensity = 3,
+              kBaseRgb = 4, kBaseRgba = 5;
+
+int shader_env_mode(TextureEnvMode m) {
+  switch (m) {
+    case TextureEnvMode::modulate:
+      return 0;
+    case TextureEnvMode::replace:
+      return 1;
+    case TextureEnvMode::decal:
+      return 2;
+    case TextureEnvMode::blend:
+      return 3;
+    case TextureEnvMode::add:
+      return 4;
+  }
+  return 0;
+}
+
+// A scene texture format in a core profile, which has no ALPHA, LUMINANCE
+// or INTENSITY textures: one- and two-channel formats are R8 and RG8 with
+// a swizzle giving GL's expansion of the base format (GL 1.5, table 3.15).
+// The 16-bit formats are stored little-endian with red in the high bits,
+// which is GL's packed UNSIGNED_SHORT_5_6_5 and _4_4_4_4 on this
+// (little-endian) host.
+struct GlTextureFormat {
+  GLint internal;
+  GLenum format, type;
+  GLint swizzle[4];
+  int base;  // kBase*
+};
+
+GlTextureFormat gl_texture_format(TextureFormat f) {
+  switch (f) {
+    case TextureFormat::alpha8:
+      return {GL_R8, GL_RED, GL_UNSIGNED_BYTE, {GL_ZERO, GL_ZERO, GL_ZERO, GL_RED}, kBaseAlpha};
+    case TextureFormat::luminance8:
+      return {GL_R8, GL_RED, GL_UNSIGNED_BYTE, {GL_RED, GL_RED, GL_RED, GL_ONE}, kBaseLuminance};
+    case TextureFormat::luminance_alpha8:
+      return {
+          GL_RG8, GL_RG, GL_UNSIGNED_BYTE, {GL_RED, GL_RED, GL_RED, GL_GREEN}, kBaseLuminanceAlpha};
+    case TextureFormat::intensity8:
+      return {GL_R8, GL_RED, GL_UNSIGNED_BYTE, {GL_RED, GL_RED, GL_RED, GL_RED}, kBaseIntensity};
+    case TextureFormat::rgb8:
+      return {GL_RGB8, GL_RGB, GL_UNSIGNED_BYTE, {GL_RED, GL_GREEN, GL_BLUE, GL_ONE}, kBaseRgb};
+    case TextureFormat::rgba8:
+      return {
+          GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE, {GL_RED, GL_GREEN, GL_BLUE, GL_ALPHA}, kBaseRgba};
+    case TextureFormat::rgb565:
+      return {GL_RGB565,
+              GL_RGB,
+              GL_UNSIGNED_SHORT_5_6_5,
+              {GL_RED, GL_GREEN, GL_BLUE, GL_ONE},
+              kBaseRgb};
+    case TextureFormat::rgba4444:
+      return {GL_RGBA4,
+              GL_RGBA,
+              GL_UNSIGNED_SHORT_4_4_4_4,
+              {GL_RED, GL_GREEN, GL_BLUE, GL_ALPHA},
+              kBaseRgba};
+  }
+  return {GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE, {GL_RED, GL_GREEN, GL_BLUE, GL_ALPHA}, kBaseRgba};
+}
+
+GLint gl_wrap(TextureWrap w) {
+  switch (w) {
+    case TextureWrap::repeat:
+      return GL_REPEAT;
+    case TextureWrap::clamp_to_edge:
+      return GL_CLAMP_TO_EDGE;
+    case TextureWrap::mirrored_repeat:
+      return GL_MIRRORED_REPEAT;
+    case TextureWrap::clamp:
+      break;  // GL_CLAMP: not in a core profile (render() refuses it)
+  }
+  return GL_CLAMP_TO_EDGE;
+}
 
 // One vertex as OpenGL receives it.
 struct GlVertex {
@@ -245,6 +406,9 @@ struct GlVertex {
   float eye[3];
   float normal_over_w[3];
   float eye_over_w[3];
+  // Textured draws (spec section 9c); 0 in others.
+  float texcoord[2];
+  float texcoord_over_w[2];
 };
 
 GLenum gl_primitive(PrimitiveType p) {
@@ -355,11 +519,13 @@ struct GlReference::Impl {
   EGLContext context = EGL_NO_CONTEXT;
   Gl gl;
   bool gl_loaded = false;  // every entry point resolved
-  // The shader programs without and with per-fragment (Phong) lighting, each
-  // with its u_mode location; `phong_in_use` says which one is in use.
-  GLuint programs[2] = {0, 0};
-  GLint mode_locations[2] = {-1, -1};
-  bool phong_in_use = false;
+  // The shader programs, indexed by kProgramPhong | kProgramTextured (per-
+  // fragment lighting, texturing), each with its u_mode location;
+  // `program_in_use` says which one is in use.
+  static constexpr int kProgramPhong = 1, kProgramTextured = 2;
+  GLuint programs[4] = {0, 0, 0, 0};
+  GLint mode_locations[4] = {-1, -1, -1, -1};
+  int program_in_use = 0;
   GLuint vao = 0;
   GLuint vertex_buffer = 0;
   GLuint index_buffer = 0;
@@ -400,6 +566,7 @@ struct GlReference::Impl {
     Viewport viewport = Viewport::centered;
     bool flat = false;                // flat colour whatever the state says (points, section 9)
     const Material* phong = nullptr;  // lit per fragment with this material (section 9b)
+    const Draw* textured = nullptr;   // the textured draw it belongs to (section 9c), if any
     GLenum primitive = GL_TRIANGLES;
     GLsizei count = 0;
     bool indexed = false;
@@ -408,6 +575,10 @@ struct GlReference::Impl {
   std::vector<Batch> batches;
   std::vector<GLuint> batch_buffers;           // every buffer object of `batches`
   const Material* m_phong_material = nullptr;  // the draw being prepared's, if Phong
+  const Draw* m_textured_draw = nullptr;       // the draw being prepared, if textured
+  // The scene's textures as texture objects, one per Scene::textures entry.
+  std::vector<GLuint> textures;
+  std::vector<TextureFormat> texture_formats;
 
   // Separate from the constructor so that ~Impl releases what a failed
   // init() had already created.
@@ -498,7 +669,11 @@ struct GlReference::Impl {
                              reinterpret_cast<const void*>(offsetof(GlVertex, normal_over_w)));
     gl.glVertexAttribPointer(7, 3, GL_FLOAT, GL_FALSE, stride,
                              reinterpret_cast<const void*>(offsetof(GlVertex, eye_over_w)));
-    for (GLuint i = 0; i < 8; ++i) gl.glEnableVertexAttribArray(i);
+    gl.glVertexAttribPointer(8, 2, GL_FLOAT, GL_FALSE, stride,
+                             reinterpret_cast<const void*>(offsetof(GlVertex, texcoord)));
+    gl.glVertexAttribPointer(9, 2, GL_FLOAT, GL_FALSE, stride,
+                             reinterpret_cast<const void*>(offsetof(GlVertex, texcoord_over_w)));
+    for (GLuint i = 0; i < 10; ++i) gl.glEnableVertexAttribArray(i);
   }
 
   ~Impl() {
@@ -540,10 +715,11 @@ struct GlReference::Impl {
     return s;
   }
 
-  GLuint link_program(bool phong) {
+  GLuint link_program(int variant) {
     const GLuint vs = compile(GL_VERTEX_SHADER, kVertexShader);
-    const std::string fragment = std::string("#version 330 core\n") +
-                                 (phong ? "#define PHONG 1\n" : "") + kFragmentShaderBody;
+    const std::string fragment =
+        std::string("#version 330 core\n") + (variant & kProgramPhong ? "#define PHONG 1\n" : "") +
+        (variant & kProgramTextured ? "#define TEXTURED 1\n" : "") + kFragmentShaderBody;
     const GLuint fs = compile(GL_FRAGMENT_SHADER, fragment.c_str());
     const GLuint program = gl.glCreateProgram();
     gl.glAttachShader(program, vs);
@@ -562,26 +738,36 @@ struct GlReference::Impl {
   }
 
   void build_program() {
-    for (const bool phong : {false, true}) {
-      programs[phong] = link_program(phong);
-      mode_locations[phong] = gl.glGetUniformLocation(programs[phong], "u_mode");
+    for (int variant = 0; variant < 4; ++variant) {
+      programs[variant] = link_program(variant);
+      mode_locations[variant] = gl.glGetUniformLocation(programs[variant], "u_mode");
     }
-    use_program(false);
+    use_program(0);
   }
 
-  void use_program(bool phong) {
-    if (programs[phong] == 0) return;
-    gl.glUseProgram(programs[phong]);
-    phong_in_use = phong;
+  void use_program(int variant) {
+    if (programs[variant] == 0) return;
+    gl.glUseProgram(programs[variant]);
+    program_in_use = variant;
   }
 
-  // A uniform of the Phong program (the only one with uniforms besides u_mode).
-  GLint uniform(const char* name) const { return gl.glGetUniformLocation(programs[1], name); }
+  // A uniform of the program in use.
+  GLint uniform(const char* name) const {
+    return gl.glGetUniformLocation(programs[program_in_use], name);
+  }
 
-  // The frame's lights for Phong draws (spec section 9b), eye space. render()
-  // refuses a Phong draw under more lights than the shader takes.
+  // The frame's lights for Phong draws (spec section 9b), eye space, in both
+  // Phong programs. render() refuses a Phong draw under more lights than the
+  // shader takes.
   void set_lights(const Scene& scene) {
-    use_program(true);  // glUniform sets the program in use
+    for (const int variant : {kProgramPhong, kProgramPhong | kProgramTextured}) {
+      use_program(variant);  // glUniform sets the program in use
+      set_lights_in_use(scene);
+    }
+    use_program(0);
+  }
+
+  void set_lights_in_use(const Scene& scene) {
     const size_t n = std::min(scene.lights.size(), kMaxPhongLights);
     std::vector<glm::vec4> vec(n), amb(n), dif(n), spe(n), att(n);
     for (size_t i = 0; i < n; ++i) {
@@ -603,7 +789,6 @@ struct GlReference::Impl {
     }
     gl.glUniform4fv(uniform("u_global_ambient"), 1, &scene.global_ambient[0]);
     check("light uniforms");
-    use_program(false);
   }
 
   // A vertex the spec leaves unclipped, in window space (see the header).
@@ -627,6 +812,10 @@ struct GlReference::Impl {
     for (int k = 0; k < 3; ++k) {
       out.normal_over_w[k] = w.normal_over_w[k];
       out.eye_over_w[k] = w.eye_over_w[k];
+    }
+    for (int k = 0; k < 2; ++k) {
+      out.texcoord[k] = v.texcoord[k];
+      out.texcoord_over_w[k] = w.texcoord_over_w[k];
     }
     return out;
   }
@@ -660,6 +849,10 @@ struct GlReference::Impl {
       out.normal_over_w[k] = v.normal[k];
       out.eye_over_w[k] = v.eye[k];
     }
+    for (int k = 0; k < 2; ++k) {
+      out.texcoord[k] = v.texcoord[k];
+      out.texcoord_over_w[k] = v.texcoord[k];
+    }
     return out;
   }
 
@@ -678,6 +871,12 @@ struct GlReference::Impl {
     out.position[3] = 1.0f;
     for (int k = 0; k < 4; ++k) out.color[k] = v.color[k];
     out.inv_w = 1.0f;
+    // The spec's point samples its vertex's (s, t) everywhere (no point
+    // sprites): OpenGL interpolates a constant over the point.
+    for (int k = 0; k < 2; ++k) {
+      out.texcoord[k] = v.texcoord[k];
+      out.texcoord_over_w[k] = v.texcoord[k];
+    }
     return out;
   }
 
@@ -692,6 +891,12 @@ struct GlReference::Impl {
     out.position[3] = v.clip.w;
     for (int k = 0; k < 4; ++k) out.color[k] = v.color[k];
     out.inv_w = 1.0f;
+    // The spec's point samples its vertex's (s, t) everywhere (no point
+    // sprites): OpenGL interpolates a constant over the point.
+    for (int k = 0; k < 2; ++k) {
+      out.texcoord[k] = v.texcoord[k];
+      out.texcoord_over_w[k] = v.texcoord[k];
+    }
     return out;
   }
 
@@ -753,12 +958,26 @@ struct GlReference::Impl {
   }
 
   void set_mode(bool window_space, Shading shading, Interpolation interpolation,
-                const Material* phong) {
+                const Material* phong, const Draw* textured) {
     const bool noperspective = window_space || interpolation == Interpolation::screen;
     int mode = shading == Shading::flat ? kModeFlat
                                         : (noperspective ? kModeWindowGouraud : kModeClipGouraud);
     const bool lit_per_fragment = mode != kModeFlat && phong != nullptr;
-    if (lit_per_fragment != phong_in_use) use_program(lit_per_fragment);
+    const int variant =
+        (lit_per_fragment ? kProgramPhong : 0) | (textured != nullptr ? kProgramTextured : 0);
+    if (variant != program_in_use) use_program(variant);
+    if (textured != nullptr) {
+      const size_t t = static_cast<size_t>(textured->texture);
+      gl.glActiveTexture(GL_TEXTURE0);
+      gl.glBindTexture(GL_TEXTURE_2D, textures[t]);
+      gl.glUniform1i(uniform("u_texture"), 0);
+      gl.glUniform1i(uniform("u_base_format"), gl_texture_format(texture_formats[t]).base);
+      gl.glUniform1i(uniform("u_env_mode"), shader_env_mode(textured->texture_env.mode));
+      gl.glUniform4fv(uniform("u_env_color"), 1, &textured->texture_env.color[0]);
+      // The texture coordinate goes the colour's way (window_vertex,
+      // clip_vertex), also when the colour is flat.
+      gl.glUniform1i(uniform("u_texcoord_window"), noperspective ? 1 : 0);
+    }
     if (lit_per_fragment) {
       mode = noperspective ? kModeWindowPhong : kModeClipPhong;
       gl.glUniform4fv(uniform("u_emission"), 1, &phong->emission[0]);
@@ -767,7 +986,7 @@ struct GlReference::Impl {
       gl.glUniform4fv(uniform("u_specular"), 1, &phong->specular[0]);
       gl.glUniform1f(uniform("u_shininess"), phong->shininess);
     }
-    gl.glUniform1i(mode_locations[phong_in_use], mode);
+    gl.glUniform1i(mode_locations[program_in_use], mode);
     // Window-space triangles are not clipped in z (the spec does not clip
     // them); clip-space ones are, by OpenGL's near and far planes.
     if (window_space) {
@@ -775,6 +994,38 @@ struct GlReference::Impl {
     } else {
       gl.glDisable(GL_DEPTH_CLAMP);
     }
+  }
+
+  // Every scene texture as a texture object of level 0 alone
+  // (GL_TEXTURE_MAX_LEVEL 0 makes it complete without mipmaps), with its
+  // sampler's wrap modes and filters. The stored rows run from t = 0 up,
+  // which is the order glTexImage2D takes them in: no flip.
+  void upload_textures(const Scene& scene) {
+    gl.glActiveTexture(GL_TEXTURE0);
+    gl.glPixelStorei(GL_UNPACK_ALIGNMENT, 1);  // rows tightly packed
+    for (const Texture& t : scene.textures) {
+      const GlTextureFormat f = gl_texture_format(t.format);
+      const TextureImage& level = t.levels.at(0);
+      GLuint texture = 0;
+      gl.glGenTextures(1, &texture);
+      textures.push_back(texture);
+      texture_formats.push_back(t.format);
+      gl.glBindTexture(GL_TEXTURE_2D, texture);
+      gl.glTexImage2D(GL_TEXTURE_2D, 0, f.internal, level.width, level.height, 0, f.format, f.type,
+                      level.texels.data());
+      gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_BASE_LEVEL, 0);
+      gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
+      gl.glTexParameteriv(GL_TEXTURE_2D, GL_TEXTURE_SWIZZLE_RGBA, f.swizzle);
+      gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, gl_wrap(t.sampler.wrap_s));
+      gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, gl_wrap(t.sampler.wrap_t));
+      const auto filter = [](TextureFilter x) {
+        return x == TextureFilter::nearest ? GL_NEAREST : GL_LINEAR;
+      };
+      gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, filter(t.sampler.min_filter));
+      gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, filter(t.sampler.mag_filter));
+      check("texture upload");
+    }
+    gl.glBindTexture(GL_TEXTURE_2D, 0);
   }
 
   // A new buffer object holding `bytes` bytes of `data`, owned by the render.
@@ -799,6 +1050,7 @@ struct GlReference::Impl {
     b.viewport = viewport;
     b.flat = flat;
     b.phong = m_phong_material;
+    b.textured = m_textured_draw;
     b.primitive = primitive;
     b.count = count;
     b.vertex_buffer = upload(GL_ARRAY_BUFFER, vertices.data(), vertices.size() * sizeof(GlVertex));
@@ -843,7 +1095,7 @@ struct GlReference::Impl {
     }
     apply_state(*b.state);
     set_mode(b.window_space, b.flat ? Shading::flat : b.state->shading, b.state->interpolation,
-             b.phong);
+             b.phong, b.textured);
     gl.glBindBuffer(GL_ARRAY_BUFFER, b.vertex_buffer);
     set_attribute_pointers();
     if (b.indexed) {
@@ -994,6 +1246,7 @@ struct GlReference::Impl {
     // Phong draws: every batch of the draw carries its material (points are
     // flat and ignore it).
     m_phong_material = golden::lit_per_pixel(draw) ? &draw.material : nullptr;
+    m_textured_draw = draw.texture >= 0 ? &draw : nullptr;
     std::vector<golden::ShadedVertex> shaded(draw.positions.size());
     for (uint32_t i = 0; i < shaded.size(); ++i) shaded[i] = golden::shade_vertex(scene, draw, i);
     const RenderState st = scaled_state(draw.state);
@@ -1124,6 +1377,17 @@ struct GlReference::Impl {
                             "equivalent of: the scene is not rendered by the reference");
       }
     }
+    for (const Texture& t : scene.textures) {
+      const TextureSampler& sm = t.sampler;
+      if (sm.wrap_s == TextureWrap::clamp || sm.wrap_t == TextureWrap::clamp) {
+        throw NotRenderable("texture \"" + t.name +
+                            "\" wraps with clamp (GL_CLAMP), which a core profile does not have");
+      }
+      if (uses_mipmaps(sm.min_filter) || uses_mipmaps(sm.mag_filter)) {
+        throw NotRenderable("texture \"" + t.name +
+                            "\" asks for mipmaps: the reference uploads level 0 only");
+      }
+    }
     const FramebufferDesc& desc = scene.framebuffer;
     // Antialiasing (spec section 14). llvmpipe multisamples with 1 or 4
     // samples only (PIPE_MAX_SAMPLES 4 in Mesa 22.3); anything else would be
@@ -1167,6 +1431,12 @@ struct GlReference::Impl {
         }
         self->batch_buffers.clear();
         self->batches.clear();
+        if (!self->textures.empty()) {
+          self->gl.glDeleteTextures(static_cast<GLsizei>(self->textures.size()),
+                                    self->textures.data());
+        }
+        self->textures.clear();
+        self->texture_formats.clear();
       }
     } cleanup{this, {&draw_fbo, &resolve_fbo}};
     draw_fbo = make_fbo(color_internal, depth_internal, samples);
@@ -1203,8 +1473,10 @@ struct GlReference::Impl {
     ReferenceResult result;
 
     // Untimed for render_seconds: the spec's vertex stage on the CPU and the
-    // upload of every draw call's vertices and indices, finished.
+    // upload of the textures and of every draw call's vertices and indices,
+    // finished.
     const Clock::time_point prepare_start = Clock::now();
+    upload_textures(scene);
     // Batches [first_batch[i], first_batch[i + 1]) draw scene.draws[i].
     std::vector<size_t> first_batch;
     for (const Draw& draw : scene.draws) {

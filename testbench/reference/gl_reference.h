@@ -5,8 +5,9 @@
 // Division of labour. The vertex stage is the spec's own (golden::shade_vertex:
 // transform and lighting); OpenGL does everything after it: primitive
 // assembly, clipping, rasterization and the fill rule, attribute and depth
-// interpolation, polygon offset, the depth test, blending, colour masks and
-// the conversions to the buffer formats.
+// interpolation, texture sampling and the texture environment, polygon
+// offset, the depth test, blending, colour masks and the conversions to the
+// buffer formats.
 //
 // Window coordinates. The spec computes each vertex's window position in
 // float and snaps it to 1/256 pixel; any other float evaluation of the same
@@ -59,6 +60,21 @@
 // Bresenham lines have no OpenGL equivalent: such scenes are refused
 // (NotRenderable), never rendered some other way.
 //
+// Textured draws (spec section 9c). Each scene texture is uploaded once per
+// render as a texture object of its level 0 alone (GL_TEXTURE_MAX_LEVEL 0),
+// rows from t = 0 as stored, with its wrap modes and filters: a core
+// profile has no ALPHA, LUMINANCE or INTENSITY, so those are R8 or RG8 with
+// a texture swizzle giving GL's expansion; RGB565 and RGBA4444 take their
+// stored 16-bit words as UNSIGNED_SHORT_5_6_5 and _4_4_4_4. The texture
+// coordinate goes the colour's way: (s, t)/w and 1/w in noperspective
+// varyings for window-space vertices, divided per fragment; (s, t) itself
+// for clip-space ones (OpenGL's perspective correction, or noperspective
+// with screen interpolation); a point's (s, t) constant over the point (no
+// point sprites). It is interpolated whatever the shading, flat included.
+// The fragment shader samples with texture() and applies GL 1.5's texture
+// environment (tables 3.22 and 3.23) by the texture's base format to the
+// clamped colour; untextured draws use a program without any of it.
+//
 // A triangle the spec clips (crossing near, far, w = 0, or the guard band) is
 // handed to OpenGL in homogeneous clip coordinates, rescaled so that the
 // divide and viewport give the spec's window coordinates up to rounding, with
@@ -87,7 +103,8 @@ class ReferenceError : public std::runtime_error {
 // A scene the reference cannot render faithfully (line_rasterization
 // "bresenham": OpenGL only has the diamond-exit rule; framebuffer.samples
 // other than 1 and 4, the only counts llvmpipe multisamples with; samples 4
-// together with supersample > 1). Nothing is drawn.
+// together with supersample > 1; a texture with wrap "clamp", which a core
+// profile lacks, or with mipmap filters). Nothing is drawn.
 class NotRenderable : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
@@ -122,10 +139,10 @@ struct ReferenceResult {
   ReferenceStats stats;
   // Wall-clock times (steady_clock), in seconds. prepare_seconds: the spec's
   // vertex stage (golden::shade_vertex) on the CPU, the triangles'
-  // classification and the upload of every draw call's vertices and indices
-  // into buffer objects, up to glFinish(). render_seconds, one per
-  // repetition: from the clear through every draw call to glFinish()
-  // returning — llvmpipe's vertex fetch and (pass-through) vertex shader,
+  // classification and the upload of the scene's textures and of every draw
+  // call's vertices and indices into buffer objects, up to glFinish().
+  // render_seconds, one per repetition: from the clear through every draw
+  // call to glFinish() returning — llvmpipe's vertex fetch and (pass-through) vertex shader,
   // clipping, setup, binning, rasterization, fragment shading, depth test,
   // blending. Neither covers creating the context, loading the scene,
   // allocating the framebuffer or reading it back.
