@@ -350,6 +350,10 @@ struct ShadedStampBatch {
   // section 9c): per covered pixel its texture coordinate (s, t); empty
   // otherwise, and once the texture unit has applied the texture.
   std::vector<glm::vec2> texcoords;
+  // With them, when the texture's sampling needs the level of detail: per
+  // covered pixel the coordinate's derivatives over its 2x2 quad (ds/dx,
+  // dt/dx, ds/dy, dt/dy); empty otherwise.
+  std::vector<glm::vec4> texcoord_derivatives;
 
   static constexpr const char* kPacketName = "ShadedStampBatch";
   template <typename V>
@@ -361,6 +365,7 @@ struct ShadedStampBatch {
     v("colors", &ShadedStampBatch::colors);
     v("samples", &ShadedStampBatch::samples);
     v("texcoords", &ShadedStampBatch::texcoords);
+    v("texcoord_derivatives", &ShadedStampBatch::texcoord_derivatives);
   }
   friend void swap(ShadedStampBatch& a, ShadedStampBatch& b) noexcept {
     std::swap(a.kind, b.kind);
@@ -369,6 +374,7 @@ struct ShadedStampBatch {
     a.colors.swap(b.colors);
     a.samples.swap(b.samples);
     a.texcoords.swap(b.texcoords);
+    a.texcoord_derivatives.swap(b.texcoord_derivatives);
   }
 };
 static_assert(packet_bits<ShadedStampBatch>() == 2 + packet_bits<RasterPrimitive>(),

@@ -78,7 +78,8 @@ Texel expand_texel(TextureFormat f, const uint8_t* p) {
 
 std::ostream& operator<<(std::ostream& os, const TextureSampler& s) {
   return os << "{wrap=" << to_string(s.wrap_s) << "," << to_string(s.wrap_t)
-            << " min=" << to_string(s.min_filter) << " mag=" << to_string(s.mag_filter) << "}";
+            << " min=" << to_string(s.min_filter) << " mag=" << to_string(s.mag_filter)
+            << " lod_bias=" << s.lod_bias << " lod=[" << s.min_lod << "," << s.max_lod << "]}";
 }
 
 }  // namespace gpusim

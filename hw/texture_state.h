@@ -51,6 +51,9 @@ constexpr float kBelowOne = 0.99999994f;
 enum class BaseFormat : uint8_t { alpha, luminance, luminance_alpha, intensity, rgb, rgba };
 BaseFormat base_format(TextureFormat f);
 
+// GL's default GL_TEXTURE_MIN_LOD is -1000, GL_TEXTURE_MAX_LOD 1000.
+constexpr float kDefaultLodLimit = 1000.0f;
+
 // A texture object's sampling state (GL's glTexParameter).
 struct TextureSampler {
   TextureWrap wrap_s = TextureWrap::repeat;
@@ -58,11 +61,25 @@ struct TextureSampler {
   // GL's defaults: NEAREST_MIPMAP_LINEAR minification, LINEAR magnification.
   TextureFilter min_filter = TextureFilter::nearest_mipmap_linear;
   TextureFilter mag_filter = TextureFilter::linear;
+  // GL_TEXTURE_LOD_BIAS, GL_TEXTURE_MIN_LOD and GL_TEXTURE_MAX_LOD, in levels.
+  float lod_bias = 0.0f;
+  float min_lod = -kDefaultLodLimit;
+  float max_lod = kDefaultLodLimit;
 
   bool operator==(const TextureSampler& o) const {
     return wrap_s == o.wrap_s && wrap_t == o.wrap_t && min_filter == o.min_filter &&
-           mag_filter == o.mag_filter;
+           mag_filter == o.mag_filter && lod_bias == o.lod_bias && min_lod == o.min_lod &&
+           max_lod == o.max_lod;
   }
+  // Whether the level of detail is the plain 0.5 log2(rho^2): no bias and no
+  // clamp that could bite (llvmpipe then picks a NEAREST_MIPMAP level from
+  // rho^2's exponent alone; spec section 9c).
+  bool plain_lod() const {
+    return lod_bias == 0.0f && min_lod <= 0.0f && max_lod == kDefaultLodLimit;
+  }
+  // Whether sampling needs the level of detail: mipmaps, or two filters
+  // between which it chooses.
+  bool needs_lod() const;
   bool operator!=(const TextureSampler& o) const { return !(*this == o); }
 };
 std::ostream& operator<<(std::ostream& os, const TextureSampler& s);
@@ -70,6 +87,20 @@ std::ostream& operator<<(std::ostream& os, const TextureSampler& s);
 // Whether a minification filter reads more than the base level.
 inline bool uses_mipmaps(TextureFilter f) {
   return f != TextureFilter::nearest && f != TextureFilter::linear;
+}
+inline bool TextureSampler::needs_lod() const {
+  return uses_mipmaps(min_filter) || min_filter != mag_filter;
+}
+// The filter a minification filter applies within a level: NEAREST or LINEAR.
+inline TextureFilter level_filter(TextureFilter f) {
+  return f == TextureFilter::nearest || f == TextureFilter::nearest_mipmap_nearest ||
+                 f == TextureFilter::nearest_mipmap_linear
+             ? TextureFilter::nearest
+             : TextureFilter::linear;
+}
+// Whether it blends two levels (the *_MIPMAP_LINEAR filters).
+inline bool blends_levels(TextureFilter f) {
+  return f == TextureFilter::nearest_mipmap_linear || f == TextureFilter::linear_mipmap_linear;
 }
 
 // The texture environment of a texture stage (GL's glTexEnv): how the

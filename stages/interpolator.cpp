@@ -96,6 +96,7 @@ void Interpolator::run() {
     if (batch.kind != PacketKind::work) {
       result.colors.clear();
       result.texcoords.clear();
+      result.texcoord_derivatives.clear();
     }
     uint64_t cycles = m_cost.ii;
     if (batch.kind == PacketKind::work) {
@@ -231,29 +232,51 @@ void Interpolator::shade_phong(const std::vector<Stamp>& stamps, const EdgeOffse
 
 void Interpolator::interpolate_texcoords(const std::vector<Stamp>& stamps,
                                          const RasterPrimitive& prim, unsigned slot, size_t n,
-                                         std::vector<glm::vec2>& out) {
+                                         std::vector<glm::vec2>& out,
+                                         std::vector<glm::vec4>* derivatives) {
   out.resize(n);
   if (prim.primitive_kind == PrimitiveKind::point) {
-    // A point samples at its vertex's coordinate (spec section 9c).
+    // A point samples at its vertex's coordinate (spec section 9c): no
+    // change across its quads.
     out.assign(n, glm::vec2(prim.flat_varyings[slot], prim.flat_varyings[slot + 1]));
+    if (derivatives) derivatives->assign(n, glm::vec4(0.0f));
     return;
   }
+  if (derivatives) derivatives->resize(n);
   // Whatever the shading, by section 9's formula, as any varying.
   update_offsets(prim);
   const std::array<float, 3>& q = prim.inv_w;
   const float* vw0 = prim.varyings_over_w[0].data() + slot;
   const float* vw1 = prim.varyings_over_w[1].data() + slot;
   const float* vw2 = prim.varyings_over_w[2].data() + slot;
-  glm::vec2* tc = out.data();
+  const auto at = [&](EdgeValue e0, EdgeValue e1, EdgeValue e2) {
+    const float f0 = static_cast<float>(e0);
+    const float f1 = static_cast<float>(e1);
+    const float f2 = static_cast<float>(e2);
+    const float den = f0 * q[0] + f1 * q[1] + f2 * q[2];
+    glm::vec2 tc;
+    for (int k = 0; k < 2; ++k) tc[k] = (f0 * vw0[k] + f1 * vw1[k] + f2 * vw2[k]) / den;
+    return tc;
+  };
+  const int w_mask = (1 << m_stamp_shift) - 1;
+  size_t i = 0;
   for (const Stamp& s : stamps) {
-    for (uint64_t bits = s.mask; bits != 0; bits &= bits - 1) {
+    for (uint64_t bits = s.mask; bits != 0; bits &= bits - 1, ++i) {
       const int idx = __builtin_ctzll(bits);
-      const float f0 = static_cast<float>(s.e[0] + m_offset[0][idx]);
-      const float f1 = static_cast<float>(s.e[1] + m_offset[1][idx]);
-      const float f2 = static_cast<float>(s.e[2] + m_offset[2][idx]);
-      const float den = f0 * q[0] + f1 * q[1] + f2 * q[2];
-      for (int k = 0; k < 2; ++k) (*tc)[k] = (f0 * vw0[k] + f1 * vw1[k] + f2 * vw2[k]) / den;
-      ++tc;
+      out[i] = at(s.e[0] + m_offset[0][idx], s.e[1] + m_offset[1][idx], s.e[2] + m_offset[2][idx]);
+      if (!derivatives) continue;
+      // The pixel's 2x2 quad, from its lower-left pixel (even x and y) to
+      // the right and upper neighbours, each stepped from the stamp's
+      // origin whether or not it is covered or in the stamp: the same
+      // exact edge values as at any pixel centre.
+      const EdgeValue dx = ((s.x + (idx & w_mask)) & ~1) - s.x;
+      const EdgeValue dy = ((s.y + (idx >> m_stamp_shift)) & ~1) - s.y;
+      std::array<EdgeValue, 3> e00;
+      for (int k = 0; k < 3; ++k) e00[k] = s.e[k] + dx * m_step_x[k] + dy * m_step_y[k];
+      const glm::vec2 p00 = at(e00[0], e00[1], e00[2]);
+      const glm::vec2 p10 = at(e00[0] + m_step_x[0], e00[1] + m_step_x[1], e00[2] + m_step_x[2]);
+      const glm::vec2 p01 = at(e00[0] + m_step_y[0], e00[1] + m_step_y[1], e00[2] + m_step_y[2]);
+      (*derivatives)[i] = glm::vec4(p10.x - p00.x, p10.y - p00.y, p01.x - p00.x, p01.y - p00.y);
     }
   }
 }
@@ -273,8 +296,11 @@ void Interpolator::shade(const StampBatch& batch, ShadedStampBatch& result) {
     n += s.mask == full ? static_cast<size_t>(m_stamp_pixels)
                         : static_cast<size_t>(__builtin_popcountll(s.mask));
   }
+  result.texcoord_derivatives.clear();
   if (layout.textured()) {
-    interpolate_texcoords(batch.stamps, prim, layout.texcoord, n, result.texcoords);
+    interpolate_texcoords(
+        batch.stamps, prim, layout.texcoord, n, result.texcoords,
+        draw.texture.sampler.needs_lod() ? &result.texcoord_derivatives : nullptr);
     m_texcoords += n;
   } else {
     result.texcoords.clear();

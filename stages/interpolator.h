@@ -76,9 +76,11 @@ class Interpolator : public PipelineStage {
   // Fills m_offset for the triangle's edge steps (kept while they are unchanged).
   void update_offsets(const RasterPrimitive& tri);
   // Section 9c: the texture coordinate of every covered pixel, from the
-  // varyings at `slot` (the layout's texcoord), into `out` (n pixels).
+  // varyings at `slot` (the layout's texcoord), into `out` (n pixels); with
+  // `derivatives`, each pixel's derivatives over its 2x2 quad there too.
   void interpolate_texcoords(const std::vector<Stamp>& stamps, const RasterPrimitive& prim,
-                             unsigned slot, size_t n, std::vector<glm::vec2>& out);
+                             unsigned slot, size_t n, std::vector<glm::vec2>& out,
+                             std::vector<glm::vec4>* derivatives);
   // Phong (section 9b): the lit colour of every covered pixel to `out`.
   void shade_phong(const std::vector<Stamp>& stamps, const EdgeOffsets& o,
                    const RasterPrimitive& prim, const VaryingLayout& layout, glm::vec4* out);

@@ -16,7 +16,8 @@ void conserve(ConservationLedger& l) {
   l.equal("fragments", l.get("fragments"), ip + ".texcoords", l.stage(ip, "texcoords"));
   l.equal("texels", l.get("texels"), "nearest_samples + 4 x bilinear_samples",
           l.get("nearest_samples") + 4 * l.get("bilinear_samples"));
-  l.equal("fragments", l.get("fragments"), "nearest_samples + bilinear_samples",
+  l.equal("fragments + two_level_fragments", l.get("fragments") + l.get("two_level_fragments"),
+          "nearest_samples + bilinear_samples",
           l.get("nearest_samples") + l.get("bilinear_samples"));
 }
 
@@ -53,6 +54,49 @@ AxisTexels linear_axis(float s, int32_t size, TextureWrap mode) {
       static_cast<int64_t>(std::nearbyint(s * static_cast<float>(size) * 256.0f)) - 128;
   return {wrap(u >> 8, size, mode), wrap((u >> 8) + 1, size, mode),
           static_cast<unsigned>(u & 0xff)};
+}
+
+// Where a pixel samples (spec section 9c): magnified (level 0, the MAG
+// filter) or minified, at `level` and, with weight > 0, level + 1 too.
+struct LevelPick {
+  bool minified = false;
+  unsigned level = 0;
+  unsigned weight = 0;  // 8 bits, of level + 1
+};
+// The level of detail from the quad's derivatives d = (ds/dx, dt/dx, ds/dy,
+// dt/dy): rho^2 in texels of level 0, lod = 0.5 log2(rho^2) by the
+// exponent-plus-mantissa approximation, biased and clamped; minified iff
+// lod > 0. *_MIPMAP_LINEAR: level floor(lod), weight of the next
+// trunc(fract(lod) 256); *_MIPMAP_NEAREST: rho^2's exponent + 1 halved when
+// no bias or clamp applies, else lod rounded half to even; both clamped to
+// the chain.
+LevelPick pick_level(const TextureBinding& b, const glm::vec4& d) {
+  const TextureSampler& sm = b.sampler;
+  LevelPick pick;
+  const float w = static_cast<float>(b.levels[0].width);
+  const float h = static_cast<float>(b.levels[0].height);
+  const float dsdx = d[0] * w, dtdx = d[1] * h, dsdy = d[2] * w, dtdy = d[3] * h;
+  const float rho2 = std::max(dsdx * dsdx + dtdx * dtdx, dsdy * dsdy + dtdy * dtdy);
+  if (!(rho2 > 0.0f)) return pick;
+  int e = 0;
+  const float mantissa = 2.0f * std::frexp(rho2, &e);  // rho2 = mantissa 2^(e - 1)
+  const int exponent = e - 1;
+  float lod = 0.5f * (static_cast<float>(exponent - 1) + mantissa) + sm.lod_bias;
+  lod = std::min(std::max(lod, sm.min_lod), sm.max_lod);
+  if (!(lod > 0.0f)) return pick;
+  pick.minified = true;
+  if (!uses_mipmaps(sm.min_filter)) return pick;
+  const unsigned last = static_cast<unsigned>(b.levels.size() - 1);
+  if (blends_levels(sm.min_filter)) {
+    const float whole = std::floor(lod);
+    pick.level = static_cast<unsigned>(whole);
+    pick.weight = static_cast<unsigned>(static_cast<int>((lod - whole) * 256.0f));
+    if (pick.level >= last) pick.level = last, pick.weight = 0;
+  } else {
+    const long level = sm.plain_lod() ? (exponent + 1) >> 1 : std::lrint(lod);
+    pick.level = static_cast<unsigned>(std::clamp<long>(level, 0, last));
+  }
+  return pick;
 }
 
 // v0 + (w (v1 - v0) + 128) >> 8: the filter's 8.8 lerp, rounded.
@@ -137,11 +181,11 @@ const StageSpec& TextureUnit::spec() {
       {"interpolator_to_texture"},
       &conserve,
       StageTrace{TraceItem::stamp_batch, {"", "", ""}, FragmentSite::none},
-      {{"textured batch", "max(`ii` × stamps, the filter's last pixel + 1)",
-        "A pixel a cycle through address and filter; misses go to memory as soon as their pixel "
-        "is addressed, up to texture.prefetch_fragments pixels ahead of the filter "
-        "(stages/texture_unit.h)."},
-       {"other tokens", "`ii` × stamps (at least `ii`)", "Passed through."}}};
+      {{"", "`ii` × stamps (at least `ii`)", "Untextured batches and control tokens pass through."},
+       {"textured batch", "max(`ii` × stamps, the filter's last pass)",
+        "A pixel a cycle through address and filter, a pass per mipmap level it reads; misses go "
+        "to memory as soon as their pixel is addressed, up to texture.prefetch_fragments pixels "
+        "ahead of the filter (stages/texture_unit.h)."}}};
   return s;
 }
 GPUSIM_REGISTER_STAGE(TextureUnit);
@@ -181,25 +225,25 @@ void TextureUnit::run() {
 }
 
 uint64_t TextureUnit::texture(ShadedStampBatch& batch, const TextureBinding& binding) {
-  const TextureLevel& level = binding.levels.front();
   const TextureSampler& sampler = binding.sampler;
-  // One level and one filter: the scene loader refuses the rest for now.
-  const bool bilinear = sampler.mag_filter == TextureFilter::linear;
   const unsigned bytes = texel_bytes(binding.format);
   const unsigned line_bytes = m_cache.line_bytes();
   const size_t n = batch.texcoords.size();
   const uint64_t start = mem.now().value();
   const uint64_t depth = m_config.texture.prefetch_fragments;
 
-  // Per pixel: the cycle it is addressed and its filter's cycle, from `start`.
-  std::vector<uint64_t> address(n), filter(n);
+  // Per pixel: the cycle it is addressed, its filter's first cycle and its
+  // passes (one a level), from `start`.
+  std::vector<uint64_t> address(n), filter(n), passes(n);
   std::vector<Texel> filtered(n);
   m_fills.clear();
-  m_fills.reserve(n * 8);  // at most 4 texels x 2 lines a pixel: no reallocation under a round
+  // At most 2 levels x 4 texels x 2 lines a pixel: no reallocation while a
+  // round is unresolved (the arbiter holds pointers to the sinks).
+  m_fills.reserve(n * 16);
   m_pixels.resize(n);
 
-  // Lines in flight in this batch: slot -> fill index (the fill's arrival
-  // is known once its round is resolved).
+  // Lines filled in this round: slot -> fill index (the fill's arrival is
+  // known once its round is resolved).
   std::vector<std::pair<uint32_t, int32_t>> in_flight;
   const auto arrival = [&](const Footprint& p) {
     uint64_t ready = p.ready;
@@ -210,6 +254,69 @@ uint64_t TextureUnit::texture(ShadedStampBatch& batch, const TextureBinding& bin
     }
     return ready;
   };
+  // One texel of a level through the cache: a miss is filled at cycle `at`;
+  // the pixel `p` notes what it waits for.
+  const auto texel = [&](const TextureLevel& level, int32_t x, int32_t y, uint64_t at, Footprint& p,
+                         unsigned& waits) {
+    const uint64_t addr =
+        level.address + (uint64_t(y) * uint64_t(level.width) + uint64_t(x)) * bytes;
+    uint8_t raw[4];
+    // A texel's bytes (3 of them may straddle two lines), line by line.
+    for (uint64_t a = addr; a < addr + bytes;) {
+      const TextureCache::Lookup line = m_cache.lookup(a);
+      const uint64_t line_start = a & ~uint64_t{line_bytes - 1};
+      int32_t fill = -1;
+      if (!line.hit) {
+        ++m_misses;
+        fill = static_cast<int32_t>(m_fills.size());
+        m_fills.emplace_back();
+        mem.read_tracked(line_start, m_cache.data(line.slot), line_bytes, clock_cycles(at),
+                         m_fills.back());
+        in_flight.emplace_back(line.slot, fill);
+      } else {
+        ++m_hits;
+        const auto it = std::find_if(in_flight.rbegin(), in_flight.rend(),
+                                     [&](const auto& f) { return f.first == line.slot; });
+        if (it != in_flight.rend()) {
+          fill = it->second;
+        } else {
+          p.ready = std::max(p.ready, m_cache.ready(line.slot));
+        }
+      }
+      if (fill >= 0 &&
+          std::find(p.fill.begin(), p.fill.begin() + waits, fill) == p.fill.begin() + waits) {
+        p.fill[waits++] = fill;
+      }
+      const uint64_t end = std::min<uint64_t>(addr + bytes, line_start + line_bytes);
+      std::copy(m_cache.data(line.slot) + (a - line_start),
+                m_cache.data(line.slot) + (end - line_start), raw + (a - addr));
+      a = end;
+    }
+    ++m_texels;
+    return expand_texel(binding.format, raw);
+  };
+  // One level filtered at (s, t).
+  const auto sample_level = [&](const TextureLevel& level, bool bilinear, const glm::vec2& st,
+                                uint64_t at, Footprint& p, unsigned& waits) {
+    if (!bilinear) {
+      ++m_nearest;
+      return texel(level, nearest_axis(st.x, level.width, sampler.wrap_s),
+                   nearest_axis(st.y, level.height, sampler.wrap_t), at, p, waits);
+    }
+    ++m_bilinear;
+    const AxisTexels x = linear_axis(st.x, level.width, sampler.wrap_s);
+    const AxisTexels y = linear_axis(st.y, level.height, sampler.wrap_t);
+    const Texel t00 = texel(level, x.i0, y.i0, at, p, waits);
+    const Texel t10 = texel(level, x.i1, y.i0, at, p, waits);
+    const Texel t01 = texel(level, x.i0, y.i1, at, p, waits);
+    const Texel t11 = texel(level, x.i1, y.i1, at, p, waits);
+    Texel out;
+    for (int c = 0; c < 4; ++c) {
+      out[c] = lerp(lerp(t00[c], t10[c], x.weight), lerp(t01[c], t11[c], x.weight), y.weight);
+    }
+    return out;
+  };
+
   size_t next_address = 0, next_filter = 0;
   while (next_filter < n) {
     // Address as far as the fragment FIFO allows: pixel i needs pixel
@@ -220,74 +327,25 @@ uint64_t TextureUnit::texture(ShadedStampBatch& batch, const TextureBinding& bin
       uint64_t at = i == 0 ? 0 : address[i - 1] + 1;
       if (i >= depth) at = std::max(at, filter[i - depth]);
       address[i] = at;
-      const glm::vec2& st = batch.texcoords[i];
       Footprint& p = m_pixels[i];
       p.fill.fill(-1);
       p.ready = 0;
-      std::array<int32_t, 2> xs{}, ys{};
-      if (bilinear) {
-        const AxisTexels x = linear_axis(st.x, level.width, sampler.wrap_s);
-        const AxisTexels y = linear_axis(st.y, level.height, sampler.wrap_t);
-        xs = {x.i0, x.i1};
-        ys = {y.i0, y.i1};
-        p.weight_s = x.weight;
-        p.weight_t = y.weight;
-        p.texels = 4;
-      } else {
-        xs[0] = nearest_axis(st.x, level.width, sampler.wrap_s);
-        ys[0] = nearest_axis(st.y, level.height, sampler.wrap_t);
-        p.texels = 1;
-      }
-      std::array<Texel, 4> texel;
       unsigned waits = 0;
-      for (unsigned k = 0; k < p.texels; ++k) {
-        const uint64_t addr =
-            level.address +
-            (uint64_t(ys[k >> 1]) * uint64_t(level.width) + uint64_t(xs[k & 1])) * bytes;
-        uint8_t raw[4];
-        // A texel's bytes (3 of them may straddle two lines), line by line.
-        for (uint64_t a = addr; a < addr + bytes;) {
-          const TextureCache::Lookup line = m_cache.lookup(a);
-          const uint64_t line_start = a & ~uint64_t{line_bytes - 1};
-          int32_t fill = -1;
-          if (!line.hit) {
-            ++m_misses;
-            fill = static_cast<int32_t>(m_fills.size());
-            m_fills.emplace_back();
-            mem.read_tracked(line_start, m_cache.data(line.slot), line_bytes, clock_cycles(at),
-                             m_fills.back());
-            in_flight.emplace_back(line.slot, fill);
-          } else {
-            ++m_hits;
-            const auto it = std::find_if(in_flight.rbegin(), in_flight.rend(),
-                                         [&](const auto& f) { return f.first == line.slot; });
-            if (it != in_flight.rend()) {
-              fill = it->second;
-            } else {
-              p.ready = std::max(p.ready, m_cache.ready(line.slot));
-            }
-          }
-          if (fill >= 0 &&
-              std::find(p.fill.begin(), p.fill.begin() + waits, fill) == p.fill.begin() + waits) {
-            p.fill[waits++] = fill;
-          }
-          const uint64_t end = std::min<uint64_t>(addr + bytes, line_start + line_bytes);
-          std::copy(m_cache.data(line.slot) + (a - line_start),
-                    m_cache.data(line.slot) + (end - line_start), raw + (a - addr));
-          a = end;
-        }
-        texel[k] = expand_texel(binding.format, raw);
-      }
-      m_texels += p.texels;
-      if (bilinear) {
-        for (int c = 0; c < 4; ++c) {
-          filtered[i][c] = lerp(lerp(texel[0][c], texel[1][c], p.weight_s),
-                                lerp(texel[2][c], texel[3][c], p.weight_s), p.weight_t);
-        }
-        ++m_bilinear;
-      } else {
-        filtered[i] = texel[0];
-        ++m_nearest;
+      const LevelPick pick = batch.texcoord_derivatives.empty()
+                                 ? LevelPick{}
+                                 : pick_level(binding, batch.texcoord_derivatives[i]);
+      const bool bilinear = (pick.minified ? level_filter(sampler.min_filter)
+                                           : sampler.mag_filter) == TextureFilter::linear;
+      const glm::vec2& st = batch.texcoords[i];
+      const Texel t0 = sample_level(binding.levels[pick.level], bilinear, st, at, p, waits);
+      passes[i] = 1;
+      filtered[i] = t0;
+      if (pick.weight > 0) {
+        // The second level: a second pass through the filter.
+        const Texel t1 = sample_level(binding.levels[pick.level + 1], bilinear, st, at, p, waits);
+        for (int c = 0; c < 4; ++c) filtered[i][c] = lerp(t0[c], t1[c], pick.weight);
+        passes[i] = 2;
+        ++m_two_level;
       }
     }
     // The fills issued so far complete in this delta's round.
@@ -296,7 +354,8 @@ uint64_t TextureUnit::texture(ShadedStampBatch& batch, const TextureBinding& bin
       const size_t i = next_filter;
       const uint64_t ready = arrival(m_pixels[i]);
       const uint64_t lines = ready > start ? (ready - start + m_cycle - 1) / m_cycle : 0;
-      filter[i] = std::max({i == 0 ? uint64_t{0} : filter[i - 1] + 1, address[i] + 1, lines});
+      filter[i] =
+          std::max({i == 0 ? uint64_t{0} : filter[i - 1] + passes[i - 1], address[i] + 1, lines});
     }
     // The lines filled in this round are present from their fills' arrival.
     for (const auto& [slot, fill] : in_flight) {
@@ -305,12 +364,11 @@ uint64_t TextureUnit::texture(ShadedStampBatch& batch, const TextureBinding& bin
     in_flight.clear();
   }
   const BaseFormat base = base_format(binding.format);
-  const TextureEnv& env = m_frame.draws.at(batch.primitive->draw_id).texture.env;
   for (size_t i = 0; i < n; ++i) {
-    batch.colors[i] = environment(env, base, filtered[i], batch.colors[i]);
+    batch.colors[i] = environment(binding.env, base, filtered[i], batch.colors[i]);
   }
   m_fragments += n;
-  return n == 0 ? 0 : filter[n - 1] + 1;
+  return n == 0 ? 0 : filter[n - 1] + passes[n - 1];
 }
 
 }  // namespace gpusim

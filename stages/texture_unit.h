@@ -6,6 +6,12 @@
 // then applies the draw's texture environment to the pixel's colour. Other
 // draws' batches and control tokens pass through.
 //
+// Level of detail, per pixel from its quad's texture coordinate derivatives
+// (which the interpolator computes when the texture's filters need them):
+// the pixel is magnified (level 0, the MAG filter) or minified (the MIN
+// filter, on one mipmap level or blending two); pick_level() in the .cpp
+// has the arithmetic, spec section 9c the rule.
+//
 // Sampling, per axis of a level of `size` texels (the spec's rules, in the
 // unit's own datapath):
 //   NEAREST  i = floor(s * size), wrapped;
@@ -22,14 +28,16 @@
 // (1998): an address stage looks every pixel's texels up in the cache and
 // sends the misses to memory at once; a fragment FIFO of
 // texture.prefetch_fragments entries holds the pixels until their lines have
-// arrived; a filter stage takes one pixel a cycle (a bilinear sample: four
-// texels a clock). Cost model, per textured batch of n pixels read at time
-// t, in cycles from t:
+// arrived; a filter stage takes one pass per level a pixel reads (a bilinear
+// sample: four texels a clock; a pixel blending two levels takes two).
+// Cost model, per textured batch of n pixels read at time t, in cycles from
+// t, with passes(i) 1 or 2:
 //   address(i) = max(address(i - 1) + 1, filter(i - D))  (D the FIFO depth)
-//   filter(i)  = max(filter(i - 1) + 1, address(i) + 1, arrival of its lines)
+//   filter(i)  = max(filter(i - 1) + passes(i - 1), address(i) + 1,
+//                    arrival of its lines)
 // where a line's arrival is its fill's completion (the memory model's), or
 // that of the earlier fill still in flight for it, and lines present are
-// there already. busy = max(ii * stamps, filter(n - 1) + 1); the result is
+// there already. busy = max(ii * stamps, filter(n - 1) + passes(n - 1)); the result is
 // readable `latency` cycles later. An untextured batch or a control token:
 // busy = ii * stamps (at least ii), a pass-through. memory_stall_cycles
 // counts the busy cycles beyond ii * stamps and one a pixel.
@@ -75,7 +83,7 @@ class TextureUnit : public PipelineStage {
     unsigned weight_s = 0, weight_t = 0;
     // The fills of this round it waits for (indices into m_fills; -1: none),
     // and the latest arrival of the lines it found filled earlier.
-    std::array<int32_t, 8> fill{};  // 4 texels of at most 2 lines each
+    std::array<int32_t, 16> fill{};  // 2 levels x 4 texels of at most 2 lines each
     uint64_t ready = 0;
   };
   std::vector<Footprint> m_pixels;
@@ -86,9 +94,11 @@ class TextureUnit : public PipelineStage {
       m_stats.counter("fragments", "fragments", "pixels textured (of textured draws)");
   uint64_t& m_texels = m_stats.counter("texels", "texels", "texels read from the cache");
   uint64_t& m_bilinear =
-      m_stats.counter("bilinear_samples", "samples", "pixels filtered with LINEAR");
+      m_stats.counter("bilinear_samples", "samples", "levels filtered with LINEAR (4 texels)");
   uint64_t& m_nearest =
-      m_stats.counter("nearest_samples", "samples", "pixels filtered with NEAREST");
+      m_stats.counter("nearest_samples", "samples", "levels sampled with NEAREST (1 texel)");
+  uint64_t& m_two_level = m_stats.counter("two_level_fragments", "fragments",
+                                          "pixels that blend two mipmap levels (two passes)");
   uint64_t& m_hits = m_stats.counter("cache_hits", "lines", "texture cache lookups that hit");
   uint64_t& m_misses =
       m_stats.counter("cache_misses", "lines", "texture cache lookups that missed (line fills)");

@@ -530,11 +530,13 @@ class Renderer {
                  pixels.end());
     ++m_stats.lines_rasterized;
     const SetupTriangle t = line_setup(a, b, l2);
+    const auto weights = [&](int x, int y) {
+      return line_functions(a, dx, dy, l2, pixel_center(x), pixel_center(y));
+    };
     for (const Pixel& p : pixels) {
-      const std::array<EdgeValue, 3> e =
-          line_functions(a, dx, dy, l2, pixel_center(p.x), pixel_center(p.y));
+      const std::array<EdgeValue, 3> e = weights(p.x, p.y);
       const float z = depth_at(t, e);
-      write_fragment(st, p.x, p.y, 1, &z, color_at(st, t, flat_color, e), id);
+      write_fragment(st, p.x, p.y, 1, &z, color_at(st, t, flat_color, p.x, p.y, weights), id);
     }
   }
 
@@ -587,8 +589,9 @@ class Renderer {
         z[s] = depth_at(t, line_functions(a, dx, dy, l2, sx, sy));
       }
       if (mask == 0) return glm::vec4(0.0f);
-      return color_at(st, t, flat_color,
-                      line_functions(a, dx, dy, l2, pixel_center(x), pixel_center(y)));
+      return color_at(st, t, flat_color, x, y, [&](int px, int py) {
+        return line_functions(a, dx, dy, l2, pixel_center(px), pixel_center(py));
+      });
     });
   }
 
@@ -630,7 +633,8 @@ class Renderer {
     const glm::vec2 xy = window_xy(v, m_viewport.rect);
     const PointSquare sq = point_square(xy.x, xy.y, st.point_size);
     // Textured: every fragment samples at the vertex's texture coordinate.
-    const glm::vec4 fragment_color = m_texture ? textured(v.texcoord, color) : color;
+    const glm::vec4 fragment_color =
+        m_texture ? textured(v.texcoord, TexcoordDerivatives(0.0f), color) : color;
     // Section 8c's space has pixel centres at 256 x: sample s of pixel x is at
     // 256 x + dx_s, covered iff x0 <= it < x0 + side (likewise y).
     scan_samples(st, id, sq.x0 + kSubpixelHalf, sq.x0 + sq.side - 1 + kSubpixelHalf,
@@ -689,7 +693,10 @@ class Renderer {
             z[s] = depth_at(t, e);
           }
           // Colour once per fragment, at the centre (section 14).
-          return mask == 0 ? glm::vec4(0.0f) : color_at(st, t, flat_color, edges_at(px, py));
+          return mask == 0 ? glm::vec4(0.0f)
+                           : color_at(st, t, flat_color, x, y, [&](int qx, int qy) {
+                               return edges_at(pixel_center(qx), pixel_center(qy));
+                             });
         });
     if (!on_screen) ++m_stats.triangles_offscreen;
   }
@@ -709,12 +716,31 @@ class Renderer {
   // Colour from the three weights e: flat, or perspective-correct
   // sum(e_i * c_i / w_i) / sum(e_i / w_i) (spec section 9); a lit Phong
   // draw's lit from the normal and eye position interpolated so (9b).
+  // The colour of pixel (x, y), whose weights (edge values, or a line's
+  // parameter) weights(x, y) gives: flat, Gouraud or Phong (section 9), then
+  // textured (9c) with the texture coordinate interpolated as any varying,
+  // whatever the shading, and its derivatives over the pixel's 2x2 quad:
+  // from the quad's lower-left pixel to its right and upper neighbours,
+  // evaluated there whether or not they are covered.
+  template <typename Weights>
   glm::vec4 color_at(const RenderState& st, const SetupTriangle& t, const glm::vec4& flat_color,
-                     const std::array<EdgeValue, 3>& e) const {
+                     int x, int y, Weights&& weights) const {
+    const std::array<EdgeValue, 3> e = weights(x, y);
     const glm::vec4 c = untextured_color_at(st, t, flat_color, e);
     if (m_texture == nullptr) return c;
-    // The texture coordinate is interpolated as the colour is (section 9c),
-    // whatever the shading.
+    TexcoordDerivatives d(0.0f);
+    if (m_texture->sampler.needs_lod()) {
+      const int x0 = x & ~1, y0 = y & ~1;
+      const glm::vec2 p00 = texcoord_at(t, weights(x0, y0));
+      const glm::vec2 p10 = texcoord_at(t, weights(x0 + 1, y0));
+      const glm::vec2 p01 = texcoord_at(t, weights(x0, y0 + 1));
+      d = TexcoordDerivatives(p10.x - p00.x, p10.y - p00.y, p01.x - p00.x, p01.y - p00.y);
+    }
+    return textured(texcoord_at(t, e), d, c);
+  }
+
+  // Section 9's perspective-correct formula for the texture coordinate.
+  static glm::vec2 texcoord_at(const SetupTriangle& t, const std::array<EdgeValue, 3>& e) {
     const float f0 = static_cast<float>(e[0]);
     const float f1 = static_cast<float>(e[1]);
     const float f2 = static_cast<float>(e[2]);
@@ -726,17 +752,14 @@ class Renderer {
           (f0 * v0.texcoord_over_w[i] + f1 * v1.texcoord_over_w[i] + f2 * v2.texcoord_over_w[i]) /
           den;
     }
-    return textured(tc, c);
+    return tc;
   }
 
   // Section 9c: the texture sampled at `tc` and combined with the colour.
-  // One level and a single filter for now: the loader refuses mipmap filters
-  // and a minification filter other than the magnification one, which is
-  // what the level of detail would choose between.
-  glm::vec4 textured(const glm::vec2& tc, const glm::vec4& color) const {
-    const Texel texel =
-        sample_level(*m_texture, m_texture->levels[0], m_texture->sampler.mag_filter, tc.x, tc.y);
-    return apply_texture_env(m_draw->texture_env, m_texture->format, texel, color);
+  glm::vec4 textured(const glm::vec2& tc, const TexcoordDerivatives& d,
+                     const glm::vec4& color) const {
+    return apply_texture_env(m_draw->texture_env, m_texture->format, sample(*m_texture, tc, d),
+                             color);
   }
 
   glm::vec4 untextured_color_at(const RenderState& st, const SetupTriangle& t,

@@ -126,12 +126,12 @@ bool point_in_view_volume(const glm::vec4& clip);
 
 // A vertex in window space, snapped.
 struct WindowVertex {
-  Subpixel x = 0, y = 0;          // 1/256 pixel
-  float z = 0.0f;                 // window depth, [0, 1] inside the frustum
-  float inv_w = 0.0f;             // varying weight: 1 / w_clip (screen interpolation: 1)
-  glm::vec4 color_over_w{0.0f};   // colour * inv_w, for perspective correction
-  glm::vec3 normal_over_w{0.0f};  // Phong: normal * inv_w
-  glm::vec3 eye_over_w{0.0f};     // Phong: eye position * inv_w
+  Subpixel x = 0, y = 0;            // 1/256 pixel
+  float z = 0.0f;                   // window depth, [0, 1] inside the frustum
+  float inv_w = 0.0f;               // varying weight: 1 / w_clip (screen interpolation: 1)
+  glm::vec4 color_over_w{0.0f};     // colour * inv_w, for perspective correction
+  glm::vec3 normal_over_w{0.0f};    // Phong: normal * inv_w
+  glm::vec3 eye_over_w{0.0f};       // Phong: eye position * inv_w
   glm::vec2 texcoord_over_w{0.0f};  // textured: (s, t) * inv_w
 };
 // The viewport transform's parameters (spec section 5): the viewport in
@@ -228,6 +228,6 @@ struct RenderOptions {
 // entries, not into an array per position: shade_vertex depends on the vertex
 // alone, so a vertex shaded again is the same bits.
 Result render(const Scene& scene, const RenderOptions& options = {});
-constexpr uint32_t kShadedVertexCache = 1u << 16;  // entries of 56 + 8 bytes
+constexpr uint32_t kShadedVertexCache = 1u << 16;  // entries of 64 + 8 bytes
 
 }  // namespace gpusim::golden

@@ -77,6 +77,59 @@ Texel sample_level(const Texture& texture, const TextureImage& level, TextureFil
   return out;
 }
 
+float fast_log2(float x) {
+  int e = 0;
+  const float f = std::frexp(x, &e);  // x = f 2^e, f in [0.5, 1)
+  return static_cast<float>(e - 2) + 2.0f * f;
+}
+
+LevelChoice choose_level(const Texture& texture, const TexcoordDerivatives& d) {
+  const TextureSampler& sm = texture.sampler;
+  LevelChoice c;
+  if (!sm.needs_lod()) return c;  // one filter, one level: no level of detail
+  const float w = static_cast<float>(texture.levels[0].width);
+  const float h = static_cast<float>(texture.levels[0].height);
+  const float sx = d[0] * w, tx = d[1] * h, sy = d[2] * w, ty = d[3] * h;
+  const float rho2 = std::max(sx * sx + tx * tx, sy * sy + ty * ty);
+  if (!(rho2 > 0.0f)) return c;  // a constant coordinate: magnified
+  float lod = 0.5f * fast_log2(rho2) + sm.lod_bias;
+  lod = std::min(std::max(lod, sm.min_lod), sm.max_lod);
+  if (!(lod > 0.0f)) return c;
+  c.minified = true;
+  const TextureFilter f = sm.min_filter;
+  if (!uses_mipmaps(f)) return c;
+  const unsigned last = static_cast<unsigned>(texture.levels.size() - 1);
+  if (blends_levels(f)) {
+    const float base = std::floor(lod);
+    c.level = static_cast<unsigned>(base);
+    c.weight = static_cast<unsigned>(static_cast<int>((lod - base) * 256.0f));
+    if (c.level >= last) c.level = last, c.weight = 0;
+  } else {
+    // The nearest level: from rho^2's exponent alone when the level of
+    // detail is plain (ties go up), else lod rounded half to even.
+    int e = 0;
+    std::frexp(rho2, &e);
+    const int exponent = e - 1;  // floor(log2 rho^2)
+    const long level = sm.plain_lod() ? (exponent + 1) >> 1 : std::lrint(lod);
+    c.level = static_cast<unsigned>(std::clamp<long>(level, 0, last));
+  }
+  return c;
+}
+
+Texel sample(const Texture& texture, const glm::vec2& st, const TexcoordDerivatives& d) {
+  const LevelChoice c = choose_level(texture, d);
+  if (!c.minified) {
+    return sample_level(texture, texture.levels[0], texture.sampler.mag_filter, st.x, st.y);
+  }
+  const TextureFilter f = level_filter(texture.sampler.min_filter);
+  const Texel t0 = sample_level(texture, texture.levels[c.level], f, st.x, st.y);
+  if (c.weight == 0) return t0;
+  const Texel t1 = sample_level(texture, texture.levels[c.level + 1], f, st.x, st.y);
+  Texel out;
+  for (int k = 0; k < 4; ++k) out[k] = lerp8(t0[k], t1[k], c.weight);
+  return out;
+}
+
 glm::vec4 apply_texture_env(const TextureEnv& env, TextureFormat format, const Texel& texel,
                             const glm::vec4& cf) {
   glm::vec4 ct;

@@ -186,6 +186,8 @@ class SceneReader {
   void place_lights(Scene& scene) const;
   void read_textures(const At& root, Scene& scene);
   Texture read_texture(const At& a, const std::string& name) const;
+  // A level's texels, width x height of them in `format`.
+  TextureImage read_texels(const At& texels, TextureFormat format, int width, int height) const;
   // A draw's "texture", "texcoords" and "texture_env" keys.
   void read_draw_texturing(const At& a, const Scene& scene, Draw& d) const;
   void read_draw(const At& a, Scene& scene);
@@ -966,97 +968,200 @@ void SceneReader::read_textures(const At& root, Scene& scene) {
                {"wrap_s", std::string(to_string(t.sampler.wrap_s))},
                {"wrap_t", std::string(to_string(t.sampler.wrap_t))},
                {"min_filter", std::string(to_string(t.sampler.min_filter))},
-               {"mag_filter", std::string(to_string(t.sampler.mag_filter))}};
+               {"mag_filter", std::string(to_string(t.sampler.mag_filter))},
+               {"lod_bias", tidy(t.sampler.lod_bias)},
+               {"min_lod", tidy(t.sampler.min_lod)},
+               {"max_lod", tidy(t.sampler.max_lod)}};
     resolved[item.key()] = std::move(out);
     scene.textures.push_back(std::move(t));
   }
   scene.resolved["textures"] = std::move(resolved);
 }
 
-Texture SceneReader::read_texture(const At& a, const std::string& name) const {
-  expect_object(a);
-  check_keys(a, {"format", "width", "height", "texels", "wrap", "wrap_s", "wrap_t", "min_filter",
-                 "mag_filter"});
-  Texture t;
-  t.name = name;
-  if (has(a, "format")) t.format = enumeration<TextureFormat>(member(a, "format"));
-  TextureImage level;
-  level.width = static_cast<int>(integer(member(a, "width"), 1, kMaxTextureSize));
-  level.height = has(a, "height")
-                     ? static_cast<int>(integer(member(a, "height"), 1, kMaxTextureSize))
-                     : 1;  // a 1D texture
-  // Inline texels: one array per texel, rows from the bottom, each with the
-  // format's channels in its own precision (rgb565: [r 0..31, g 0..63,
-  // b 0..31]; rgba4444: four of 0..15; the 8-bit formats 0..255 each).
-  const At texels = member(a, "texels");
-  const size_t count = static_cast<size_t>(level.width) * static_cast<size_t>(level.height);
-  if (!texels.v.is_array() || texels.v.size() != count) {
-    fail_value(texels,
-               "expected an array of " + std::to_string(count) + " texels (width x height)");
+namespace {
+
+// A texture format's channels as a scene file writes them, and their bits.
+struct TexelChannels {
+  unsigned count;
+  std::array<unsigned, 4> bits;
+};
+TexelChannels texel_channels(TextureFormat f) {
+  switch (f) {
+    case TextureFormat::alpha8:
+    case TextureFormat::luminance8:
+    case TextureFormat::intensity8:
+      return {1, {8}};
+    case TextureFormat::luminance_alpha8:
+      return {2, {8, 8}};
+    case TextureFormat::rgb8:
+      return {3, {8, 8, 8}};
+    case TextureFormat::rgba8:
+      return {4, {8, 8, 8, 8}};
+    case TextureFormat::rgb565:
+      return {3, {5, 6, 5}};
+    case TextureFormat::rgba4444:
+      return {4, {4, 4, 4, 4}};
   }
-  struct Channels {
-    unsigned count;
-    std::array<unsigned, 4> bits;
-  };
-  const auto channels = [](TextureFormat f) -> Channels {
-    switch (f) {
-      case TextureFormat::alpha8:
-      case TextureFormat::luminance8:
-      case TextureFormat::intensity8:
-        return {1, {8}};
-      case TextureFormat::luminance_alpha8:
-        return {2, {8, 8}};
-      case TextureFormat::rgb8:
-        return {3, {8, 8, 8}};
-      case TextureFormat::rgba8:
-        return {4, {8, 8, 8, 8}};
-      case TextureFormat::rgb565:
-        return {3, {5, 6, 5}};
-      case TextureFormat::rgba4444:
-        return {4, {4, 4, 4, 4}};
+  return {4, {8, 8, 8, 8}};
+}
+
+// One texel's channel values stored in `f` (little endian; rgb565 and
+// rgba4444 packed with the first channel in the high bits, as GL's packed
+// types), and read back.
+void store_texel(TextureFormat f, const std::array<unsigned, 4>& v, std::vector<uint8_t>& out) {
+  if (f == TextureFormat::rgb565 || f == TextureFormat::rgba4444) {
+    const unsigned packed = f == TextureFormat::rgb565 ? v[0] << 11 | v[1] << 5 | v[2]
+                                                       : v[0] << 12 | v[1] << 8 | v[2] << 4 | v[3];
+    out.push_back(static_cast<uint8_t>(packed & 0xff));
+    out.push_back(static_cast<uint8_t>(packed >> 8));
+    return;
+  }
+  for (unsigned c = 0; c < texel_channels(f).count; ++c) out.push_back(static_cast<uint8_t>(v[c]));
+}
+std::array<unsigned, 4> load_texel(TextureFormat f, const uint8_t* p) {
+  if (f == TextureFormat::rgb565 || f == TextureFormat::rgba4444) {
+    const unsigned v = p[0] | unsigned{p[1]} << 8;
+    if (f == TextureFormat::rgb565) return {v >> 11, v >> 5 & 63, v & 31, 0};
+    return {v >> 12, v >> 8 & 15, v >> 4 & 15, v & 15};
+  }
+  std::array<unsigned, 4> out{};
+  for (unsigned c = 0; c < texel_channels(f).count; ++c) out[c] = p[c];
+  return out;
+}
+
+// The next mipmap level by GL's box filter (glGenerateMipmap): half the
+// size (at least 1), each texel the mean of the 2x2 (2x1 or 1x2 where a side
+// is already 1) texels it covers, per stored channel, rounded half up.
+TextureImage next_level(TextureFormat f, const TextureImage& src) {
+  TextureImage dst;
+  dst.width = std::max(1, src.width / 2);
+  dst.height = std::max(1, src.height / 2);
+  const unsigned bytes = texel_bytes(f);
+  const int sx = src.width > 1 ? 2 : 1, sy = src.height > 1 ? 2 : 1;
+  for (int y = 0; y < dst.height; ++y) {
+    for (int x = 0; x < dst.width; ++x) {
+      std::array<unsigned, 4> sum{};
+      for (int j = 0; j < sy; ++j) {
+        for (int i = 0; i < sx; ++i) {
+          const size_t at = (static_cast<size_t>(y * sy + j) * src.width + (x * sx + i)) * bytes;
+          const std::array<unsigned, 4> v = load_texel(f, &src.texels[at]);
+          for (int c = 0; c < 4; ++c) sum[c] += v[c];
+        }
+      }
+      const unsigned n = static_cast<unsigned>(sx * sy);
+      for (unsigned& c : sum) c = (c + n / 2) / n;
+      store_texel(f, sum, dst.texels);
     }
-    return {4, {8, 8, 8, 8}};
-  };
-  const Channels ch = channels(t.format);
-  level.texels.reserve(count * texel_bytes(t.format));
+  }
+  return dst;
+}
+
+}  // namespace
+
+TextureImage SceneReader::read_texels(const At& texels, TextureFormat format, int width,
+                                      int height) const {
+  TextureImage level;
+  level.width = width;
+  level.height = height;
+  const size_t count = static_cast<size_t>(width) * static_cast<size_t>(height);
+  if (!texels.v.is_array() || texels.v.size() != count) {
+    fail_value(texels, "expected an array of " + std::to_string(count) + " texels (" +
+                           std::to_string(width) + " x " + std::to_string(height) + ")");
+  }
+  const TexelChannels ch = texel_channels(format);
+  level.texels.reserve(count * texel_bytes(format));
   for (size_t i = 0; i < count; ++i) {
     const At texel = element(texels, i);
     if (!texel.v.is_array() || texel.v.size() != ch.count) {
       fail_value(texel, "expected " + std::to_string(ch.count) + " channels for format " +
-                            std::string(to_string(t.format)));
+                            std::string(to_string(format)));
     }
     std::array<unsigned, 4> v{};
     for (unsigned c = 0; c < ch.count; ++c) {
       v[c] = static_cast<unsigned>(integer(element(texel, c), 0, (1 << ch.bits[c]) - 1));
     }
-    if (t.format == TextureFormat::rgb565 || t.format == TextureFormat::rgba4444) {
-      const unsigned packed = t.format == TextureFormat::rgb565
-                                  ? v[0] << 11 | v[1] << 5 | v[2]
-                                  : v[0] << 12 | v[1] << 8 | v[2] << 4 | v[3];
-      level.texels.push_back(static_cast<uint8_t>(packed & 0xff));
-      level.texels.push_back(static_cast<uint8_t>(packed >> 8));
+    store_texel(format, v, level.texels);
+  }
+  return level;
+}
+
+Texture SceneReader::read_texture(const At& a, const std::string& name) const {
+  expect_object(a);
+  check_keys(a, {"format", "width", "height", "texels", "mipmaps", "wrap", "wrap_s", "wrap_t",
+                 "min_filter", "mag_filter", "lod_bias", "min_lod", "max_lod"});
+  Texture t;
+  t.name = name;
+  if (has(a, "format")) t.format = enumeration<TextureFormat>(member(a, "format"));
+  const int width = static_cast<int>(integer(member(a, "width"), 1, kMaxTextureSize));
+  const int height = has(a, "height")
+                         ? static_cast<int>(integer(member(a, "height"), 1, kMaxTextureSize))
+                         : 1;  // a 1D texture
+  // Inline texels: one array per texel, rows from the bottom, each with the
+  // format's channels in its own precision (rgb565: [r 0..31, g 0..63,
+  // b 0..31]; rgba4444: four of 0..15; the 8-bit formats 0..255 each).
+  t.levels.push_back(read_texels(member(a, "texels"), t.format, width, height));
+  if (has(a, "mipmaps")) {
+    // The rest of the chain down to 1 x 1: generated, or given level by level.
+    const At m = member(a, "mipmaps");
+    const auto more = [&t] {
+      const TextureImage& last = t.levels.back();
+      return last.width > 1 || last.height > 1;
+    };
+    if (m.v.is_string() && m.v.get<std::string>() == "generate") {
+      while (more()) t.levels.push_back(next_level(t.format, t.levels.back()));
+    } else if (m.v.is_array()) {
+      size_t expected = 0;  // levels after level 0 down to 1 x 1
+      for (int w = width, h = height; w > 1 || h > 1;
+           w = std::max(1, w / 2), h = std::max(1, h / 2))
+        ++expected;
+      if (m.v.size() != expected) {
+        fail_value(m, "expected " + std::to_string(expected) +
+                          " levels after level 0 (each half the last, down to 1 x 1)");
+      }
+      for (size_t i = 0; more(); ++i) {
+        const TextureImage& last = t.levels.back();
+        t.levels.push_back(read_texels(element(m, i), t.format, std::max(1, last.width / 2),
+                                       std::max(1, last.height / 2)));
+      }
     } else {
-      for (unsigned c = 0; c < ch.count; ++c) level.texels.push_back(static_cast<uint8_t>(v[c]));
+      fail_value(m, "expected \"generate\" or an array of levels (each an array of texels)");
     }
   }
-  t.levels.push_back(std::move(level));
 
   if (has(a, "wrap")) {
     t.sampler.wrap_s = t.sampler.wrap_t = enumeration<TextureWrap>(member(a, "wrap"));
   }
   if (has(a, "wrap_s")) t.sampler.wrap_s = enumeration<TextureWrap>(member(a, "wrap_s"));
   if (has(a, "wrap_t")) t.sampler.wrap_t = enumeration<TextureWrap>(member(a, "wrap_t"));
-  // Without a mipmap chain GL's default minification filter would make the
-  // texture incomplete: a texture given one level minifies with "linear"
+  // GL's default minification filter, NEAREST_MIPMAP_LINEAR, makes a texture
+  // without a mipmap chain incomplete: such a texture minifies with LINEAR
   // unless it says otherwise.
-  t.sampler.min_filter = TextureFilter::linear;
-  if (has(a, "min_filter"))
-    t.sampler.min_filter = enumeration<TextureFilter>(member(a, "min_filter"));
+  t.sampler.min_filter =
+      t.levels.size() > 1 ? TextureFilter::nearest_mipmap_linear : TextureFilter::linear;
+  if (has(a, "min_filter")) {
+    const At m = member(a, "min_filter");
+    t.sampler.min_filter = enumeration<TextureFilter>(m);
+    if (uses_mipmaps(t.sampler.min_filter) && t.levels.size() == 1 &&
+        (t.levels[0].width > 1 || t.levels[0].height > 1)) {
+      fail_value(m,
+                 "a mipmap filter needs \"mipmaps\" (\"generate\" or the levels); expected "
+                 "nearest or linear");
+    }
+  }
   if (has(a, "mag_filter")) {
     const At m = member(a, "mag_filter");
     t.sampler.mag_filter = enumeration<TextureFilter>(m);
     if (uses_mipmaps(t.sampler.mag_filter)) fail_value(m, "expected nearest or linear");
   }
+  const auto lod = [&](const char* key, float& out) {
+    if (!has(a, key)) return;
+    const At v = member(a, key);
+    out = real(v);
+    if (!(std::fabs(out) <= kDefaultLodLimit)) fail_value(v, "expected -1000..1000");
+  };
+  lod("lod_bias", t.sampler.lod_bias);
+  lod("min_lod", t.sampler.min_lod);
+  lod("max_lod", t.sampler.max_lod);
   // What the texture unit does not sample yet: say so rather than render it otherwise.
   for (const char* key : {"wrap", "wrap_s", "wrap_t"}) {
     if (!has(a, key)) continue;
@@ -1067,15 +1172,6 @@ Texture SceneReader::read_texture(const At& a, const std::string& name) const {
                  "wrap modes clamp and mirrored_repeat are not supported yet; expected repeat "
                  "or clamp_to_edge");
     }
-  }
-  if (uses_mipmaps(t.sampler.min_filter)) {
-    fail_value(member(a, "min_filter"),
-               "mipmap filters are not supported yet; expected nearest or linear");
-  }
-  if (t.sampler.min_filter != t.sampler.mag_filter) {
-    fail(a.path,
-         "a min_filter other than the mag_filter needs the level of detail, which is not "
-         "supported yet: give both the same filter");
   }
   return t;
 }

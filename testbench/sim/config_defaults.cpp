@@ -57,12 +57,13 @@ const StageSpec& spec_of(const std::string& kind) {
 }  // namespace
 
 PipelineKinds pipeline_kinds() {
-  // A multisampled frame elaborates the resolve; one unit is enough to see
-  // every kind.
+  // A multisampled frame elaborates the resolve, a textured draw the texture
+  // units; one unit is enough to see every kind.
   FrameState frame;
   frame.framebuffer.width = 16;
   frame.framebuffer.height = 16;
   frame.framebuffer.samples = 4;
+  frame.draws.emplace_back().texture.levels = {TextureLevel{0, 1, 1}};
   const GpuConfig config;
   fresh_simulation_context();
   PipelineKinds k;

@@ -89,6 +89,65 @@ TEST(TextureSampling, PackedFormatsWidenByBitReplication) {
   EXPECT_EQ(expand_texel(TextureFormat::intensity8, la), (Texel{90, 90, 90, 90}));
 }
 
+// A 128 x 128 texture with its 8 levels (texels unused here).
+Texture mipmapped(TextureFilter min_filter) {
+  Texture t;
+  for (int side = 128; side >= 1; side /= 2) {
+    t.levels.push_back(TextureImage{side, side, std::vector<uint8_t>(size_t(side) * side * 4)});
+  }
+  t.sampler.min_filter = min_filter;
+  return t;
+}
+
+TEST(TextureSampling, FastLog2IsExponentPlusMantissa) {
+  EXPECT_EQ(fast_log2(1.0f), 0.0f);
+  EXPECT_EQ(fast_log2(8.0f), 3.0f);
+  EXPECT_EQ(fast_log2(1.5625f), 0.5625f);  // 1.5625 2^0: -1 + 1.5625
+  EXPECT_EQ(fast_log2(9.0f), 3.125f);      // 1.125 2^3: 2 + 1.125
+  EXPECT_EQ(fast_log2(0.75f), -0.5f);      // 1.5 2^-1: -2 + 1.5
+}
+
+TEST(TextureSampling, LinearMipLevelsAsLlvmpipeChoseThem) {
+  // s = x scale / 128: scale texels of level 0 a pixel, rho^2 = scale^2.
+  // The levels and weights llvmpipe sampled at these scales (measured).
+  const Texture t = mipmapped(TextureFilter::linear_mipmap_linear);
+  const struct {
+    float scale;
+    unsigned level, weight;
+  } cases[] = {{1.25f, 0, 72}, {1.5f, 0, 144}, {2.0f, 1, 0}, {3.0f, 1, 144}, {100.0f, 6, 156}};
+  for (const auto& c : cases) {
+    const float d = c.scale / 128.0f;
+    const LevelChoice got = choose_level(t, TexcoordDerivatives(d, 0.0f, 0.0f, d));
+    EXPECT_TRUE(got.minified) << c.scale;
+    EXPECT_EQ(got.level, c.level) << c.scale;
+    EXPECT_EQ(got.weight, c.weight) << c.scale;
+  }
+  // The larger of the two directions counts; at 1:1 (lod 0) it magnifies.
+  EXPECT_EQ(choose_level(t, TexcoordDerivatives(0.0f, 2.0f / 128, 1.0f / 128, 0.0f)).level, 1u);
+  EXPECT_FALSE(choose_level(t, TexcoordDerivatives(1.0f / 128, 0.0f, 0.0f, 1.0f / 128)).minified);
+  EXPECT_FALSE(choose_level(t, TexcoordDerivatives(0.0f)).minified);
+  // Past the last level: the last, one level.
+  const LevelChoice far = choose_level(t, TexcoordDerivatives(1e6f, 0.0f, 0.0f, 0.0f));
+  EXPECT_EQ(far.level, 7u);
+  EXPECT_EQ(far.weight, 0u);
+}
+
+TEST(TextureSampling, NearestMipLevelTiesGoUpUnlessBiasedOrClamped) {
+  Texture t = mipmapped(TextureFilter::nearest_mipmap_nearest);
+  // rho^2 = 1 + 1 = 2: lod 0.5 exactly. The plain rule takes
+  // (exponent 1 + 1) >> 1 = 1: ties go up.
+  const TexcoordDerivatives half(1.0f / 128.0f, 1.0f / 128.0f, 0.0f, 0.0f);
+  EXPECT_EQ(choose_level(t, half).level, 1u);
+  // With max_lod set, lod is rounded half to even: 0.5 -> 0 (llvmpipe's
+  // switch, measured with GL_TEXTURE_MAX_LOD 5).
+  t.sampler.max_lod = 5.0f;
+  EXPECT_EQ(choose_level(t, half).level, 0u);
+  t.sampler.max_lod = kDefaultLodLimit;
+  // A bias of 1 moves every pixel a level down the chain.
+  t.sampler.lod_bias = 1.0f;
+  EXPECT_EQ(choose_level(t, TexcoordDerivatives(4.0f / 128, 0.0f, 0.0f, 0.0f)).level, 3u);
+}
+
 TEST(TextureSampling, EnvironmentFollowsGlsTable) {
   const glm::vec4 cf(0.5f, 0.25f, 1.0f, 0.5f);
   const Texel texel{255, 0, 51, 102};  // 1, 0, 0.2, 0.4

@@ -78,7 +78,7 @@ TEST(Limits, EstimatesFollowTheFramebufferAndTheArrays) {
   EXPECT_GT(g.total(), 28ull * 8192 * 8192);
   EXPECT_LT(g.total(), 28ull * 8192 * 8192 + 4096);
   EXPECT_EQ(g.describe().find("last writer"), std::string::npos) << g.describe();
-  // The golden model's shaded-vertex cache: 56-byte vertex and 8-byte tag
+  // The golden model's shaded-vertex cache: 64-byte vertex and 8-byte tag
   // per entry, the next power of two of the positions, at most 2^16 entries.
   const auto cache_bytes = [](size_t positions) {
     Scene s = scene_with(64, 32);
@@ -88,9 +88,9 @@ TEST(Limits, EstimatesFollowTheFramebufferAndTheArrays) {
     }
     return uint64_t{0};
   };
-  EXPECT_EQ(cache_bytes(4), 4u * 64);
-  EXPECT_EQ(cache_bytes(1000), 1024u * 64);
-  EXPECT_EQ(cache_bytes(10'000'000), 65536u * 64);
+  EXPECT_EQ(cache_bytes(4), 4u * 72);
+  EXPECT_EQ(cache_bytes(1000), 1024u * 72);
+  EXPECT_EQ(cache_bytes(10'000'000), 65536u * 72);
   EXPECT_GT(estimate_cycle_memory(big, GpuConfig{}, true).total(),
             estimate_cycle_memory(big, GpuConfig{}, false).total());
   EXPECT_NE(g.describe().find("golden framebuffer 8192x8192: 768 MiB"), std::string::npos)

@@ -1272,6 +1272,21 @@ TEST_F(SceneLoaderTest, TextureTexelsAreStoredInTheirFormat) {
   EXPECT_EQ(s.draws[0].texture_env.mode, TextureEnvMode::modulate);
 }
 
+TEST_F(SceneLoaderTest, GeneratedMipmapsAreBoxFilteredPerStoredChannel) {
+  // 3 x 2 luminance_alpha8: level 1 is 1 x 1, the mean of texels (0, 0),
+  // (1, 0), (0, 1), (1, 1) (the third column has no pair), rounded half up.
+  const Scene s = load(R"({"textures": {"t": {"format": "luminance_alpha8", "width": 3,
+      "height": 2, "texels": [[10, 0], [11, 1], [99, 99], [12, 2], [13, 4], [99, 99]],
+      "mipmaps": "generate"}}})");
+  const Texture& t = s.textures.at(0);
+  ASSERT_EQ(t.levels.size(), 2u);
+  EXPECT_EQ(t.levels[1].width, 1);
+  EXPECT_EQ(t.levels[1].height, 1);
+  // (10 + 11 + 12 + 13 + 2) / 4 = 12, (0 + 1 + 2 + 4 + 2) / 4 = 2.
+  EXPECT_EQ(t.levels[1].texels, (std::vector<uint8_t>{12, 2}));
+  EXPECT_EQ(t.sampler.min_filter, TextureFilter::nearest_mipmap_linear);  // GL's default
+}
+
 TEST_F(SceneLoaderTest, TextureMistakesAreOneLineErrors) {
   const std::string tex = R"({"textures": {"t": {"width": 2, "texels": [[1,2,3,4],[5,6,7,8]]}}, )";
   EXPECT_NE(error_of(tex + R"("draws": [{"positions": [[0,0,0]], "texture": "t",
@@ -1297,9 +1312,17 @@ TEST_F(SceneLoaderTest, TextureMistakesAreOneLineErrors) {
                                             "wrap": "mirrored_repeat"}}})")
                 .find("not supported yet"),
             std::string::npos);
+  EXPECT_NE(error_of(R"({"textures": {"t": {"width": 2, "texels": [[1,2,3,4],[1,2,3,4]],
+                                            "min_filter": "linear_mipmap_linear"}}})")
+                .find("a mipmap filter needs \"mipmaps\""),
+            std::string::npos);
+  EXPECT_NE(error_of(R"({"textures": {"t": {"width": 4, "texels": [[1],[2],[3],[4]],
+                                            "format": "luminance8", "mipmaps": [[[1],[2]]]}}})")
+                .find("expected 2 levels after level 0"),
+            std::string::npos);
   EXPECT_NE(error_of(R"({"textures": {"t": {"width": 1, "texels": [[1,2,3,4]],
-                                            "min_filter": "nearest"}}})")
-                .find("level of detail"),
+                                            "lod_bias": 2000}}})")
+                .find("expected -1000..1000"),
             std::string::npos);
 }
 

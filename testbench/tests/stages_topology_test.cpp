@@ -29,9 +29,11 @@ std::vector<std::string> sorted(std::vector<std::string> v) {
 TEST(Topology, ConfigurationAndNetlistNameTheSameThings) {
   GpuConfig config;
   config.units = 3;
-  // A multisampled frame elaborates every stage, the resolve included.
+  // A multisampled frame with a textured draw elaborates every stage, the
+  // resolve and the texture units included.
   FrameState frame = small_frame();
   frame.framebuffer.samples = 4;
+  frame.draws.emplace_back().texture.levels = {TextureLevel{0, 1, 1}};
   Gpu gpu("gpu", config, frame, 1 << 16);
   const Topology& t = gpu.topology();
   EXPECT_EQ(sorted(t.stage_kinds()), GpuConfig::stage_names());
