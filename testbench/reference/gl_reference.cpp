@@ -95,6 +95,7 @@ namespace {
   X(PFNGLACTIVETEXTUREPROC, glActiveTexture)                                   \
   X(PFNGLTEXIMAGE2DPROC, glTexImage2D)                                         \
   X(PFNGLTEXPARAMETERIPROC, glTexParameteri)                                   \
+  X(PFNGLTEXPARAMETERFPROC, glTexParameterf)                                   \
   X(PFNGLTEXPARAMETERIVPROC, glTexParameteriv)
 
 struct Gl {
@@ -393,6 +394,24 @@ GLint gl_wrap(TextureWrap w) {
       break;  // GL_CLAMP: not in a core profile (render() refuses it)
   }
   return GL_CLAMP_TO_EDGE;
+}
+
+GLint gl_filter(TextureFilter f) {
+  switch (f) {
+    case TextureFilter::nearest:
+      return GL_NEAREST;
+    case TextureFilter::linear:
+      return GL_LINEAR;
+    case TextureFilter::nearest_mipmap_nearest:
+      return GL_NEAREST_MIPMAP_NEAREST;
+    case TextureFilter::linear_mipmap_nearest:
+      return GL_LINEAR_MIPMAP_NEAREST;
+    case TextureFilter::nearest_mipmap_linear:
+      return GL_NEAREST_MIPMAP_LINEAR;
+    case TextureFilter::linear_mipmap_linear:
+      return GL_LINEAR_MIPMAP_LINEAR;
+  }
+  return GL_LINEAR;
 }
 
 // One vertex as OpenGL receives it.
@@ -996,33 +1015,37 @@ struct GlReference::Impl {
     }
   }
 
-  // Every scene texture as a texture object of level 0 alone
-  // (GL_TEXTURE_MAX_LEVEL 0 makes it complete without mipmaps), with its
-  // sampler's wrap modes and filters. The stored rows run from t = 0 up,
-  // which is the order glTexImage2D takes them in: no flip.
+  // Every scene texture as a texture object with all of its levels (level 0
+  // alone for a texture without mipmaps; GL_TEXTURE_MAX_LEVEL, the last
+  // level, makes it complete either way), with its sampler's wrap modes,
+  // filters, level-of-detail bias and clamps. The stored rows run from
+  // t = 0 up, which is the order glTexImage2D takes them in: no flip.
   void upload_textures(const Scene& scene) {
     gl.glActiveTexture(GL_TEXTURE0);
     gl.glPixelStorei(GL_UNPACK_ALIGNMENT, 1);  // rows tightly packed
     for (const Texture& t : scene.textures) {
       const GlTextureFormat f = gl_texture_format(t.format);
-      const TextureImage& level = t.levels.at(0);
       GLuint texture = 0;
       gl.glGenTextures(1, &texture);
       textures.push_back(texture);
       texture_formats.push_back(t.format);
       gl.glBindTexture(GL_TEXTURE_2D, texture);
-      gl.glTexImage2D(GL_TEXTURE_2D, 0, f.internal, level.width, level.height, 0, f.format, f.type,
-                      level.texels.data());
+      for (size_t l = 0; l < t.levels.size(); ++l) {
+        const TextureImage& level = t.levels[l];
+        gl.glTexImage2D(GL_TEXTURE_2D, static_cast<GLint>(l), f.internal, level.width,
+                        level.height, 0, f.format, f.type, level.texels.data());
+      }
       gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_BASE_LEVEL, 0);
-      gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
+      gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL,
+                         static_cast<GLint>(t.levels.size()) - 1);
       gl.glTexParameteriv(GL_TEXTURE_2D, GL_TEXTURE_SWIZZLE_RGBA, f.swizzle);
       gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, gl_wrap(t.sampler.wrap_s));
       gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, gl_wrap(t.sampler.wrap_t));
-      const auto filter = [](TextureFilter x) {
-        return x == TextureFilter::nearest ? GL_NEAREST : GL_LINEAR;
-      };
-      gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, filter(t.sampler.min_filter));
-      gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, filter(t.sampler.mag_filter));
+      gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, gl_filter(t.sampler.min_filter));
+      gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, gl_filter(t.sampler.mag_filter));
+      gl.glTexParameterf(GL_TEXTURE_2D, GL_TEXTURE_LOD_BIAS, t.sampler.lod_bias);
+      gl.glTexParameterf(GL_TEXTURE_2D, GL_TEXTURE_MIN_LOD, t.sampler.min_lod);
+      gl.glTexParameterf(GL_TEXTURE_2D, GL_TEXTURE_MAX_LOD, t.sampler.max_lod);
       check("texture upload");
     }
     gl.glBindTexture(GL_TEXTURE_2D, 0);
@@ -1382,10 +1405,6 @@ struct GlReference::Impl {
       if (sm.wrap_s == TextureWrap::clamp || sm.wrap_t == TextureWrap::clamp) {
         throw NotRenderable("texture \"" + t.name +
                             "\" wraps with clamp (GL_CLAMP), which a core profile does not have");
-      }
-      if (uses_mipmaps(sm.min_filter) || uses_mipmaps(sm.mag_filter)) {
-        throw NotRenderable("texture \"" + t.name +
-                            "\" asks for mipmaps: the reference uploads level 0 only");
       }
     }
     const FramebufferDesc& desc = scene.framebuffer;

@@ -61,8 +61,14 @@
 // (NotRenderable), never rendered some other way.
 //
 // Textured draws (spec section 9c). Each scene texture is uploaded once per
-// render as a texture object of its level 0 alone (GL_TEXTURE_MAX_LEVEL 0),
-// rows from t = 0 as stored, with its wrap modes and filters: a core
+// render as a texture object holding every level the scene gives it (level
+// 0 alone without mipmaps; GL_TEXTURE_MAX_LEVEL is its last level, so it is
+// complete either way), each level as the loader made it (given or
+// generated: OpenGL does not generate any), rows from t = 0 as stored, with
+// its wrap modes, minification filter (all six, mipmapped ones included),
+// magnification filter, GL_TEXTURE_LOD_BIAS, GL_TEXTURE_MIN_LOD and
+// GL_TEXTURE_MAX_LOD: llvmpipe computes the level of detail from its own
+// derivatives of the interpolated coordinate over each 2x2 quad. A core
 // profile has no ALPHA, LUMINANCE or INTENSITY, so those are R8 or RG8 with
 // a texture swizzle giving GL's expansion; RGB565 and RGBA4444 take their
 // stored 16-bit words as UNSIGNED_SHORT_5_6_5 and _4_4_4_4. The texture
@@ -104,7 +110,7 @@ class ReferenceError : public std::runtime_error {
 // "bresenham": OpenGL only has the diamond-exit rule; framebuffer.samples
 // other than 1 and 4, the only counts llvmpipe multisamples with; samples 4
 // together with supersample > 1; a texture with wrap "clamp", which a core
-// profile lacks, or with mipmap filters). Nothing is drawn.
+// profile lacks). Nothing is drawn. Mipmap filters are rendered.
 class NotRenderable : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
