@@ -495,6 +495,18 @@ int run_info(const std::string& scene_path) {
         dr["material_from"].get<std::string>().c_str(), vec_text(m["ambient"]).c_str(),
         vec_text(m["diffuse"]).c_str(), vec_text(m["specular"]).c_str(),
         vec_text(m["emission"]).c_str(), m["shininess"].get<double>());
+    if (d.texture >= 0) {
+      const Texture& t = scene.textures[static_cast<size_t>(d.texture)];
+      std::printf("    texture %s: %dx%d %s, %zu level%s, min %s, mag %s, wrap %s %s, %s\n",
+                  printable(t.name).c_str(), t.levels[0].width, t.levels[0].height,
+                  std::string(to_string(t.format)).c_str(), t.levels.size(),
+                  t.levels.size() == 1 ? "" : "s",
+                  std::string(to_string(t.sampler.min_filter)).c_str(),
+                  std::string(to_string(t.sampler.mag_filter)).c_str(),
+                  std::string(to_string(t.sampler.wrap_s)).c_str(),
+                  std::string(to_string(t.sampler.wrap_t)).c_str(),
+                  std::string(to_string(d.texture_env.mode)).c_str());
+    }
   }
   if (r.contains("clears")) {
     // Placed by the number of draws before them (docs/scene-format.md, "Clears").

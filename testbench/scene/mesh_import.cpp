@@ -15,9 +15,11 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <utility>
 
 #include "testbench/scene/binary_ply.h"
+#include "testbench/scene/texture_image.h"
 
 namespace gpusim {
 namespace {
@@ -164,9 +166,98 @@ std::string lowercase_extension(const std::string& file) {
   return ext;
 }
 
+// A material's diffuse texture (glTF's base colour), decoded once per file
+// and shared by every mesh that names it; null without one.
+class MaterialTextures {
+ public:
+  MaterialTextures(const aiScene& scene, const std::string& file)
+      : m_scene(scene),
+        m_dir(std::filesystem::path(file).parent_path()),
+        m_base(std::filesystem::path(file).filename().string()) {}
+
+  struct Use {
+    std::shared_ptr<const Texture> texture;
+    unsigned uv_channel = 0;
+  };
+  Use of(const aiMaterial& m) {
+    aiString path;
+    unsigned uv = 0;
+    aiTextureMapMode modes[2] = {aiTextureMapMode_Wrap, aiTextureMapMode_Wrap};
+    aiTextureType type = aiTextureType_DIFFUSE;
+    if (m.GetTextureCount(type) == 0) type = aiTextureType_BASE_COLOR;
+    if (m.GetTextureCount(type) == 0) return {};
+    if (m.GetTexture(type, 0, &path, nullptr, &uv, nullptr, nullptr, modes) != aiReturn_SUCCESS) {
+      return {};
+    }
+    std::string name = path.C_Str();
+    // A path written on Windows (".\\wall.jpg"): its separators are ours.
+    std::replace(name.begin(), name.end(), '\\', '/');
+    const std::string key = name + "|" + std::to_string(modes[0]) + std::to_string(modes[1]);
+    auto it = m_cache.find(key);
+    if (it == m_cache.end()) it = m_cache.emplace(key, load(name, modes)).first;
+    return {it->second, uv};
+  }
+
+ private:
+  std::shared_ptr<const Texture> load(const std::string& name, const aiTextureMapMode* modes) {
+    auto t = std::make_shared<Texture>();
+    t->name = m_base + " " + name;
+    const auto wrap = [&](aiTextureMapMode mode) {
+      if (mode == aiTextureMapMode_Wrap) return TextureWrap::repeat;
+      if (mode == aiTextureMapMode_Clamp) return TextureWrap::clamp_to_edge;
+      throw MeshImportError("texture \"" + name +
+                            "\": its wrap mode (mirror or decal) is not "
+                            "supported yet");
+    };
+    t->sampler.wrap_s = wrap(modes[0]);
+    t->sampler.wrap_t = wrap(modes[1]);
+    // As a model viewer samples: trilinear over generated mipmaps.
+    t->sampler.min_filter = TextureFilter::linear_mipmap_linear;
+    t->sampler.mag_filter = TextureFilter::linear;
+    try {
+      const aiTexture* embedded = m_scene.GetEmbeddedTexture(name.c_str());
+      if (embedded != nullptr && embedded->mHeight == 0) {
+        // A compressed image (a glb's PNG or JPEG): mWidth bytes.
+        t->levels.push_back(decode_image(embedded->pcData, embedded->mWidth,
+                                         embedded->achFormatHint, std::nullopt, &t->format));
+      } else if (embedded != nullptr) {
+        // Raw BGRA texels, top row first.
+        TextureImage level;
+        level.width = static_cast<int>(embedded->mWidth);
+        level.height = static_cast<int>(embedded->mHeight);
+        if (level.width > kMaxTextureSize || level.height > kMaxTextureSize) {
+          throw TextureImageError("larger than " + std::to_string(kMaxTextureSize) +
+                                  " texels on a side");
+        }
+        for (int y = level.height - 1; y >= 0; --y) {
+          for (int x = 0; x < level.width; ++x) {
+            const aiTexel& c = embedded->pcData[size_t(y) * level.width + x];
+            level.texels.insert(level.texels.end(), {c.r, c.g, c.b, c.a});
+          }
+        }
+        t->format = TextureFormat::rgba8;
+        t->levels.push_back(std::move(level));
+      } else {
+        std::filesystem::path p = name;
+        if (p.is_relative()) p = m_dir / p;
+        t->levels.push_back(read_image_file(p.string(), std::nullopt, &t->format));
+      }
+    } catch (const TextureImageError& e) {
+      throw MeshImportError("texture \"" + name + "\": " + e.what());
+    }
+    generate_mipmaps(*t);
+    return t;
+  }
+
+  const aiScene& m_scene;
+  const std::filesystem::path m_dir;
+  const std::string m_base;
+  std::map<std::string, std::shared_ptr<const Texture>> m_cache;
+};
+
 }  // namespace
 
-std::vector<ImportedMesh> import_mesh(const std::string& file) {
+std::vector<ImportedMesh> import_mesh(const std::string& file, bool textures) {
   std::error_code ec;
   if (std::filesystem::is_directory(file, ec)) throw MeshImportError("is a directory");
   // assimp picks its importer by the name's extension: only a .ply may take
@@ -176,7 +267,7 @@ std::vector<ImportedMesh> import_mesh(const std::string& file) {
     if (std::optional<std::vector<ImportedMesh>> mesh = read_binary_ply(file))
       return std::move(*mesh);
   }
-  return import_mesh_with_assimp(file);
+  return import_mesh_with_assimp(file, textures);
 }
 
 bool is_mesh_file_name(const std::string& file) {
@@ -184,7 +275,7 @@ bool is_mesh_file_name(const std::string& file) {
   return ext.size() > 1 && ext != ".json" && Assimp::Importer().IsExtensionSupported(ext);
 }
 
-std::vector<ImportedMesh> import_mesh_with_assimp(const std::string& file) {
+std::vector<ImportedMesh> import_mesh_with_assimp(const std::string& file, bool with_textures) {
   std::error_code ec;
   if (std::filesystem::is_directory(file, ec)) throw MeshImportError("is a directory");
   Assimp::Importer importer;
@@ -212,6 +303,7 @@ std::vector<ImportedMesh> import_mesh_with_assimp(const std::string& file) {
   if (!dropped.empty()) throw MeshImportError(dropped);
 
   std::vector<ImportedMesh> out;
+  MaterialTextures textures(*scene, file);
   for (unsigned mi = 0; mi < scene->mNumMeshes; ++mi) {
     const aiMesh* mesh = scene->mMeshes[mi];
     if (mesh == nullptr || mesh->mVertices == nullptr) continue;
@@ -266,7 +358,23 @@ std::vector<ImportedMesh> import_mesh_with_assimp(const std::string& file) {
     }
     if (mesh->mMaterialIndex < scene->mNumMaterials &&
         scene->mMaterials[mesh->mMaterialIndex] != nullptr) {
-      im.material = convert_material(*scene->mMaterials[mesh->mMaterialIndex]);
+      const aiMaterial& material = *scene->mMaterials[mesh->mMaterialIndex];
+      im.material = convert_material(material);
+      const MaterialTextures::Use use =
+          with_textures ? textures.of(material) : MaterialTextures::Use{};
+      // Without its UV channel a texture has nothing to map it with.
+      if (use.texture && use.uv_channel < AI_MAX_NUMBER_OF_TEXTURECOORDS &&
+          mesh->mTextureCoords[use.uv_channel] != nullptr) {
+        im.texture = use.texture;
+        im.texcoords.reserve(mesh->mNumVertices);
+        for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
+          const aiVector3D& uv = mesh->mTextureCoords[use.uv_channel][v];
+          if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) {
+            throw MeshImportError(where(v) + " has a non-finite texture coordinate");
+          }
+          im.texcoords.emplace_back(uv.x, uv.y);
+        }
+      }
     }
     const std::pair<unsigned, PrimitiveType> kinds[] = {
         {3, PrimitiveType::triangles}, {2, PrimitiveType::lines}, {1, PrimitiveType::points}};

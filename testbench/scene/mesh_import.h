@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <glm/glm.hpp>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -33,19 +34,25 @@ struct ImportedMesh {
   std::vector<glm::vec4> colors;   // colour set 0, or empty
   std::vector<uint32_t> indices;   // three per triangle, two per line, one per point
   Material material;               // from the file's material (see docs/scene-format.md)
+  // The material's diffuse (glTF: base colour) texture, from an image file
+  // beside the mesh or embedded in it, with generated mipmaps, shared by the
+  // meshes that use it; null without one, or without texture coordinates.
+  std::shared_ptr<const Texture> texture;
+  std::vector<glm::vec2> texcoords;  // the texture's UV channel, one per position
 };
 
 // Reads `file`; throws MeshImportError (one line) when assimp cannot read it,
-// it has no triangles, lines or points, or its data is unusable (non-finite
-// values). Each aiMesh's triangles come before its lines and its points.
-// A binary PLY of the layout in binary_ply.h is read directly, with the
-// same result.
-std::vector<ImportedMesh> import_mesh(const std::string& file);
+// it has no triangles, lines or points, its data is unusable (non-finite
+// values), or a material's texture cannot be read. Each aiMesh's triangles come before its lines
+// and its points. A binary PLY of the layout in binary_ply.h is read directly, with the same
+// result.
+// With `textures` false the materials' textures are not read (no mesh has one).
+std::vector<ImportedMesh> import_mesh(const std::string& file, bool textures = true);
 // Whether `file`'s name ends in an extension assimp imports (".obj", ".glb",
 // ".ply", ...; not ".json"): what `gpusim run` renders as a scene of its own.
 bool is_mesh_file_name(const std::string& file);
 // The same through assimp for every file (the direct PLY path's tests
 // compare the two).
-std::vector<ImportedMesh> import_mesh_with_assimp(const std::string& file);
+std::vector<ImportedMesh> import_mesh_with_assimp(const std::string& file, bool textures = true);
 
 }  // namespace gpusim

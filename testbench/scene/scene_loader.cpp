@@ -21,6 +21,7 @@
 
 #include "testbench/scene/mesh_import.h"
 #include "testbench/scene/scene.h"
+#include "testbench/scene/texture_image.h"
 
 namespace gpusim {
 namespace {
@@ -668,6 +669,20 @@ void SceneReader::frame_meshes(Scene& scene) {
   store_camera(scene, std::move(resolved));
 }
 
+Out out_texture(const Texture& t) {
+  return {{"format", std::string(to_string(t.format))},
+          {"width", t.levels[0].width},
+          {"height", t.levels[0].height},
+          {"levels", t.levels.size()},
+          {"wrap_s", std::string(to_string(t.sampler.wrap_s))},
+          {"wrap_t", std::string(to_string(t.sampler.wrap_t))},
+          {"min_filter", std::string(to_string(t.sampler.min_filter))},
+          {"mag_filter", std::string(to_string(t.sampler.mag_filter))},
+          {"lod_bias", tidy(t.sampler.lod_bias)},
+          {"min_lod", tidy(t.sampler.min_lod)},
+          {"max_lod", tidy(t.sampler.max_lod)}};
+}
+
 Out out_material(const Material& m) {
   return {{"ambient", out_vec(m.ambient)},
           {"diffuse", out_vec(m.diffuse)},
@@ -961,102 +976,11 @@ void SceneReader::read_textures(const At& root, Scene& scene) {
   for (const auto& item : textures.v.items()) {
     const At a{item.value(), member_path(textures.path, item.key())};
     Texture t = read_texture(a, item.key());
-    Out out = {{"format", std::string(to_string(t.format))},
-               {"width", t.levels[0].width},
-               {"height", t.levels[0].height},
-               {"levels", t.levels.size()},
-               {"wrap_s", std::string(to_string(t.sampler.wrap_s))},
-               {"wrap_t", std::string(to_string(t.sampler.wrap_t))},
-               {"min_filter", std::string(to_string(t.sampler.min_filter))},
-               {"mag_filter", std::string(to_string(t.sampler.mag_filter))},
-               {"lod_bias", tidy(t.sampler.lod_bias)},
-               {"min_lod", tidy(t.sampler.min_lod)},
-               {"max_lod", tidy(t.sampler.max_lod)}};
-    resolved[item.key()] = std::move(out);
+    resolved[item.key()] = out_texture(t);
     scene.textures.push_back(std::move(t));
   }
   scene.resolved["textures"] = std::move(resolved);
 }
-
-namespace {
-
-// A texture format's channels as a scene file writes them, and their bits.
-struct TexelChannels {
-  unsigned count;
-  std::array<unsigned, 4> bits;
-};
-TexelChannels texel_channels(TextureFormat f) {
-  switch (f) {
-    case TextureFormat::alpha8:
-    case TextureFormat::luminance8:
-    case TextureFormat::intensity8:
-      return {1, {8}};
-    case TextureFormat::luminance_alpha8:
-      return {2, {8, 8}};
-    case TextureFormat::rgb8:
-      return {3, {8, 8, 8}};
-    case TextureFormat::rgba8:
-      return {4, {8, 8, 8, 8}};
-    case TextureFormat::rgb565:
-      return {3, {5, 6, 5}};
-    case TextureFormat::rgba4444:
-      return {4, {4, 4, 4, 4}};
-  }
-  return {4, {8, 8, 8, 8}};
-}
-
-// One texel's channel values stored in `f` (little endian; rgb565 and
-// rgba4444 packed with the first channel in the high bits, as GL's packed
-// types), and read back.
-void store_texel(TextureFormat f, const std::array<unsigned, 4>& v, std::vector<uint8_t>& out) {
-  if (f == TextureFormat::rgb565 || f == TextureFormat::rgba4444) {
-    const unsigned packed = f == TextureFormat::rgb565 ? v[0] << 11 | v[1] << 5 | v[2]
-                                                       : v[0] << 12 | v[1] << 8 | v[2] << 4 | v[3];
-    out.push_back(static_cast<uint8_t>(packed & 0xff));
-    out.push_back(static_cast<uint8_t>(packed >> 8));
-    return;
-  }
-  for (unsigned c = 0; c < texel_channels(f).count; ++c) out.push_back(static_cast<uint8_t>(v[c]));
-}
-std::array<unsigned, 4> load_texel(TextureFormat f, const uint8_t* p) {
-  if (f == TextureFormat::rgb565 || f == TextureFormat::rgba4444) {
-    const unsigned v = p[0] | unsigned{p[1]} << 8;
-    if (f == TextureFormat::rgb565) return {v >> 11, v >> 5 & 63, v & 31, 0};
-    return {v >> 12, v >> 8 & 15, v >> 4 & 15, v & 15};
-  }
-  std::array<unsigned, 4> out{};
-  for (unsigned c = 0; c < texel_channels(f).count; ++c) out[c] = p[c];
-  return out;
-}
-
-// The next mipmap level by GL's box filter (glGenerateMipmap): half the
-// size (at least 1), each texel the mean of the 2x2 (2x1 or 1x2 where a side
-// is already 1) texels it covers, per stored channel, rounded half up.
-TextureImage next_level(TextureFormat f, const TextureImage& src) {
-  TextureImage dst;
-  dst.width = std::max(1, src.width / 2);
-  dst.height = std::max(1, src.height / 2);
-  const unsigned bytes = texel_bytes(f);
-  const int sx = src.width > 1 ? 2 : 1, sy = src.height > 1 ? 2 : 1;
-  for (int y = 0; y < dst.height; ++y) {
-    for (int x = 0; x < dst.width; ++x) {
-      std::array<unsigned, 4> sum{};
-      for (int j = 0; j < sy; ++j) {
-        for (int i = 0; i < sx; ++i) {
-          const size_t at = (static_cast<size_t>(y * sy + j) * src.width + (x * sx + i)) * bytes;
-          const std::array<unsigned, 4> v = load_texel(f, &src.texels[at]);
-          for (int c = 0; c < 4; ++c) sum[c] += v[c];
-        }
-      }
-      const unsigned n = static_cast<unsigned>(sx * sy);
-      for (unsigned& c : sum) c = (c + n / 2) / n;
-      store_texel(f, sum, dst.texels);
-    }
-  }
-  return dst;
-}
-
-}  // namespace
 
 TextureImage SceneReader::read_texels(const At& texels, TextureFormat format, int width,
                                       int height) const {
@@ -1068,17 +992,18 @@ TextureImage SceneReader::read_texels(const At& texels, TextureFormat format, in
     fail_value(texels, "expected an array of " + std::to_string(count) + " texels (" +
                            std::to_string(width) + " x " + std::to_string(height) + ")");
   }
-  const TexelChannels ch = texel_channels(format);
+  const unsigned channels = channel_count(format);
   level.texels.reserve(count * texel_bytes(format));
   for (size_t i = 0; i < count; ++i) {
     const At texel = element(texels, i);
-    if (!texel.v.is_array() || texel.v.size() != ch.count) {
-      fail_value(texel, "expected " + std::to_string(ch.count) + " channels for format " +
+    if (!texel.v.is_array() || texel.v.size() != channels) {
+      fail_value(texel, "expected " + std::to_string(channels) + " channels for format " +
                             std::string(to_string(format)));
     }
     std::array<unsigned, 4> v{};
-    for (unsigned c = 0; c < ch.count; ++c) {
-      v[c] = static_cast<unsigned>(integer(element(texel, c), 0, (1 << ch.bits[c]) - 1));
+    for (unsigned c = 0; c < channels; ++c) {
+      v[c] =
+          static_cast<unsigned>(integer(element(texel, c), 0, (1 << channel_bits(format, c)) - 1));
     }
     store_texel(format, v, level.texels);
   }
@@ -1087,19 +1012,38 @@ TextureImage SceneReader::read_texels(const At& texels, TextureFormat format, in
 
 Texture SceneReader::read_texture(const At& a, const std::string& name) const {
   expect_object(a);
-  check_keys(a, {"format", "width", "height", "texels", "mipmaps", "wrap", "wrap_s", "wrap_t",
-                 "min_filter", "mag_filter", "lod_bias", "min_lod", "max_lod"});
+  check_keys(a, {"file", "format", "width", "height", "texels", "mipmaps", "wrap", "wrap_s",
+                 "wrap_t", "min_filter", "mag_filter", "lod_bias", "min_lod", "max_lod"});
   Texture t;
   t.name = name;
-  if (has(a, "format")) t.format = enumeration<TextureFormat>(member(a, "format"));
-  const int width = static_cast<int>(integer(member(a, "width"), 1, kMaxTextureSize));
-  const int height = has(a, "height")
-                         ? static_cast<int>(integer(member(a, "height"), 1, kMaxTextureSize))
-                         : 1;  // a 1D texture
-  // Inline texels: one array per texel, rows from the bottom, each with the
-  // format's channels in its own precision (rgb565: [r 0..31, g 0..63,
-  // b 0..31]; rgba4444: four of 0..15; the 8-bit formats 0..255 each).
-  t.levels.push_back(read_texels(member(a, "texels"), t.format, width, height));
+  std::optional<TextureFormat> format;
+  if (has(a, "format")) format = enumeration<TextureFormat>(member(a, "format"));
+  if (has(a, "file")) {
+    // An image file: its size, and its channels' format unless "format" says.
+    for (const char* key : {"width", "height", "texels"}) {
+      if (has(a, key)) fail(member_path(a.path, key), "a texture from a \"file\" has its own");
+    }
+    const At f = member(a, "file");
+    const std::string file_name = string(f);
+    fs::path file = file_name;
+    if (file.is_relative()) file = dir_ / file;
+    try {
+      t.levels.push_back(read_image_file(file.string(), format, &t.format));
+    } catch (const TextureImageError& e) {
+      fail(f.path, "cannot read \"" + file_name + "\": " + e.what());
+    }
+  } else {
+    t.format = format.value_or(TextureFormat::rgba8);
+    const int w = static_cast<int>(integer(member(a, "width"), 1, kMaxTextureSize));
+    const int h = has(a, "height")
+                      ? static_cast<int>(integer(member(a, "height"), 1, kMaxTextureSize))
+                      : 1;  // a 1D texture
+    // Inline texels: one array per texel, rows from the bottom, each with the
+    // format's channels in its own precision (rgb565: [r 0..31, g 0..63,
+    // b 0..31]; rgba4444: four of 0..15; the 8-bit formats 0..255 each).
+    t.levels.push_back(read_texels(member(a, "texels"), t.format, w, h));
+  }
+  const int width = t.levels[0].width, height = t.levels[0].height;
   if (has(a, "mipmaps")) {
     // The rest of the chain down to 1 x 1: generated, or given level by level.
     const At m = member(a, "mipmaps");
@@ -1108,7 +1052,7 @@ Texture SceneReader::read_texture(const At& a, const std::string& name) const {
       return last.width > 1 || last.height > 1;
     };
     if (m.v.is_string() && m.v.get<std::string>() == "generate") {
-      while (more()) t.levels.push_back(next_level(t.format, t.levels.back()));
+      generate_mipmaps(t);
     } else if (m.v.is_array()) {
       size_t expected = 0;  // levels after level 0 down to 1 x 1
       for (int w = width, h = height; w > 1 || h > 1;
@@ -1216,7 +1160,7 @@ void SceneReader::read_draw(const At& a, Scene& scene) {
   expect_object(a);
   const bool is_mesh = has(a, "mesh");
   if (is_mesh) {
-    check_keys(a, {"name", "mesh", "transform", "material", "lighting", "state"});
+    check_keys(a, {"name", "mesh", "transform", "material", "lighting", "textures", "state"});
   } else if (has(a, "positions") || has(a, "primitive")) {
     check_keys(a, {"name", "primitive", "positions", "colors", "indices", "texture", "texcoords",
                    "texture_env", "transform", "material", "state"});
@@ -1289,12 +1233,17 @@ void SceneReader::read_draw(const At& a, Scene& scene) {
   fs::path file = mesh;
   if (file.is_relative()) file = dir_ / file;
 
+  // The materials' textures are used unless the draw says otherwise.
+  const bool textures = has(a, "textures") ? boolean(member(a, "textures")) : true;
   std::vector<ImportedMesh> meshes;
   if (step_) step_("importing " + file.string() + " (" + mesh_at.path + ")");
   try {
-    meshes = import_mesh(file.string());
+    meshes = import_mesh(file.string(), textures);
   } catch (const MeshImportError& e) {
-    fail(mesh_at.path, "cannot read \"" + mesh + "\": " + e.what());
+    const std::string why = e.what();
+    const bool texture = why.rfind("texture ", 0) == 0;
+    fail(mesh_at.path, "cannot read \"" + mesh + "\": " + why +
+                           (texture ? " (\"textures\": false in the draw leaves them out)" : ""));
   } catch (const std::exception& e) {
     fail(mesh_at.path, "cannot read \"" + mesh + "\": " + e.what());
   }
@@ -1310,6 +1259,19 @@ void SceneReader::read_draw(const At& a, Scene& scene) {
     d.normals = std::move(m.normals);
     d.colors = std::move(m.colors);
     d.indices = std::move(m.indices);
+    if (m.texture) {
+      // The material's texture, once per scene however many meshes use it.
+      const auto same = [&](const Texture& t) { return t.name == m.texture->name; };
+      auto it = std::find_if(scene.textures.begin(), scene.textures.end(), same);
+      if (it == scene.textures.end()) {
+        if (!scene.resolved.contains("textures")) scene.resolved["textures"] = Out::object();
+        scene.resolved["textures"][m.texture->name] = out_texture(*m.texture);
+        scene.textures.push_back(*m.texture);
+        it = scene.textures.end() - 1;
+      }
+      d.texture = static_cast<int>(it - scene.textures.begin());
+      d.texcoords = std::move(m.texcoords);
+    }
     if (m.primitive != PrimitiveType::triangles && d.normals.empty()) {
       // assimp generates normals for triangles only, and a file rarely gives
       // lines or points any: such a draw is unlit whatever "lighting" says, so

@@ -1,6 +1,7 @@
 // load_scene(): values are checked against numbers derived independently of
 // the loader (hand-computed matrices, counts read straight from the OBJ file),
 // and every class of bad input against its one-line message.
+#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -1324,6 +1325,82 @@ TEST_F(SceneLoaderTest, TextureMistakesAreOneLineErrors) {
                                             "lod_bias": 2000}}})")
                 .find("expected -1000..1000"),
             std::string::npos);
+}
+
+}  // namespace
+}  // namespace gpusim
+
+// ---------------------------------------------------------------- texture files
+
+namespace gpusim {
+namespace {
+
+// Writes a width x height image of `channels` 8-bit channels, pixel (x, y)
+// from the top row having channel c = 10 y + x + 100 c.
+void write_image(const std::string& path, int width, int height, int channels) {
+  std::vector<uint8_t> pixels;
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      for (int c = 0; c < channels; ++c)
+        pixels.push_back(static_cast<uint8_t>(10 * y + x + 100 * c));
+    }
+  }
+  auto out = OIIO::ImageOutput::create(path);
+  ASSERT_TRUE(out);
+  ASSERT_TRUE(out->open(path, OIIO::ImageSpec(width, height, channels, OIIO::TypeDesc::UINT8)));
+  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, pixels.data()));
+  out->close();
+}
+
+TEST_F(SceneLoaderTest, TextureFileRowsRunFromTheBottom) {
+  write_image((dir_ / "t.png").string(), 3, 2, 3);
+  const Scene s = load(R"({"textures": {"t": {"file": "t.png", "mipmaps": "generate"}}})");
+  const Texture& t = s.textures.at(0);
+  EXPECT_EQ(t.format, TextureFormat::rgb8);  // three channels
+  ASSERT_EQ(t.levels.size(), 2u);
+  EXPECT_EQ(t.levels[0].width, 3);
+  EXPECT_EQ(t.levels[0].height, 2);
+  // t = 0 is the image's bottom row (y = 1 from the top): 10 + x + 100 c.
+  EXPECT_EQ(t.levels[0].texels[0], 10);
+  EXPECT_EQ(t.levels[0].texels[1], 110);
+  EXPECT_EQ(t.levels[0].texels[3], 11);
+  EXPECT_EQ(t.levels[0].texels[9], 0);  // row t = 1 is the top row
+  // "format" converts: 8 bits to rgb565 rounded, (v 31 + 127) / 255.
+  const Scene f = load(R"({"textures": {"t": {"file": "t.png", "format": "rgb565"}}})");
+  const unsigned v = f.textures.at(0).levels[0].texels[0] | f.textures.at(0).levels[0].texels[1]
+                                                                << 8;
+  EXPECT_EQ(v >> 11, (10u * 31 + 127) / 255);
+  EXPECT_EQ(v >> 5 & 63, (110u * 63 + 127) / 255);
+}
+
+TEST_F(SceneLoaderTest, TextureFileProblemsAreOneLineErrors) {
+  EXPECT_NE(error_of(R"({"textures": {"t": {"file": "missing.png"}}})")
+                .find("textures.t.file: cannot read \"missing.png\""),
+            std::string::npos);
+  write_image((dir_ / "wide.png").string(), 5000, 1, 1);
+  EXPECT_NE(error_of(R"({"textures": {"t": {"file": "wide.png"}}})")
+                .find("5000 x 1 pixels: a texture is 1 to 4096 texels on a side"),
+            std::string::npos);
+  write_image((dir_ / "t.png").string(), 2, 2, 1);
+  EXPECT_NE(error_of(R"({"textures": {"t": {"file": "t.png", "width": 2}}})")
+                .find("a texture from a \"file\" has its own"),
+            std::string::npos);
+}
+
+TEST_F(SceneLoaderTest, MeshesBringTheirMaterialsTextures) {
+  const std::string box = "/usr/share/assimp/models/glTF2/BoxTextured-glTF-Binary/BoxTextured.glb";
+  const Scene s = load(R"({"draws": [{"mesh": ")" + box + R"("}]})");
+  ASSERT_EQ(s.textures.size(), 1u);  // its embedded PNG, once
+  const Texture& t = s.textures[0];
+  EXPECT_EQ(t.sampler.min_filter, TextureFilter::linear_mipmap_linear);
+  EXPECT_EQ(t.levels.back().width, 1);
+  for (const Draw& d : s.draws) {
+    EXPECT_EQ(d.texture, 0);
+    EXPECT_EQ(d.texcoords.size(), d.positions.size());
+  }
+  const Scene off = load(R"({"draws": [{"mesh": ")" + box + R"(", "textures": false}]})");
+  EXPECT_TRUE(off.textures.empty());
+  for (const Draw& d : off.draws) EXPECT_EQ(d.texture, -1);
 }
 
 }  // namespace
