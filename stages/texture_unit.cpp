@@ -182,10 +182,11 @@ const StageSpec& TextureUnit::spec() {
       &conserve,
       StageTrace{TraceItem::stamp_batch, {"", "", ""}, FragmentSite::none},
       {{"", "`ii` × stamps (at least `ii`)", "Untextured batches and control tokens pass through."},
-       {"textured batch", "max(`ii` × stamps, the filter's last pass)",
+       {"textured batch", "max(`ii` × stamps, the address stage's pixels and waits)",
         "A pixel a cycle through address and filter, a pass per mipmap level it reads; misses go "
         "to memory as soon as their pixel is addressed, up to texture.prefetch_fragments pixels "
-        "ahead of the filter (stages/texture_unit.h)."}}};
+        "ahead of the filter, across batches; the batch leaves `latency` after its last pass "
+        "(stages/texture_unit.h)."}}};
   return s;
 }
 GPUSIM_REGISTER_STAGE(TextureUnit);
@@ -203,6 +204,9 @@ TextureUnit::TextureUnit(sc_core::sc_module_name name, const GpuConfig& config,
 
 void TextureUnit::reset_state() {
   m_cache.reset();
+  m_filter_free = 0;
+  m_filter_starts.clear();
+  m_last_ready = sc_core::SC_ZERO_TIME;
 }
 
 void TextureUnit::run() {
@@ -211,20 +215,23 @@ void TextureUnit::run() {
   for (;;) {
     receive(in, batch);
     uint64_t cycles = m_cost.ii * std::max<uint64_t>(batch.stamps.size(), 1);
+    sc_core::sc_time filtered = sc_core::SC_ZERO_TIME;  // when the filter is done with it
     if (batch.kind == PacketKind::work && !batch.texcoords.empty()) {
       const TextureBinding& binding = m_frame.draws.at(batch.primitive->draw_id).texture;
-      const uint64_t textured = texture(batch, binding);
-      const uint64_t unstalled = std::max<uint64_t>(cycles, batch.texcoords.size());
-      if (textured > unstalled) m_memory_stall_cycles += textured - unstalled;
-      cycles = std::max(cycles, textured);
+      const Timing t = texture(batch, binding);
+      cycles = std::max(cycles, t.address_cycles);
+      filtered = t.filtered;
       batch.texcoords.clear();
     }
     work(cycles);
-    emit(out, std::move(batch));
+    // In order: no token leaves before the filter has finished the ones
+    // before it.
+    m_last_ready = std::max({local_time() + m_latency, filtered + m_latency, m_last_ready});
+    emit_at(out, std::move(batch), m_last_ready);
   }
 }
 
-uint64_t TextureUnit::texture(ShadedStampBatch& batch, const TextureBinding& binding) {
+TextureUnit::Timing TextureUnit::texture(ShadedStampBatch& batch, const TextureBinding& binding) {
   const TextureSampler& sampler = binding.sampler;
   const unsigned bytes = texel_bytes(binding.format);
   const unsigned line_bytes = m_cache.line_bytes();
@@ -317,6 +324,20 @@ uint64_t TextureUnit::texture(ShadedStampBatch& batch, const TextureBinding& bin
     return out;
   };
 
+  // The filter's state left by the batches before, in cycles from `start`:
+  // when it is free, and when each of the last D pixels started.
+  const auto from_start = [&](uint64_t t) {
+    return t > start ? (t - start + m_cycle - 1) / m_cycle : uint64_t{0};
+  };
+  const uint64_t filter_free = from_start(m_filter_free);
+  // The cycle pixel i's fragment FIFO entry is free: pixel i - D's filter
+  // start, in this batch or an earlier one.
+  const auto entry_free = [&](size_t i) {
+    if (i >= depth) return filter[i - depth];
+    const size_t back = depth - i;
+    if (back > m_filter_starts.size()) return uint64_t{0};
+    return from_start(m_filter_starts[m_filter_starts.size() - back]);
+  };
   size_t next_address = 0, next_filter = 0;
   while (next_filter < n) {
     // Address as far as the fragment FIFO allows: pixel i needs pixel
@@ -324,8 +345,7 @@ uint64_t TextureUnit::texture(ShadedStampBatch& batch, const TextureBinding& bin
     for (; next_address < n && (next_address < depth || next_address - depth < next_filter);
          ++next_address) {
       const size_t i = next_address;
-      uint64_t at = i == 0 ? 0 : address[i - 1] + 1;
-      if (i >= depth) at = std::max(at, filter[i - depth]);
+      const uint64_t at = std::max(i == 0 ? uint64_t{0} : address[i - 1] + 1, entry_free(i));
       address[i] = at;
       Footprint& p = m_pixels[i];
       p.fill.fill(-1);
@@ -353,9 +373,11 @@ uint64_t TextureUnit::texture(ShadedStampBatch& batch, const TextureBinding& bin
     for (; next_filter < next_address; ++next_filter) {
       const size_t i = next_filter;
       const uint64_t ready = arrival(m_pixels[i]);
-      const uint64_t lines = ready > start ? (ready - start + m_cycle - 1) / m_cycle : 0;
-      filter[i] =
-          std::max({i == 0 ? uint64_t{0} : filter[i - 1] + passes[i - 1], address[i] + 1, lines});
+      const uint64_t lines = from_start(ready);
+      const uint64_t free =
+          std::max(i == 0 ? filter_free : filter[i - 1] + passes[i - 1], address[i] + 1);
+      filter[i] = std::max(free, lines);
+      m_memory_stall_cycles += filter[i] - free;  // the filter waiting for fills
     }
     // The lines filled in this round are present from their fills' arrival.
     for (const auto& [slot, fill] : in_flight) {
@@ -368,7 +390,14 @@ uint64_t TextureUnit::texture(ShadedStampBatch& batch, const TextureBinding& bin
     batch.colors[i] = environment(binding.env, base, filtered[i], batch.colors[i]);
   }
   m_fragments += n;
-  return n == 0 ? 0 : filter[n - 1] + passes[n - 1];
+  // What the next batch finds: the filter's last pass, and the last D
+  // pixels' filter starts (the fragment FIFO's entries they free).
+  m_filter_free = start + (filter[n - 1] + passes[n - 1]) * m_cycle;
+  for (size_t i = n > depth ? n - depth : 0; i < n; ++i) {
+    m_filter_starts.push_back(start + filter[i] * m_cycle);
+  }
+  while (m_filter_starts.size() > depth) m_filter_starts.pop_front();
+  return {address[n - 1] + 1, sc_core::sc_time::from_value(m_filter_free)};
 }
 
 }  // namespace gpusim

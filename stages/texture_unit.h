@@ -31,19 +31,24 @@
 // arrived; a filter stage takes one pass per level a pixel reads (a bilinear
 // sample: four texels a clock; a pixel blending two levels takes two).
 // Cost model, per textured batch of n pixels read at time t, in cycles from
-// t, with passes(i) 1 or 2:
+// t, with passes(i) 1 or 2 and pixel indices running on across batches (the
+// address stage and the filter are a pipeline: the fragment FIFO spans
+// batches):
 //   address(i) = max(address(i - 1) + 1, filter(i - D))  (D the FIFO depth)
 //   filter(i)  = max(filter(i - 1) + passes(i - 1), address(i) + 1,
 //                    arrival of its lines)
 // where a line's arrival is its fill's completion (the memory model's), or
 // that of the earlier fill still in flight for it, and lines present are
-// there already. busy = max(ii * stamps, filter(n - 1) + passes(n - 1)); the result is
-// readable `latency` cycles later. An untextured batch or a control token:
-// busy = ii * stamps (at least ii), a pass-through. memory_stall_cycles
-// counts the busy cycles beyond ii * stamps and one a pixel.
+// there already. busy = max(ii * stamps, address(last) + 1 - t): the
+// address stage, which waits for fragment FIFO entries; the batch is
+// readable `latency` cycles after its last filter pass, and never before a
+// token read before it. An untextured batch or a control token: busy = ii
+// * stamps (at least ii), a pass-through, in order behind the filter.
+// memory_stall_cycles counts the cycles the filter waits for fills.
 #pragma once
 
 #include <cstdint>
+#include <deque>
 #include <systemc>
 #include <vector>
 
@@ -73,8 +78,13 @@ class TextureUnit : public PipelineStage {
  private:
   void run();
   void reset_state() override;
-  // Textures every pixel of a textured draw's batch; returns its busy cycles.
-  uint64_t texture(ShadedStampBatch& batch, const TextureBinding& binding);
+  // Textures every pixel of a textured draw's batch: how long its address
+  // stage takes (cycles from now) and when the filter finishes it.
+  struct Timing {
+    uint64_t address_cycles = 0;
+    sc_core::sc_time filtered;
+  };
+  Timing texture(ShadedStampBatch& batch, const TextureBinding& binding);
 
   // Per pixel of the batch being textured: its texels, their weights, and
   // what its lines wait for.
@@ -89,6 +99,13 @@ class TextureUnit : public PipelineStage {
   std::vector<Footprint> m_pixels;
   std::vector<MemoryArbiter::Sink> m_fills;  // this batch's line fills
   TextureCache m_cache;
+  // The filter across batches (SystemC time values): when it finishes the
+  // last pass it was given, and when each of the last D pixels started
+  // (its fragment FIFO entry freed then). The address stage runs ahead of
+  // the filter by up to D pixels whatever batches they belong to.
+  uint64_t m_filter_free = 0;
+  std::deque<uint64_t> m_filter_starts;
+  sc_core::sc_time m_last_ready;  // the last token's readiness: tokens leave in order
 
   uint64_t& m_fragments =
       m_stats.counter("fragments", "fragments", "pixels textured (of textured draws)");
@@ -103,7 +120,7 @@ class TextureUnit : public PipelineStage {
   uint64_t& m_misses =
       m_stats.counter("cache_misses", "lines", "texture cache lookups that missed (line fills)");
   uint64_t& m_memory_stall_cycles = m_stats.counter(
-      "memory_stall_cycles", "cycles", "busy cycles spent waiting for texture cache fills");
+      "memory_stall_cycles", "cycles", "cycles the filter waited for texture cache fills");
 };
 
 }  // namespace gpusim

@@ -6,6 +6,7 @@
 // cli_gpusim_test.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <sstream>
 
 #include "testbench/golden/golden_model.h"
@@ -151,8 +152,11 @@ TEST_P(TemporalDecoupling, SameStatsAndFrameAsLockstep) {
     const GpuRunResult lockstep = run_gpu(s, c.config, options);
     // Every stage but vertex fetch and the resolve ran decoupled (the
     // shader, clipper, setup and distributor, and each unit's rasterizer,
-    // depth test, interpolator and ROP), or none.
-    EXPECT_EQ(decoupled.decoupled_stages, 4u + 4u * c.config.units) << c.name;
+    // depth test, interpolator, texture unit in a textured frame, and ROP),
+    // or none.
+    const bool textured =
+        std::any_of(s.draws.begin(), s.draws.end(), [](const Draw& d) { return d.texture >= 0; });
+    EXPECT_EQ(decoupled.decoupled_stages, 4u + (textured ? 5u : 4u) * c.config.units) << c.name;
     EXPECT_EQ(lockstep.decoupled_stages, 0u) << c.name;
     EXPECT_EQ(decoupled.cycles, lockstep.cycles) << c.name;
     const nlohmann::json a = {{"timing", decoupled.timing}, {"counts", decoupled.counts.to_json()}};
@@ -165,7 +169,8 @@ TEST_P(TemporalDecoupling, SameStatsAndFrameAsLockstep) {
 INSTANTIATE_TEST_SUITE_P(Scenes, TemporalDecoupling,
                          ::testing::Values("default", "spider", "lines_points", "clears",
                                            "clipping", "states", "tiny_triangles", "phong",
-                                           "aa_samples2", "viewport_scissor", "clears_samples4"));
+                                           "aa_samples2", "viewport_scissor", "clears_samples4",
+                                           "textured", "textured_samples4"));
 
 }  // namespace
 }  // namespace gpusim

@@ -59,18 +59,34 @@ std::vector<ResetCase> cases() {
   return out;
 }
 
-// "<scene>", or "<scene>+first": its first draw alone, or "<scene>+relit":
-// that draw with the lights and its material in other colours. One after
-// the other, the lighting units hold draw 0's registers from the frame
-// before, which must be loaded again.
+// "<scene>" with modifiers "+first": its first draw alone; "+relit": that
+// draw with the lights and its material in other colours (one after the
+// other, the lighting units hold draw 0's registers from the frame before,
+// which must be loaded again); "+plain": without its textures (a textured
+// frame elaborates texture units, another netlist).
 Scene named(const std::string& name) {
-  const size_t plus = name.find('+');
-  Scene s = scene(name.substr(0, plus));
-  if (plus == std::string::npos) return s;
-  s.draws.resize(1);
-  if (name.substr(plus + 1) == "relit") {
-    for (Light& l : s.lights) l.diffuse = glm::vec4(0.9f, 0.3f, 0.1f, 1.0f);
-    s.draws[0].material.diffuse = glm::vec4(0.2f, 0.8f, 0.4f, 1.0f);
+  std::vector<std::string> parts;
+  for (size_t at = 0;;) {
+    const size_t plus = name.find('+', at);
+    parts.push_back(name.substr(at, plus == std::string::npos ? std::string::npos : plus - at));
+    if (plus == std::string::npos) break;
+    at = plus + 1;
+  }
+  Scene s = scene(parts[0]);
+  for (size_t i = 1; i < parts.size(); ++i) {
+    if (parts[i] == "plain") {
+      s.textures.clear();
+      for (Draw& d : s.draws) {
+        d.texture = -1;
+        d.texcoords.clear();
+      }
+      continue;
+    }
+    s.draws.resize(1);
+    if (parts[i] == "relit") {
+      for (Light& l : s.lights) l.diffuse = glm::vec4(0.9f, 0.3f, 0.1f, 1.0f);
+      s.draws[0].material.diffuse = glm::vec4(0.2f, 0.8f, 0.4f, 1.0f);
+    }
   }
   return s;
 }
@@ -99,9 +115,16 @@ TEST(GpuReset, ReusedGpuGivesEachFrameTheFreshResult) {
   // Lit draws 0 of other lights and materials one after the other, scenes
   // of every kind of primitive and clear, a scene twice with others in
   // between.
-  const std::vector<std::string> names = {"spider+first", "spider+relit", "phong",
-                                          "hiz_funcs",    "lines_points", "clears",
-                                          "spider",       "hiz_funcs",    "states"};
+  const std::vector<std::string> names = {"spider+plain+first", "spider+plain+relit", "phong",
+                                          "hiz_funcs",          "lines_points",       "clears",
+                                          "spider+plain",       "hiz_funcs",          "states"};
+  for (const ResetCase& c : cases()) EXPECT_EQ(expect_fresh_results(c, names), 1u) << c.name;
+}
+
+TEST(GpuReset, TexturedFramesShareTheirTextureUnits) {
+  // The texture units' caches and fragment FIFOs start empty each frame:
+  // other textures, mipmapped and not, and the same frame again.
+  const std::vector<std::string> names = {"textured", "spider", "textured+first", "textured"};
   for (const ResetCase& c : cases()) EXPECT_EQ(expect_fresh_results(c, names), 1u) << c.name;
 }
 
@@ -123,6 +146,8 @@ TEST(GpuReset, AnotherNetlistElaboratesAnotherGpu) {
   // the fresh ones.
   const std::vector<std::string> names = {"clears_samples4", "clears", "clears", "aa_super2"};
   EXPECT_EQ(expect_fresh_results(cases()[0], names), 3u);
+  // Texture units, none, then again.
+  EXPECT_EQ(expect_fresh_results(cases()[0], {"textured", "states", "textured+first"}), 3u);
 }
 
 // The testbench's own threads start over with each frame: the progress
